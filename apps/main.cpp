@@ -1,0 +1,232 @@
+// The massid command-line tool: parses arguments, calls the library, prints
+// its summaries. Exit codes: 0 success, 2 bad usage or input, 3 the data cannot
+// determine the parameters, 1 an internal error.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <iostream>
+#include <optional>
+
+#include "massid/atomic_file.hpp"
+#include "massid/base_parameters.hpp"
+#include "massid/csv.hpp"
+#include "massid/errors.hpp"
+#include "massid/estimation.hpp"
+#include "massid/params_file.hpp"
+#include "massid/predictor.hpp"
+#include "massid/report.hpp"
+#include "massid/samples.hpp"
+#include "massid/simulate.hpp"
+
+namespace {
+
+using namespace massid;
+
+// "a,b,c,d,e,f" -> six numbers.
+Wrench parse_wrench(const std::string& text, const std::string& option) {
+  Wrench w;
+  std::string_view rest(text);
+  for (int k = 0; k < 6; ++k) {
+    const size_t comma = rest.find(',');
+    std::string cell(rest.substr(0, comma));
+    size_t used = 0;
+    try {
+      w[k] = std::stod(cell, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != cell.size() || !std::isfinite(w[k]))
+      throw InputError(fmt::format("{}: '{}' is not a number (expected fx,fy,fz,mx,my,mz)", option, cell));
+    if ((comma == std::string_view::npos) != (k == 5))
+      throw InputError(fmt::format("{}: expected six comma-separated numbers fx,fy,fz,mx,my,mz", option));
+    if (comma != std::string_view::npos) rest.remove_prefix(comma + 1);
+  }
+  return w;
+}
+
+// Appends (or overwrites) named numeric columns of a table, for writing.
+struct OutputTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+
+  explicit OutputTable(const CsvTable& in) : header(in.header), rows(in.rows) {}
+  void set_column(const std::string& name, const Eigen::VectorXd& values) {
+    int c = -1;
+    for (size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) c = static_cast<int>(i);
+    if (c < 0) {
+      header.push_back(name);
+      for (auto& r : rows) r.emplace_back();
+      c = static_cast<int>(header.size()) - 1;
+    }
+    for (size_t r = 0; r < rows.size(); ++r) rows[r][c] = format_number(values[r]);
+  }
+};
+
+struct Common {
+  std::string urdf, sensor;
+};
+
+int run_model(const Common& c, bool offset, bool as_json) {
+  const Model model = load_urdf(c.urdf, c.sensor);
+  BaseParameterOptions opts;
+  opts.offset = offset;
+  const BaseParameters base = find_base_parameters(model, opts);
+  std::cout << (as_json ? params_json(model, base, nullptr) : model_report(model, base));
+  return 0;
+}
+
+int run_simulate(const Common& c, const std::string& plan_path, const std::string& out,
+                 const SimulateOptions& opts) {
+  const Model model = load_urdf(c.urdf, c.sensor);
+  const CsvTable table = read_csv(plan_path);
+  const Samples plan = read_samples(model, table, WrenchColumns::Optional);
+  if (plan.gravity_from_force)
+    throw InputError(plan_path + ": simulate needs gx,gy,gz columns");
+  const Eigen::MatrixXd W = simulate_wrenches(model, plan, opts);
+  OutputTable t(table);
+  for (int k = 0; k < 6; ++k) t.set_column(kWrenchColumns[k], W.col(k));
+  write_csv(out, t.header, t.rows);
+  std::cout << fmt::format("simulated {} samples of {} (sensor link '{}', total mass {:.6g} kg) -> {}\n",
+                           plan.size(), model.name, model.sensor_link(),
+                           model.nominal_total_mass(),
+                           out);
+  return 0;
+}
+
+int run_identify(const Common& c, const std::string& data_path, const std::string& out, bool offset,
+                 const IdentifyOptions& opts) {
+  const Model model = load_urdf(c.urdf, c.sensor);
+  BaseParameterOptions bopts;
+  bopts.offset = offset;
+  const BaseParameters base = find_base_parameters(model, bopts);
+  const Samples samples = read_samples(model, read_csv(data_path), WrenchColumns::Required);
+  if (samples.gravity_from_force)
+    std::cerr << fmt::format(
+        "massid: note: {} has no gx,gy,gz columns: gravity is taken along the measured force "
+        "(paper eq. 37), |g| = {} m/s^2\n",
+        data_path, kStandardGravity);
+  const IdentifySummary summary = identify(model, base, samples, opts);
+  write_file_atomically(out, params_json(model, base, &summary));
+  std::cout << identify_report(model, base, summary, data_path);
+  std::cout << "wrote " << out << "\n";
+  return 0;
+}
+
+int run_predict(const std::string& urdf, const std::string& params_path, const std::string& data_path,
+                const std::string& out) {
+  const ParamsFile params = read_params(params_path);
+  const Model model = load_urdf(urdf, params.sensor_link);
+  BaseParameterOptions bopts;
+  bopts.offset = params.has_offset;
+  const BaseParameters base = find_base_parameters(model, bopts);
+  const Eigen::VectorXd values = values_in_basis(params, model, base);
+  const Predictor predictor = compile_predictor(model, base, values);
+  PredictorData data(predictor);
+
+  const CsvTable table = read_csv(data_path);
+  const Samples samples = read_samples(model, table, WrenchColumns::Optional);
+  Eigen::MatrixXd P(samples.size(), 6);
+  for (int i = 0; i < samples.size(); ++i)
+    P.row(i) = predict(predictor, data, samples.q.row(i).transpose(),
+                       samples.gravity.row(i).transpose())
+                   .transpose();
+  if (!out.empty()) {
+    OutputTable t(table);
+    for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_pred", P.col(k));
+    if (samples.has_wrench())
+      for (int k = 0; k < 6; ++k)
+        t.set_column(std::string(kWrenchColumns[k]) + "_comp", samples.wrench.col(k) - P.col(k));
+    write_csv(out, t.header, t.rows);
+  }
+  std::cout << fmt::format("predicted {} samples of {} with {} (sensor link '{}'{})\n", samples.size(),
+                           data_path, params_path, model.sensor_link(),
+                           samples.gravity_from_force ? ", gravity from the measured force" : "");
+  if (samples.has_wrench())
+    std::cout << prediction_report(prediction_errors(samples.wrench, P), samples.size());
+  if (!out.empty()) std::cout << "wrote " << out << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "massid 0.1.0");
+
+  Common common;
+  bool offset = false, as_json = false;
+  std::string plan, data, out, params, offset_text;
+  SimulateOptions sim;
+  IdentifyOptions idopts;
+  double sigma_force = 0, sigma_moment = 0;
+
+  auto add_sensor = [&](CLI::App* sub) {
+    sub->add_option("--sensor", common.sensor, "Sensor link (default: the URDF root link)");
+  };
+
+  CLI::App* model = app.add_subcommand("model", "Measured bodies, joints and base parameters");
+  model->add_option("robot", common.urdf, "Robot URDF")->required();
+  add_sensor(model);
+  model->add_flag("--offset", offset, "Include the six sensor offsets as unknowns");
+  model->add_flag("--json", as_json, "Print JSON (the params file's base_parameters, no values)");
+
+  CLI::App* simulate = app.add_subcommand("simulate", "Wrenches the URDF's inertials would produce");
+  simulate->add_option("robot", common.urdf, "Robot URDF")->required();
+  simulate->add_option("plan", plan, "Plan CSV (joint columns, gx,gy,gz)")->required();
+  simulate->add_option("-o,--output", out, "Data CSV to write")->required();
+  add_sensor(simulate);
+  simulate->add_option("--noise-force", sim.noise_force, "Force noise sigma, N")->check(CLI::NonNegativeNumber);
+  simulate->add_option("--noise-moment", sim.noise_moment, "Moment noise sigma, N m")->check(CLI::NonNegativeNumber);
+  simulate->add_option("--offset", offset_text, "Constant sensor offset fx,fy,fz,mx,my,mz");
+  simulate->add_option("--seed", sim.seed, "Noise seed");
+
+  CLI::App* ident = app.add_subcommand("identify", "Estimate the base parameters from a data CSV");
+  ident->add_option("robot", common.urdf, "Robot URDF")->required();
+  ident->add_option("data", data, "Data CSV (joints, wrench, optionally gx,gy,gz)")->required();
+  ident->add_option("-o,--output", out, "Params JSON to write")->required();
+  add_sensor(ident);
+  ident->add_flag("--offset", offset, "Estimate the six sensor offsets too");
+  ident->add_option("--sigma-force", sigma_force, "Force noise sigma, N (default: from residuals)")
+      ->check(CLI::PositiveNumber);
+  ident->add_option("--sigma-moment", sigma_moment, "Moment noise sigma, N m (default: from residuals)")
+      ->check(CLI::PositiveNumber);
+
+  CLI::App* pred = app.add_subcommand("predict", "Gravity wrench predicted at every row of a CSV");
+  pred->add_option("robot", common.urdf, "Robot URDF")->required();
+  pred->add_option("params", params, "Params JSON from identify")->required();
+  pred->add_option("data", data, "Plan or data CSV")->required();
+  pred->add_option("-o,--output", out, "CSV to write: input plus *_pred (and *_comp)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+
+  try {
+    if (*model) return run_model(common, offset, as_json);
+    if (*simulate) {
+      if (!offset_text.empty()) sim.offset = parse_wrench(offset_text, "--offset");
+      return run_simulate(common, plan, out, sim);
+    }
+    if (*ident) {
+      if (ident->count("--sigma-force")) idopts.sigma_force = sigma_force;
+      if (ident->count("--sigma-moment")) idopts.sigma_moment = sigma_moment;
+      return run_identify(common, data, out, offset, idopts);
+    }
+    if (*pred) return run_predict(common.urdf, params, data, out);
+  } catch (const InputError& e) {
+    std::cerr << "massid: error: " << e.what() << "\n";
+    return 2;
+  } catch (const IdentifiabilityError& e) {
+    std::cerr << "massid: error: " << e.what() << "\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << "massid: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 2;
+}

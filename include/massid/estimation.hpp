@@ -1,0 +1,56 @@
+// Identification of the base parameters by weighted least squares
+// (paper eqs. 32-35, solved by Householder QR instead of eq. 35's normal
+// equations), with the covariance of the estimate and the eq. 36 condition number.
+//
+// Options -> identify() -> IdentifySummary, in the style of Ceres' Solve().
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+
+#include "massid/base_parameters.hpp"
+#include "massid/model.hpp"
+#include "massid/samples.hpp"
+
+namespace massid {
+
+struct IdentifyOptions {
+  // Per-axis noise standard deviations. Unset: estimated per axis (fx ... mz)
+  // from the residuals, iterating the weighted solve `weight_iterations` times.
+  std::optional<double> sigma_force;   // N
+  std::optional<double> sigma_moment;  // N m
+  int weight_iterations = 4;
+  // Rank decision on the column-normalised regressor: a singular value below
+  // rank_tolerance * largest marks an undetermined direction.
+  double rank_tolerance = 1e-9;
+};
+
+struct IdentifySummary {
+  Eigen::VectorXd value;       // [num_unknowns] base parameters, then offsets
+  Eigen::VectorXd stddev;      // [num_unknowns] standard deviations
+  Eigen::MatrixXd covariance;  // [num_unknowns x num_unknowns]
+  double condition_number = 0; // eq. 36: moment rows over moment unknowns, unscaled
+  Eigen::Matrix<double, 6, 1> residual_rms;  // fx fy fz mx my mz, unweighted
+  Eigen::Matrix<double, 6, 1> residual_max;  // largest |residual| per axis
+  Eigen::Matrix<double, 6, 1> sigma;         // noise per axis used as weights
+  bool sigma_estimated = true;               // sigma from residuals (else from options)
+  double chi2_per_dof = 1.0;                 // weighted residual sum / (6N - p)
+  int samples = 0;
+  bool gravity_from_force = false;
+};
+
+// Throws IdentifiabilityError when the samples cannot determine every unknown,
+// naming them and the poses that would determine them.
+IdentifySummary identify(const Model& model, const BaseParameters& base, const Samples& samples,
+                         const IdentifyOptions& options = {});
+
+// Stacked base regressor, eq. 33: [6N x num_unknowns], rows fx..mz per sample.
+Eigen::MatrixXd stacked_regressor(const Model& model, const BaseParameters& base,
+                                  const Samples& samples);
+
+// The paper's eq. 36 figure for a stacked regressor A: the condition number of
+// its moment rows over the moment unknowns, unscaled.
+double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd& A);
+
+}  // namespace massid

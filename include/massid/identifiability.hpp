@@ -1,0 +1,31 @@
+// Does a set of samples determine every unknown, and if not, which ones and
+// what poses would? Used by identify (exit 3) and, later, by design.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "massid/base_parameters.hpp"
+#include "massid/model.hpp"
+#include "massid/samples.hpp"
+
+namespace massid {
+
+struct IdentifiabilityReport {
+  int rank = 0;
+  int unknowns = 0;
+  std::vector<int> undetermined;        // unknowns involved in the null space
+  bool tilt_would_help = false;         // more gravity directions would determine them
+  std::vector<std::string> joints_to_move;  // moving one of these would help
+  std::string message;                  // the user-facing explanation with its fix
+  bool ok() const { return rank == unknowns; }
+};
+
+// A: stacked regressor of the samples (estimation.hpp). Relative tolerance on
+// the singular values of the column-normalised A.
+IdentifiabilityReport check_identifiability(const Model& model, const BaseParameters& base,
+                                            const Samples& samples, const Eigen::MatrixXd& A,
+                                            double tolerance);
+
+}  // namespace massid

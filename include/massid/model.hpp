@@ -1,0 +1,63 @@
+// The kinematic model of the measured bodies: the sensor link and its subtree,
+// loaded from a URDF. Immutable once built; algorithms take it by const&.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace massid {
+
+enum class JointType { Fixed, Revolute, Prismatic };
+
+// A measured link and the joint that connects it to its parent link.
+struct Link {
+  std::string name;
+  int parent = -1;                   // index in Model::links; -1 for the sensor link
+  std::string joint;                 // URDF joint from the parent ("" for the sensor link)
+  JointType type = JointType::Fixed; // revolute covers URDF "continuous" too
+  int joint_index = -1;              // index in Model::joints, -1 when fixed
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // parent frame -> joint frame, q = 0
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();            // unit joint axis, joint frame
+  // Nominal inertial from the URDF (used by `simulate`, never by `predict`).
+  double mass = 0.0;
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();  // centre of mass in the link frame
+  bool has_inertial = false;
+};
+
+// A movable joint (revolute, continuous or prismatic) of the measured subtree.
+struct Joint {
+  std::string name;
+  JointType type = JointType::Revolute;
+  bool continuous = false;
+  double lower = 0.0, upper = 0.0;  // URDF limits (rad or m); unlimited when !limited
+  bool limited = false;
+  int link = -1;  // the child link it moves, index in Model::links
+
+  // Position at fraction u in [0, 1] of the joint's generic range: a full turn
+  // [-pi, pi] for revolute joints, the limits (else [-1, 1] m) for prismatic ones.
+  double generic_position(double u) const;
+};
+
+struct Model {
+  std::string name;         // URDF robot name
+  std::string source;       // file it was loaded from, for messages
+  std::vector<Link> links;  // depth-first from the sensor link: parent index < own index
+  std::vector<Joint> joints;  // movable joints, in the order of their links
+
+  int num_links() const { return static_cast<int>(links.size()); }
+  int num_joints() const { return static_cast<int>(joints.size()); }
+  const std::string& sensor_link() const { return links.front().name; }
+  int find_link(const std::string& name) const;   // -1 if absent
+  int find_joint(const std::string& name) const;  // -1 if absent
+  double nominal_total_mass() const;              // sum of the URDF link masses
+};
+
+// Loads a URDF file. `sensor_link` empty means the URDF root link. Throws
+// InputError for unreadable or malformed files, unsupported joints (floating,
+// planar, mimic) and unknown sensor links.
+Model load_urdf(const std::string& path, const std::string& sensor_link = "");
+Model load_urdf_string(const std::string& xml, const std::string& sensor_link = "",
+                       const std::string& source = "<string>");
+
+}  // namespace massid

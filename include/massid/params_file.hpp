@@ -1,0 +1,53 @@
+// The parameters file (JSON, "massid-params-1"): identified base parameters
+// with their terms, standard deviations, covariance and fit statistics.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "massid/base_parameters.hpp"
+#include "massid/estimation.hpp"
+#include "massid/model.hpp"
+#include "massid/predictor.hpp"
+
+namespace massid {
+
+struct ParamsFile {
+  struct NamedTerm {
+    std::string link, param;
+    double coef = 0.0;
+  };
+  struct Entry {
+    std::string name, unit, expression;
+    double value = 0.0, stddev = 0.0;
+    std::vector<NamedTerm> terms;
+  };
+  std::string source;  // path, for messages
+  std::string sensor_link;
+  std::vector<std::string> joints;
+  std::string gravity_from;  // "columns" or "force"
+  int samples = 0;
+  double total_mass = 0.0;
+  std::vector<Entry> base_parameters;
+  bool has_offset = false;
+  Wrench offset = Wrench::Zero(), offset_std = Wrench::Zero();
+  double condition_number = 0.0;
+  Wrench residual_rms = Wrench::Zero();
+};
+
+// JSON text of an identification (values omitted when summary is null, as
+// `model --json` prints).
+std::string params_json(const Model& model, const BaseParameters& base,
+                        const IdentifySummary* summary);
+
+// Reads and checks a params file; InputError names file:line:column.
+ParamsFile read_params(const std::string& path);
+
+// The file's values expressed in `base` (num_unknowns, offsets last). The
+// file's terms may use another basis of the same space; InputError when the
+// file's parameters do not match the model (another robot or sensor link).
+Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
+                                const BaseParameters& base);
+
+}  // namespace massid

@@ -1,0 +1,25 @@
+// Measurements that the URDF's own inertials would produce: w = Y(q, g) pi_URDF
+// + offset + Gaussian noise. The reference for tests and for planning.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "massid/model.hpp"
+#include "massid/predictor.hpp"
+#include "massid/samples.hpp"
+
+namespace massid {
+
+struct SimulateOptions {
+  double noise_force = 0.0;   // N, standard deviation per axis
+  double noise_moment = 0.0;  // N m
+  Wrench offset = Wrench::Zero();
+  std::uint64_t seed = 1;
+};
+
+// [N x 6] wrenches at the plan's joint positions and gravity vectors.
+Eigen::MatrixXd simulate_wrenches(const Model& model, const Samples& plan,
+                                  const SimulateOptions& options = {});
+
+}  // namespace massid

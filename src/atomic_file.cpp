@@ -1,0 +1,50 @@
+#include "massid/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "massid/errors.hpp"
+
+namespace massid {
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  std::string tmpl = path + ".tmp.XXXXXX";
+  std::vector<char> name(tmpl.begin(), tmpl.end());
+  name.push_back('\0');
+  const int fd = mkstemp(name.data());
+  if (fd < 0)
+    throw InputError(fmt::format("{}: cannot write output file: {}", path, std::strerror(errno)));
+  size_t done = 0;
+  bool ok = true;
+  while (done < content.size()) {
+    const ssize_t w = ::write(fd, content.data() + done, content.size() - done);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      ok = false;
+      break;
+    }
+    done += static_cast<size_t>(w);
+  }
+  const int err = errno;
+  ok = ok && ::fsync(fd) == 0;
+  // mkstemp creates 0600; give the file the usual permissions.
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  ::fchmod(fd, 0666 & ~mask);
+  ok = (::close(fd) == 0) && ok;
+  if (!ok || std::rename(name.data(), path.c_str()) != 0) {
+    const int e = ok ? errno : err;
+    std::remove(name.data());
+    throw InputError(fmt::format("{}: cannot write output file: {}", path, std::strerror(e)));
+  }
+}
+
+}  // namespace massid

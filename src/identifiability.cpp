@@ -1,0 +1,127 @@
+#include "massid/identifiability.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <random>
+
+#include "massid/base_regressor.hpp"
+
+namespace massid {
+namespace {
+
+// Regressor rows for a few of the samples with the joint positions and/or the
+// gravity direction replaced by random ones.
+Eigen::MatrixXd perturbed_rows(const Model& model, const BaseParameters& base,
+                               const Samples& samples, bool random_gravity, int random_joint,
+                               bool all_joints) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const int count = std::max(3 * base.num_unknowns(), 30);
+  RegressorData data(model, base);
+  Eigen::MatrixXd rows(6 * count, base.num_unknowns());
+  for (int i = 0; i < count; ++i) {
+    const int s = i % samples.size();
+    Eigen::VectorXd q = samples.q.row(s).transpose();
+    Eigen::Vector3d g = samples.gravity.row(s).transpose();
+    for (int j = 0; j < model.num_joints(); ++j) {
+      if (!all_joints && j != random_joint) continue;
+      q[j] = model.joints[j].generic_position(uniform(rng));
+    }
+    if (random_gravity) {
+      Eigen::Vector3d d(normal(rng), normal(rng), normal(rng));
+      g = g.norm() * d.normalized();
+    }
+    base_regressor(model, base, data, q, g);
+    rows.middleRows(6 * i, 6) = data.base;
+  }
+  return rows;
+}
+
+// Fraction of the directions in `null` (columns, original coordinates) that
+// the extra rows determine.
+bool determines(const Eigen::MatrixXd& rows, const Eigen::MatrixXd& null) {
+  for (int k = 0; k < null.cols(); ++k) {
+    const double scale = rows.norm() * null.col(k).norm();
+    if ((rows * null.col(k)).norm() < 1e-6 * scale) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+IdentifiabilityReport check_identifiability(const Model& model, const BaseParameters& base,
+                                            const Samples& samples, const Eigen::MatrixXd& A,
+                                            double tolerance) {
+  IdentifiabilityReport report;
+  const int p = static_cast<int>(A.cols());
+  report.unknowns = p;
+  Eigen::VectorXd scale(p);
+  for (int c = 0; c < p; ++c) {
+    const double n = A.col(c).norm();
+    scale[c] = n > 0 ? 1.0 / n : 1.0;
+  }
+  // Singular values of A S from the small triangular factor of its QR.
+  Eigen::MatrixXd R;
+  if (A.rows() >= p) {
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(A * scale.asDiagonal());
+    R = qr.matrixQR().topRows(p).triangularView<Eigen::Upper>();
+  } else {
+    R = A * scale.asDiagonal();
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeFullV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  const double smax = sv.size() ? sv[0] : 0.0;
+  report.rank = 0;
+  for (int i = 0; i < sv.size(); ++i)
+    if (sv[i] > tolerance * smax) ++report.rank;
+  if (report.ok()) return report;
+
+  const int nnull = p - report.rank;
+  Eigen::MatrixXd null = scale.asDiagonal() * svd.matrixV().rightCols(nnull);
+  for (int c = 0; c < p; ++c) {
+    // Involved when it carries a noticeable share of some null direction.
+    const Eigen::VectorXd v = svd.matrixV().rightCols(nnull).row(c);
+    if (v.norm() > 0.05) report.undetermined.push_back(c);
+  }
+
+  report.tilt_would_help = determines(perturbed_rows(model, base, samples, true, -1, false), null);
+  for (int j = 0; j < model.num_joints(); ++j)
+    if (determines(perturbed_rows(model, base, samples, false, j, false), null))
+      report.joints_to_move.push_back(model.joints[j].name);
+  const bool all_joints_help =
+      model.num_joints() > 0 &&
+      determines(perturbed_rows(model, base, samples, false, -1, true), null);
+
+  std::vector<std::string> names;
+  for (int c : report.undetermined) {
+    std::string n = base.unknown_name(c);
+    if (c < base.num_mass()) n += " = " + base.params[c].expression;
+    names.push_back(n);
+  }
+  std::string fix;
+  if (!report.joints_to_move.empty()) {
+    fix = fmt::format("move joint{} {} over a wider range of positions",
+                      report.joints_to_move.size() > 1 ? "s" : "",
+                      fmt::join(report.joints_to_move, " or "));
+  } else if (all_joints_help) {
+    fix = "move several joints together over wider ranges";
+  }
+  if (report.tilt_would_help) {
+    const std::string tilt =
+        "tilt the platform: record poses with gravity in more directions of the sensor frame "
+        "(at least three directions not in one plane when the offsets are estimated)";
+    fix = fix.empty() ? tilt : fix + ", or " + tilt;
+  }
+  if (fix.empty()) fix = "both move the joints and tilt the platform to more directions";
+  report.message = fmt::format(
+      "{}: the {} samples determine only {} of the {} unknowns; undetermined: {}. To fix: {}.",
+      samples.source, samples.size(), report.rank, p, fmt::join(names, "; "), fix);
+  return report;
+}
+
+}  // namespace massid

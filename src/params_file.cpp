@@ -1,0 +1,212 @@
+#include "massid/params_file.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/QR>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "massid/errors.hpp"
+#include "massid/regressor.hpp"
+
+namespace massid {
+namespace {
+
+using json = nlohmann::ordered_json;
+constexpr const char* kFormat = "massid-params-1";
+
+json terms_json(const Model& model, const std::vector<Term>& terms) {
+  json out = json::array();
+  for (const Term& t : terms)
+    out.push_back({{"link", model.links[t.link].name},
+                   {"param", standard_parameter_kind(t.param)},
+                   {"coef", t.coef}});
+  return out;
+}
+
+json wrench_part(const Eigen::VectorXd& v, int start) {
+  return json::array({v[start], v[start + 1], v[start + 2]});
+}
+
+// 1-based line and column of a byte offset.
+std::pair<int, int> line_column(const std::string& text, size_t byte) {
+  int line = 1, col = 1;
+  for (size_t i = 0; i < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return {line, col};
+}
+
+}  // namespace
+
+std::string params_json(const Model& model, const BaseParameters& base,
+                        const IdentifySummary* s) {
+  json j;
+  j["format"] = kFormat;
+  j["sensor_link"] = model.sensor_link();
+  json joints = json::array();
+  for (const Joint& jt : model.joints) joints.push_back(jt.name);
+  j["joints"] = joints;
+  if (s) {
+    j["gravity_from"] = s->gravity_from_force ? "force" : "columns";
+    j["samples"] = s->samples;
+    j["total_mass"] = s->value[base.total_mass];
+  }
+  json list = json::array();
+  for (int i = 0; i < base.num_mass(); ++i) {
+    const BaseParameter& p = base.params[i];
+    json e;
+    e["name"] = p.name;
+    if (s) {
+      e["value"] = s->value[i];
+      e["std"] = s->stddev[i];
+    }
+    e["unit"] = p.unit;
+    e["expression"] = p.expression;
+    e["terms"] = terms_json(model, p.terms);
+    list.push_back(e);
+  }
+  j["base_parameters"] = list;
+  if (base.offset) {
+    if (s) {
+      const Eigen::VectorXd v = s->value.tail(6), d = s->stddev.tail(6);
+      j["sensor_offset"] = {{"force", wrench_part(v, 0)},
+                            {"moment", wrench_part(v, 3)},
+                            {"force_std", wrench_part(d, 0)},
+                            {"moment_std", wrench_part(d, 3)}};
+    } else {
+      j["sensor_offset"] = {{"force", "estimated"}, {"moment", "estimated"}};
+    }
+  }
+  if (s) {
+    j["condition_number"] = s->condition_number;
+    json rms;
+    for (int k = 0; k < 6; ++k) rms[kWrenchColumns[k]] = s->residual_rms[k];
+    j["residual_rms"] = rms;
+    json rmax, sigma;
+    for (int k = 0; k < 6; ++k) {
+      rmax[kWrenchColumns[k]] = s->residual_max[k];
+      sigma[kWrenchColumns[k]] = s->sigma[k];
+    }
+    j["residual_max"] = rmax;
+    j["noise_sigma"] = sigma;
+    j["noise_sigma_from"] = s->sigma_estimated ? "residuals" : "user";
+    j["chi2_per_dof"] = s->chi2_per_dof;
+    json names = json::array();
+    for (int i = 0; i < base.num_unknowns(); ++i) names.push_back(base.unknown_name(i));
+    json cov = json::array();
+    for (int r = 0; r < s->covariance.rows(); ++r) {
+      json row = json::array();
+      for (int c = 0; c < s->covariance.cols(); ++c) row.push_back(s->covariance(r, c));
+      cov.push_back(row);
+    }
+    j["covariance"] = {{"unknowns", names}, {"matrix", cov}};
+  }
+  return j.dump(2) + "\n";
+}
+
+ParamsFile read_params(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open params file", path));
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  const std::string text = buf.str();
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    const auto [line, col] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
+    std::string what = e.what();
+    const auto pos = what.find("parse error");
+    throw InputError(fmt::format("{}:{}:{}: malformed JSON: {}", path, line, col,
+                                 pos == std::string::npos ? what : what.substr(pos)));
+  }
+  ParamsFile p;
+  p.source = path;
+  auto fail = [&](const std::string& what) {
+    throw InputError(fmt::format("{}: {}", path, what));
+  };
+  try {
+    if (!j.is_object()) fail("not a massid params file (expected a JSON object)");
+    if (j.value("format", "") != kFormat)
+      fail(fmt::format("not a massid params file: \"format\" must be \"{}\"", kFormat));
+    p.sensor_link = j.at("sensor_link").get<std::string>();
+    p.joints = j.at("joints").get<std::vector<std::string>>();
+    p.gravity_from = j.value("gravity_from", "columns");
+    p.samples = j.value("samples", 0);
+    p.total_mass = j.at("total_mass").get<double>();
+    for (const auto& e : j.at("base_parameters")) {
+      ParamsFile::Entry entry;
+      entry.name = e.at("name").get<std::string>();
+      entry.value = e.at("value").get<double>();
+      entry.stddev = e.value("std", 0.0);
+      entry.unit = e.value("unit", "");
+      entry.expression = e.value("expression", "");
+      for (const auto& t : e.at("terms"))
+        entry.terms.push_back({t.at("link").get<std::string>(), t.at("param").get<std::string>(),
+                               t.at("coef").get<double>()});
+      p.base_parameters.push_back(entry);
+    }
+    if (j.contains("sensor_offset")) {
+      const auto& o = j["sensor_offset"];
+      p.has_offset = true;
+      for (int k = 0; k < 3; ++k) {
+        p.offset[k] = o.at("force").at(k).get<double>();
+        p.offset[3 + k] = o.at("moment").at(k).get<double>();
+        if (o.contains("force_std")) p.offset_std[k] = o["force_std"].at(k).get<double>();
+        if (o.contains("moment_std")) p.offset_std[3 + k] = o["moment_std"].at(k).get<double>();
+      }
+    }
+    p.condition_number = j.value("condition_number", 0.0);
+  } catch (const json::exception& e) {
+    fail(fmt::format("missing or wrong field: {}", e.what()));
+  }
+  return p;
+}
+
+Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
+                                const BaseParameters& base) {
+  const int n = num_standard_parameters(model);
+  const int nf = static_cast<int>(params.base_parameters.size());
+  Eigen::MatrixXd Kf = Eigen::MatrixXd::Zero(nf, n);
+  Eigen::VectorXd vf(nf);
+  for (int i = 0; i < nf; ++i) {
+    const auto& e = params.base_parameters[i];
+    vf[i] = e.value;
+    for (const auto& t : e.terms) {
+      const int l = model.find_link(t.link);
+      if (l < 0)
+        throw InputError(fmt::format("{}: base parameter '{}' refers to link '{}', which is not "
+                                     "a measured link of {} below '{}'",
+                                     params.source, e.name, t.link, model.source,
+                                     model.sensor_link()));
+      int k = -1;
+      for (int c = 0; c < kParamsPerLink; ++c)
+        if (t.param == standard_parameter_kind(c)) k = c;
+      if (k < 0)
+        throw InputError(fmt::format("{}: base parameter '{}': unknown parameter '{}' (m, mx, my, mz)",
+                                     params.source, e.name, t.param));
+      Kf(i, kParamsPerLink * l + k) += t.coef;
+    }
+  }
+  // K = A Kf: solve A^T from Kf^T A^T = K^T, then check the fit.
+  const Eigen::MatrixXd At = Kf.transpose().colPivHouseholderQr().solve(base.K.transpose());
+  const double misfit = (Kf.transpose() * At - base.K.transpose()).norm();
+  if (!(misfit <= 1e-6 * std::max(1.0, base.K.norm())))
+    throw InputError(fmt::format(
+        "{}: its base parameters do not span those of {} with sensor link '{}' (identified for "
+        "another robot, sensor link or URDF version?)",
+        params.source, model.source, model.sensor_link()));
+  Eigen::VectorXd v(base.num_unknowns());
+  v.head(base.num_mass()) = At.transpose() * vf;
+  if (base.offset) v.tail(6) = params.offset;
+  return v;
+}
+
+}  // namespace massid

@@ -1,0 +1,101 @@
+#include "massid/report.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "massid/samples.hpp"
+
+namespace massid {
+namespace {
+
+const char* joint_type_name(const Joint& j) {
+  if (j.type == JointType::Prismatic) return "prismatic";
+  return j.continuous ? "continuous" : "revolute";
+}
+
+}  // namespace
+
+PredictionErrors prediction_errors(const Eigen::MatrixXd& measured, const Eigen::MatrixXd& predicted) {
+  PredictionErrors e;
+  const Eigen::MatrixXd d = measured - predicted;
+  const double n = static_cast<double>(measured.rows());
+  for (int k = 0; k < 6; ++k) {
+    e.rms[k] = std::sqrt(d.col(k).squaredNorm() / n);
+    e.max[k] = d.col(k).cwiseAbs().maxCoeff();
+    e.range[k] = measured.col(k).maxCoeff() - measured.col(k).minCoeff();
+    e.percent_of_range[k] = e.range[k] > 0 ? 100.0 * e.rms[k] / e.range[k] : INFINITY;
+  }
+  return e;
+}
+
+std::string model_report(const Model& model, const BaseParameters& base) {
+  std::string out = fmt::format("robot {} ({}), sensor link '{}'\n", model.name, model.source,
+                                model.sensor_link());
+  out += fmt::format("measured bodies: {} links\n", model.num_links());
+  for (const Link& l : model.links) {
+    out += fmt::format("  {:<20} ", l.name);
+    if (l.parent < 0)
+      out += "sensor link";
+    else
+      out += fmt::format("{} joint '{}' from '{}'",
+                         l.type == JointType::Fixed       ? "fixed"
+                         : l.type == JointType::Prismatic ? "prismatic"
+                                                          : "revolute",
+                         l.joint, model.links[l.parent].name);
+    out += l.has_inertial ? fmt::format(", URDF mass {:.6g} kg\n", l.mass) : ", no <inertial>\n";
+  }
+  out += fmt::format("movable joints: {}\n", model.num_joints());
+  for (const Joint& j : model.joints) {
+    out += fmt::format("  {:<20} {:<10}", j.name, joint_type_name(j));
+    if (j.limited) out += fmt::format(" [{:.6g}, {:.6g}]", j.lower, j.upper);
+    out += "\n";
+  }
+  out += fmt::format("standard parameters: {} (m, mx, my, mz per link)\n", 4 * model.num_links());
+  out += fmt::format("base parameters: {}", base.num_mass());
+  if (base.offset) out += fmt::format(" + 6 sensor offsets = {} unknowns", base.num_unknowns());
+  out += "\n";
+  for (const BaseParameter& p : base.params)
+    out += fmt::format("  {:<4} [{}] = {}\n", p.name, p.unit, p.expression);
+  return out;
+}
+
+std::string identify_report(const Model& model, const BaseParameters& base,
+                            const IdentifySummary& s, const std::string& data_source) {
+  std::string out = fmt::format(
+      "identified from {} samples of {} (gravity from {}), sensor link '{}'\n", s.samples,
+      data_source, s.gravity_from_force ? "the measured force direction, eq. 37" : "gx,gy,gz",
+      model.sensor_link());
+  out += fmt::format("  {:<10} {:>14} {:>12} {:<5} {}\n", "name", "value", "std", "unit",
+                     "expression");
+  for (int i = 0; i < base.num_unknowns(); ++i) {
+    const bool mass = i < base.num_mass();
+    out += fmt::format("  {:<10} {:>14.6g} {:>12.2g} {:<5} {}\n", base.unknown_name(i), s.value[i],
+                       s.stddev[i], mass ? base.params[i].unit : (i - base.num_mass() < 3 ? "N" : "N m"),
+                       mass ? base.params[i].expression : "sensor offset");
+  }
+  out += fmt::format("total mass: {:.6g} kg +- {:.2g}\n", s.value[base.total_mass],
+                     s.stddev[base.total_mass]);
+  out += fmt::format("condition number (eq. 36, moment rows): {:.4g}\n", s.condition_number);
+  out += "residual RMS:";
+  for (int k = 0; k < 6; ++k) out += fmt::format("  {} {:.3g}", kWrenchColumns[k], s.residual_rms[k]);
+  out += "\nnoise sigma (" + std::string(s.sigma_estimated ? "estimated from residuals" : "given") +
+         "):";
+  for (int k = 0; k < 6; ++k) out += fmt::format("  {} {:.3g}", kWrenchColumns[k], s.sigma[k]);
+  out += fmt::format("\nchi2 per degree of freedom: {:.3g}\n", s.chi2_per_dof);
+  return out;
+}
+
+std::string prediction_report(const PredictionErrors& e, int samples) {
+  std::string out = fmt::format("prediction error over {} samples (measured - predicted):\n", samples);
+  out += fmt::format("  {:<4} {:>12} {:>12} {:>12} {:>10}\n", "axis", "rms", "max", "range",
+                     "rms/range");
+  for (int k = 0; k < 6; ++k)
+    out += fmt::format("  {:<4} {:>12.4g} {:>12.4g} {:>12.4g} {:>10}\n", kWrenchColumns[k], e.rms[k],
+                       e.max[k], e.range[k],
+                       std::isfinite(e.percent_of_range[k]) ? fmt::format("{:.3g}%", e.percent_of_range[k])
+                                                            : "n/a");
+  return out;
+}
+
+}  // namespace massid

@@ -1,0 +1,28 @@
+#include "massid/simulate.hpp"
+
+#include <random>
+
+#include "massid/kinematics.hpp"
+#include "massid/regressor.hpp"
+
+namespace massid {
+
+Eigen::MatrixXd simulate_wrenches(const Model& model, const Samples& plan,
+                                  const SimulateOptions& options) {
+  const Eigen::VectorXd pi = nominal_standard_parameters(model);
+  KinematicsData kin(model);
+  Eigen::MatrixXd Y(6, pi.size());
+  Eigen::MatrixXd W(plan.size(), 6);
+  std::mt19937_64 rng(options.seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int i = 0; i < plan.size(); ++i) {
+    forward_kinematics(model, kin, plan.q.row(i).transpose());
+    standard_regressor(model, kin, plan.gravity.row(i).transpose(), Y);
+    Wrench w = Y * pi + options.offset;
+    for (int k = 0; k < 6; ++k) w[k] += (k < 3 ? options.noise_force : options.noise_moment) * normal(rng);
+    W.row(i) = w.transpose();
+  }
+  return W;
+}
+
+}  // namespace massid

@@ -1,0 +1,171 @@
+// URDF -> Model. tinyxml2 checks the XML first so that syntax errors carry a
+// line number; urdfdom then builds the tree; its log is captured so that its
+// complaints reach the user as one line instead of going to the console.
+#include <console_bridge/console.h>
+#include <fmt/format.h>
+#include <tinyxml2.h>
+
+#include <fstream>
+#include <sstream>
+#include <urdf_parser/urdf_parser.h>
+
+#include "massid/errors.hpp"
+#include "massid/model.hpp"
+
+namespace massid {
+namespace {
+
+class CaptureLog : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first_error.empty()) first_error = text;
+  }
+  std::string first_error;
+};
+
+// Line of the first <tag name="name"> element, 0 when not found.
+int element_line(const tinyxml2::XMLDocument& doc, const char* tag, const std::string& name) {
+  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot) return 0;
+  for (auto* e = robot->FirstChildElement(tag); e; e = e->NextSiblingElement(tag)) {
+    const char* n = e->Attribute("name");
+    if (n && name == n) return e->GetLineNum();
+  }
+  return 0;
+}
+
+Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y,
+                                  pose.rotation.z)
+                   .normalized()
+                   .toRotationMatrix();
+  t.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
+  return t;
+}
+
+}  // namespace
+
+Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
+                       const std::string& source) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
+    throw InputError(fmt::format("{}:{}: malformed XML: {}", source, doc.ErrorLineNum(),
+                                 doc.ErrorStr() ? doc.ErrorStr() : "parse error"));
+  }
+  if (!doc.FirstChildElement("robot"))
+    throw InputError(fmt::format("{}:1: not a URDF: no <robot> element", source));
+
+  CaptureLog capture;
+  console_bridge::useOutputHandler(&capture);
+  urdf::ModelInterfaceSharedPtr urdf;
+  try {
+    urdf = urdf::parseURDF(xml);
+  } catch (const std::exception& e) {
+    capture.first_error = e.what();
+  }
+  console_bridge::restorePreviousOutputHandler();
+  if (!urdf) {
+    throw InputError(fmt::format("{}: invalid URDF: {}", source,
+                                 capture.first_error.empty() ? "urdfdom rejected the file"
+                                                             : capture.first_error));
+  }
+
+  const std::string sensor = sensor_link.empty() ? urdf->getRoot()->name : sensor_link;
+  urdf::LinkConstSharedPtr root = urdf->getLink(sensor);
+  if (!root) {
+    std::string names;
+    for (const auto& [name, link] : urdf->links_) names += (names.empty() ? "" : ", ") + name;
+    throw InputError(fmt::format("{}: unknown sensor link '{}' (links: {})", source, sensor, names));
+  }
+
+  Model model;
+  model.name = urdf->getName();
+  model.source = source;
+
+  // Depth-first from the sensor link; children in the order urdfdom keeps them.
+  struct Pending {
+    urdf::LinkConstSharedPtr link;
+    int parent;
+  };
+  std::vector<Pending> stack{{root, -1}};
+  while (!stack.empty()) {
+    Pending cur = stack.back();
+    stack.pop_back();
+    Link link;
+    link.name = cur.link->name;
+    link.parent = cur.parent;
+    if (cur.link->inertial) {
+      link.has_inertial = true;
+      link.mass = cur.link->inertial->mass;
+      const auto& p = cur.link->inertial->origin.position;
+      link.com = Eigen::Vector3d(p.x, p.y, p.z);
+      if (!(link.mass >= 0.0))
+        throw InputError(fmt::format("{}:{}: link '{}' has a negative mass", source,
+                                     element_line(doc, "link", link.name), link.name));
+    }
+    if (cur.parent >= 0) {
+      const urdf::JointConstSharedPtr j = cur.link->parent_joint;
+      const int line = element_line(doc, "joint", j->name);
+      link.joint = j->name;
+      link.origin = to_isometry(j->parent_to_joint_origin_transform);
+      if (j->mimic)
+        throw InputError(fmt::format(
+            "{}:{}: joint '{}' is a mimic joint; massid supports independent revolute, "
+            "continuous, prismatic and fixed joints only",
+            source, line, j->name));
+      switch (j->type) {
+        case urdf::Joint::FIXED:
+          link.type = JointType::Fixed;
+          break;
+        case urdf::Joint::REVOLUTE:
+        case urdf::Joint::CONTINUOUS:
+          link.type = JointType::Revolute;
+          break;
+        case urdf::Joint::PRISMATIC:
+          link.type = JointType::Prismatic;
+          break;
+        default:
+          throw InputError(fmt::format(
+              "{}:{}: joint '{}' is of an unsupported type (floating, planar or unknown); "
+              "massid supports revolute, continuous, prismatic and fixed joints",
+              source, line, j->name));
+      }
+      if (link.type != JointType::Fixed) {
+        Eigen::Vector3d axis(j->axis.x, j->axis.y, j->axis.z);
+        if (axis.norm() < 1e-12)
+          throw InputError(
+              fmt::format("{}:{}: joint '{}' has a zero axis", source, line, j->name));
+        link.axis = axis.normalized();
+        Joint joint;
+        joint.name = j->name;
+        joint.type = link.type;
+        joint.continuous = j->type == urdf::Joint::CONTINUOUS;
+        if (j->limits && !joint.continuous && j->limits->upper > j->limits->lower) {
+          joint.limited = true;
+          joint.lower = j->limits->lower;
+          joint.upper = j->limits->upper;
+        }
+        joint.link = model.num_links();
+        link.joint_index = model.num_joints();
+        model.joints.push_back(joint);
+      }
+    }
+    const int index = model.num_links();
+    model.links.push_back(link);
+    // Push in reverse so the first child is visited first.
+    for (auto it = cur.link->child_links.rbegin(); it != cur.link->child_links.rend(); ++it)
+      stack.push_back({*it, index});
+  }
+  return model;
+}
+
+Model load_urdf(const std::string& path, const std::string& sensor_link) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open URDF file", path));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load_urdf_string(text.str(), sensor_link, path);
+}
+
+}  // namespace massid
