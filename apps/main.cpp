@@ -1,9 +1,9 @@
 // The massid command-line tool: parses arguments, calls the library, prints
 // its summaries. Exit codes: 0 success, 2 bad usage or input, 3 the data cannot
 // determine the parameters, 1 an internal error.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <iostream>
 #include <optional>
 
@@ -36,9 +36,11 @@ Wrench parse_wrench(const std::string& text, const std::string& option) {
       used = 0;
     }
     if (used == 0 || used != cell.size() || !std::isfinite(w[k]))
-      throw InputError(fmt::format("{}: '{}' is not a number (expected fx,fy,fz,mx,my,mz)", option, cell));
+      throw InputError(
+          fmt::format("{}: '{}' is not a number (expected fx,fy,fz,mx,my,mz)", option, cell));
     if ((comma == std::string_view::npos) != (k == 5))
-      throw InputError(fmt::format("{}: expected six comma-separated numbers fx,fy,fz,mx,my,mz", option));
+      throw InputError(
+          fmt::format("{}: expected six comma-separated numbers fx,fy,fz,mx,my,mz", option));
     if (comma != std::string_view::npos) rest.remove_prefix(comma + 1);
   }
   return w;
@@ -81,16 +83,14 @@ int run_simulate(const Common& c, const std::string& plan_path, const std::strin
   const Model model = load_urdf(c.urdf, c.sensor);
   const CsvTable table = read_csv(plan_path);
   const Samples plan = read_samples(model, table, WrenchColumns::Optional);
-  if (plan.gravity_from_force)
-    throw InputError(plan_path + ": simulate needs gx,gy,gz columns");
+  if (plan.gravity_from_force) throw InputError(plan_path + ": simulate needs gx,gy,gz columns");
   const Eigen::MatrixXd W = simulate_wrenches(model, plan, opts);
   OutputTable t(table);
   for (int k = 0; k < 6; ++k) t.set_column(kWrenchColumns[k], W.col(k));
   write_csv(out, t.header, t.rows);
-  std::cout << fmt::format("simulated {} samples of {} (sensor link '{}', total mass {:.6g} kg) -> {}\n",
-                           plan.size(), model.name, model.sensor_link(),
-                           model.nominal_total_mass(),
-                           out);
+  std::cout << fmt::format(
+      "simulated {} samples of {} (sensor link '{}', total mass {:.6g} kg) -> {}\n", plan.size(),
+      model.name, model.sensor_link(), model.nominal_total_mass(), out);
   return 0;
 }
 
@@ -113,8 +113,8 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   return 0;
 }
 
-int run_predict(const std::string& urdf, const std::string& params_path, const std::string& data_path,
-                const std::string& out) {
+int run_predict(const std::string& urdf, const std::string& params_path,
+                const std::string& data_path, const std::string& out) {
   const ParamsFile params = read_params(params_path);
   const Model model = load_urdf(urdf, params.sensor_link);
   BaseParameterOptions bopts;
@@ -128,9 +128,9 @@ int run_predict(const std::string& urdf, const std::string& params_path, const s
   const Samples samples = read_samples(model, table, WrenchColumns::Optional);
   Eigen::MatrixXd P(samples.size(), 6);
   for (int i = 0; i < samples.size(); ++i)
-    P.row(i) = predict(predictor, data, samples.q.row(i).transpose(),
-                       samples.gravity.row(i).transpose())
-                   .transpose();
+    P.row(i) =
+        predict(predictor, data, samples.q.row(i).transpose(), samples.gravity.row(i).transpose())
+            .transpose();
   if (!out.empty()) {
     OutputTable t(table);
     for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_pred", P.col(k));
@@ -139,8 +139,8 @@ int run_predict(const std::string& urdf, const std::string& params_path, const s
         t.set_column(std::string(kWrenchColumns[k]) + "_comp", samples.wrench.col(k) - P.col(k));
     write_csv(out, t.header, t.rows);
   }
-  std::cout << fmt::format("predicted {} samples of {} with {} (sensor link '{}'{})\n", samples.size(),
-                           data_path, params_path, model.sensor_link(),
+  std::cout << fmt::format("predicted {} samples of {} with {} (sensor link '{}'{})\n",
+                           samples.size(), data_path, params_path, model.sensor_link(),
                            samples.gravity_from_force ? ", gravity from the measured force" : "");
   if (samples.has_wrench())
     std::cout << prediction_report(prediction_errors(samples.wrench, P), samples.size());
@@ -151,7 +151,8 @@ int run_predict(const std::string& urdf, const std::string& params_path, const s
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches"};
+  CLI::App app{
+      "massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "massid 0.1.0");
 
@@ -172,13 +173,16 @@ int main(int argc, char** argv) {
   model->add_flag("--offset", offset, "Include the six sensor offsets as unknowns");
   model->add_flag("--json", as_json, "Print JSON (the params file's base_parameters, no values)");
 
-  CLI::App* simulate = app.add_subcommand("simulate", "Wrenches the URDF's inertials would produce");
+  CLI::App* simulate =
+      app.add_subcommand("simulate", "Wrenches the URDF's inertials would produce");
   simulate->add_option("robot", common.urdf, "Robot URDF")->required();
   simulate->add_option("plan", plan, "Plan CSV (joint columns, gx,gy,gz)")->required();
   simulate->add_option("-o,--output", out, "Data CSV to write")->required();
   add_sensor(simulate);
-  simulate->add_option("--noise-force", sim.noise_force, "Force noise sigma, N")->check(CLI::NonNegativeNumber);
-  simulate->add_option("--noise-moment", sim.noise_moment, "Moment noise sigma, N m")->check(CLI::NonNegativeNumber);
+  simulate->add_option("--noise-force", sim.noise_force, "Force noise sigma, N")
+      ->check(CLI::NonNegativeNumber);
+  simulate->add_option("--noise-moment", sim.noise_moment, "Moment noise sigma, N m")
+      ->check(CLI::NonNegativeNumber);
   simulate->add_option("--offset", offset_text, "Constant sensor offset fx,fy,fz,mx,my,mz");
   simulate->add_option("--seed", sim.seed, "Noise seed");
 
@@ -190,7 +194,9 @@ int main(int argc, char** argv) {
   ident->add_flag("--offset", offset, "Estimate the six sensor offsets too");
   ident->add_option("--sigma-force", sigma_force, "Force noise sigma, N (default: from residuals)")
       ->check(CLI::PositiveNumber);
-  ident->add_option("--sigma-moment", sigma_moment, "Moment noise sigma, N m (default: from residuals)")
+  ident
+      ->add_option("--sigma-moment", sigma_moment,
+                   "Moment noise sigma, N m (default: from residuals)")
       ->check(CLI::PositiveNumber);
 
   CLI::App* pred = app.add_subcommand("predict", "Gravity wrench predicted at every row of a CSV");

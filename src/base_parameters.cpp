@@ -52,7 +52,8 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
   Eigen::MatrixXd Y(6, n), Ys(6 * S, n);
   Eigen::VectorXd q(model.num_joints());
   for (int s = 0; s < S; ++s) {
-    for (int j = 0; j < model.num_joints(); ++j) q[j] = model.joints[j].generic_position(uniform(rng));
+    for (int j = 0; j < model.num_joints(); ++j)
+      q[j] = model.joints[j].generic_position(uniform(rng));
     Eigen::Vector3d g(normal(rng), normal(rng), normal(rng));
     g *= kStandardGravity / g.norm();
     forward_kinematics(model, kin, q);
@@ -128,7 +129,8 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
     // The representative first, then the other terms in column order.
     p.terms.push_back({c / kParamsPerLink, c % kParamsPerLink, K(i, c)});
     for (int j = 0; j < n; ++j)
-      if (j != c && K(i, j) != 0.0) p.terms.push_back({j / kParamsPerLink, j % kParamsPerLink, K(i, j)});
+      if (j != c && K(i, j) != 0.0)
+        p.terms.push_back({j / kParamsPerLink, j % kParamsPerLink, K(i, j)});
     p.expression = format_expression(model, p.terms);
     if (c == kMass) base.total_mass = r;
     base.params.push_back(std::move(p));

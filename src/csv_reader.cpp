@@ -13,7 +13,8 @@ namespace {
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -49,7 +50,8 @@ void split(std::string_view line, const std::string& source, int line_no,
             fmt::format("{}:{}:{}: unterminated quoted field", source, line_no, start + 1));
       end = line.find(',', k);
       if (!trim(line.substr(k, end == std::string_view::npos ? end : end - k)).empty())
-        throw InputError(fmt::format("{}:{}:{}: text after a quoted field", source, line_no, k + 1));
+        throw InputError(
+            fmt::format("{}:{}:{}: text after a quoted field", source, line_no, k + 1));
     } else {
       end = line.find(',', i);
       field = std::string(trim(line.substr(i, end == std::string_view::npos ? end : end - i)));
@@ -109,8 +111,8 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
       table.header_line = line_no;
       for (size_t c = 0; c < fields.size(); ++c) {
         if (fields[c].empty())
-          throw InputError(fmt::format("{}:{}:{}: empty column name in the header", source,
-                                       line_no, offsets[c]));
+          throw InputError(fmt::format("{}:{}:{}: empty column name in the header", source, line_no,
+                                       offsets[c]));
         for (size_t d = 0; d < c; ++d)
           if (fields[d] == fields[c])
             throw InputError(fmt::format("{}:{}:{}: column '{}' appears twice in the header",
@@ -120,15 +122,16 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
       continue;
     }
     if (fields.size() != table.header.size())
-      throw InputError(fmt::format("{}:{}:{}: row has {} fields, the header has {}", source,
-                                   line_no, fields.size() < table.header.size() ? line.size() + 1
-                                                                                : offsets[table.header.size()],
-                                   fields.size(), table.header.size()));
+      throw InputError(fmt::format(
+          "{}:{}:{}: row has {} fields, the header has {}", source, line_no,
+          fields.size() < table.header.size() ? line.size() + 1 : offsets[table.header.size()],
+          fields.size(), table.header.size()));
     table.rows.push_back(fields);
     table.column_offset.push_back(offsets);
     table.line.push_back(line_no);
   }
-  if (table.header.empty()) throw InputError(fmt::format("{}:1:1: empty file, no header row", source));
+  if (table.header.empty())
+    throw InputError(fmt::format("{}:1:1: empty file, no header row", source));
   if (table.rows.empty())
     throw InputError(fmt::format("{}:{}:1: header but no data rows", source, table.header_line));
   return table;

@@ -30,7 +30,8 @@ double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd
   const int N = static_cast<int>(A.rows() / 6);
   Eigen::MatrixXd M(3 * N, cols.size());
   for (int i = 0; i < N; ++i)
-    for (size_t k = 0; k < cols.size(); ++k) M.block<3, 1>(3 * i, k) = A.block<3, 1>(6 * i + 3, cols[k]);
+    for (size_t k = 0; k < cols.size(); ++k)
+      M.block<3, 1>(3 * i, k) = A.block<3, 1>(6 * i + 3, cols[k]);
   if (M.cols() == 0) return 1.0;
   Eigen::MatrixXd R = M;
   if (M.rows() > M.cols()) {

@@ -45,8 +45,7 @@ std::pair<int, int> line_column(const std::string& text, size_t byte) {
 
 }  // namespace
 
-std::string params_json(const Model& model, const BaseParameters& base,
-                        const IdentifySummary* s) {
+std::string params_json(const Model& model, const BaseParameters& base, const IdentifySummary* s) {
   json j;
   j["format"] = kFormat;
   j["sensor_link"] = model.sensor_link();
@@ -129,9 +128,7 @@ ParamsFile read_params(const std::string& path) {
   }
   ParamsFile p;
   p.source = path;
-  auto fail = [&](const std::string& what) {
-    throw InputError(fmt::format("{}: {}", path, what));
-  };
+  auto fail = [&](const std::string& what) { throw InputError(fmt::format("{}: {}", path, what)); };
   try {
     if (!j.is_object()) fail("not a massid params file (expected a JSON object)");
     if (j.value("format", "") != kFormat)
@@ -182,16 +179,17 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
     for (const auto& t : e.terms) {
       const int l = model.find_link(t.link);
       if (l < 0)
-        throw InputError(fmt::format("{}: base parameter '{}' refers to link '{}', which is not "
-                                     "a measured link of {} below '{}'",
-                                     params.source, e.name, t.link, model.source,
-                                     model.sensor_link()));
+        throw InputError(
+            fmt::format("{}: base parameter '{}' refers to link '{}', which is not "
+                        "a measured link of {} below '{}'",
+                        params.source, e.name, t.link, model.source, model.sensor_link()));
       int k = -1;
       for (int c = 0; c < kParamsPerLink; ++c)
         if (t.param == standard_parameter_kind(c)) k = c;
       if (k < 0)
-        throw InputError(fmt::format("{}: base parameter '{}': unknown parameter '{}' (m, mx, my, mz)",
-                                     params.source, e.name, t.param));
+        throw InputError(
+            fmt::format("{}: base parameter '{}': unknown parameter '{}' (m, mx, my, mz)",
+                        params.source, e.name, t.param));
       Kf(i, kParamsPerLink * l + k) += t.coef;
     }
   }

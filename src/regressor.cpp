@@ -23,8 +23,8 @@ Eigen::VectorXd nominal_standard_parameters(const Model& model) {
   return pi;
 }
 
-void standard_regressor(const Model& model, const KinematicsData& data,
-                        const Eigen::Vector3d& g, Eigen::Ref<Eigen::MatrixXd> Y) {
+void standard_regressor(const Model& model, const KinematicsData& data, const Eigen::Vector3d& g,
+                        Eigen::Ref<Eigen::MatrixXd> Y) {
   Y.setZero();
   for (int l = 0; l < model.num_links(); ++l) {
     const int c = kParamsPerLink * l;
@@ -32,8 +32,7 @@ void standard_regressor(const Model& model, const KinematicsData& data,
     Y.block<3, 1>(0, c + kMass) = g;
     Y.block<3, 1>(3, c + kMass) = data.position[l].cross(g);
     // first-moment columns: moment (R_l e_k) x g
-    for (int k = 0; k < 3; ++k)
-      Y.block<3, 1>(3, c + kMx + k) = data.rotation[l].col(k).cross(g);
+    for (int k = 0; k < 3; ++k) Y.block<3, 1>(3, c + kMx + k) = data.rotation[l].col(k).cross(g);
   }
 }
 

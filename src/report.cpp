@@ -16,7 +16,8 @@ const char* joint_type_name(const Joint& j) {
 
 }  // namespace
 
-PredictionErrors prediction_errors(const Eigen::MatrixXd& measured, const Eigen::MatrixXd& predicted) {
+PredictionErrors prediction_errors(const Eigen::MatrixXd& measured,
+                                   const Eigen::MatrixXd& predicted) {
   PredictionErrors e;
   const Eigen::MatrixXd d = measured - predicted;
   const double n = static_cast<double>(measured.rows());
@@ -71,14 +72,16 @@ std::string identify_report(const Model& model, const BaseParameters& base,
   for (int i = 0; i < base.num_unknowns(); ++i) {
     const bool mass = i < base.num_mass();
     out += fmt::format("  {:<10} {:>14.6g} {:>12.2g} {:<5} {}\n", base.unknown_name(i), s.value[i],
-                       s.stddev[i], mass ? base.params[i].unit : (i - base.num_mass() < 3 ? "N" : "N m"),
+                       s.stddev[i],
+                       mass ? base.params[i].unit : (i - base.num_mass() < 3 ? "N" : "N m"),
                        mass ? base.params[i].expression : "sensor offset");
   }
   out += fmt::format("total mass: {:.6g} kg +- {:.2g}\n", s.value[base.total_mass],
                      s.stddev[base.total_mass]);
   out += fmt::format("condition number (eq. 36, moment rows): {:.4g}\n", s.condition_number);
   out += "residual RMS:";
-  for (int k = 0; k < 6; ++k) out += fmt::format("  {} {:.3g}", kWrenchColumns[k], s.residual_rms[k]);
+  for (int k = 0; k < 6; ++k)
+    out += fmt::format("  {} {:.3g}", kWrenchColumns[k], s.residual_rms[k]);
   out += "\nnoise sigma (" + std::string(s.sigma_estimated ? "estimated from residuals" : "given") +
          "):";
   for (int k = 0; k < 6; ++k) out += fmt::format("  {} {:.3g}", kWrenchColumns[k], s.sigma[k]);
@@ -87,14 +90,16 @@ std::string identify_report(const Model& model, const BaseParameters& base,
 }
 
 std::string prediction_report(const PredictionErrors& e, int samples) {
-  std::string out = fmt::format("prediction error over {} samples (measured - predicted):\n", samples);
+  std::string out =
+      fmt::format("prediction error over {} samples (measured - predicted):\n", samples);
   out += fmt::format("  {:<4} {:>12} {:>12} {:>12} {:>10}\n", "axis", "rms", "max", "range",
                      "rms/range");
   for (int k = 0; k < 6; ++k)
-    out += fmt::format("  {:<4} {:>12.4g} {:>12.4g} {:>12.4g} {:>10}\n", kWrenchColumns[k], e.rms[k],
-                       e.max[k], e.range[k],
-                       std::isfinite(e.percent_of_range[k]) ? fmt::format("{:.3g}%", e.percent_of_range[k])
-                                                            : "n/a");
+    out += fmt::format("  {:<4} {:>12.4g} {:>12.4g} {:>12.4g} {:>10}\n", kWrenchColumns[k],
+                       e.rms[k], e.max[k], e.range[k],
+                       std::isfinite(e.percent_of_range[k])
+                           ? fmt::format("{:.3g}%", e.percent_of_range[k])
+                           : "n/a");
   return out;
 }
 

@@ -25,9 +25,9 @@ std::vector<int> column_group(const CsvTable& table, std::initializer_list<const
   const size_t found = std::count_if(idx.begin(), idx.end(), [](int c) { return c >= 0; });
   if (found == 0) return {};
   if (found < idx.size())
-    throw InputError(fmt::format("{}:{}: column(s) {} missing (the header has some of {} but not all)",
-                                 table.source, table.header_line, fmt::join(missing, ","),
-                                 fmt::join(names.begin(), names.end(), ",")));
+    throw InputError(fmt::format(
+        "{}:{}: column(s) {} missing (the header has some of {} but not all)", table.source,
+        table.header_line, fmt::join(missing, ","), fmt::join(names.begin(), names.end(), ",")));
   return idx;
 }
 
@@ -59,8 +59,9 @@ Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wr
 
   const std::vector<int> w = column_group(table, {"fx", "fy", "fz", "mx", "my", "mz"});
   if (w.empty() && wrench == WrenchColumns::Required)
-    throw InputError(fmt::format("{}:{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed",
-                                 table.source, table.header_line));
+    throw InputError(
+        fmt::format("{}:{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed",
+                    table.source, table.header_line));
   if (!w.empty()) {
     s.wrench.resize(N, 6);
     for (int r = 0; r < N; ++r)
@@ -77,9 +78,10 @@ Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wr
     for (int r = 0; r < N; ++r) {
       const Eigen::Vector3d f = s.wrench.row(r).head<3>();
       if (!(f.norm() > 0.0))
-        throw InputError(fmt::format("{}:{}: zero force: no gx,gy,gz columns and no force to take "
-                                     "the gravity direction from",
-                                     table.source, table.line[r]));
+        throw InputError(
+            fmt::format("{}:{}: zero force: no gx,gy,gz columns and no force to take "
+                        "the gravity direction from",
+                        table.source, table.line[r]));
       s.gravity.row(r) = g0 * f / f.norm();  // paper eq. 37
     }
   } else {

@@ -19,7 +19,8 @@ Eigen::MatrixXd simulate_wrenches(const Model& model, const Samples& plan,
     forward_kinematics(model, kin, plan.q.row(i).transpose());
     standard_regressor(model, kin, plan.gravity.row(i).transpose(), Y);
     Wrench w = Y * pi + options.offset;
-    for (int k = 0; k < 6; ++k) w[k] += (k < 3 ? options.noise_force : options.noise_moment) * normal(rng);
+    for (int k = 0; k < 6; ++k)
+      w[k] += (k < 3 ? options.noise_force : options.noise_moment) * normal(rng);
     W.row(i) = w.transpose();
   }
   return W;

@@ -4,10 +4,10 @@
 #include <console_bridge/console.h>
 #include <fmt/format.h>
 #include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
 
 #include <fstream>
 #include <sstream>
-#include <urdf_parser/urdf_parser.h>
 
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
@@ -18,7 +18,8 @@ namespace {
 class CaptureLog : public console_bridge::OutputHandler {
  public:
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first_error.empty()) first_error = text;
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first_error.empty())
+      first_error = text;
   }
   std::string first_error;
 };
@@ -36,10 +37,10 @@ int element_line(const tinyxml2::XMLDocument& doc, const char* tag, const std::s
 
 Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y,
-                                  pose.rotation.z)
-                   .normalized()
-                   .toRotationMatrix();
+  t.linear() =
+      Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
+          .normalized()
+          .toRotationMatrix();
   t.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
   return t;
 }
@@ -66,9 +67,9 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   }
   console_bridge::restorePreviousOutputHandler();
   if (!urdf) {
-    throw InputError(fmt::format("{}: invalid URDF: {}", source,
-                                 capture.first_error.empty() ? "urdfdom rejected the file"
-                                                             : capture.first_error));
+    throw InputError(fmt::format(
+        "{}: invalid URDF: {}", source,
+        capture.first_error.empty() ? "urdfdom rejected the file" : capture.first_error));
   }
 
   const std::string sensor = sensor_link.empty() ? urdf->getRoot()->name : sensor_link;
@@ -76,7 +77,8 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   if (!root) {
     std::string names;
     for (const auto& [name, link] : urdf->links_) names += (names.empty() ? "" : ", ") + name;
-    throw InputError(fmt::format("{}: unknown sensor link '{}' (links: {})", source, sensor, names));
+    throw InputError(
+        fmt::format("{}: unknown sensor link '{}' (links: {})", source, sensor, names));
   }
 
   Model model;
@@ -110,10 +112,10 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
       link.joint = j->name;
       link.origin = to_isometry(j->parent_to_joint_origin_transform);
       if (j->mimic)
-        throw InputError(fmt::format(
-            "{}:{}: joint '{}' is a mimic joint; massid supports independent revolute, "
-            "continuous, prismatic and fixed joints only",
-            source, line, j->name));
+        throw InputError(
+            fmt::format("{}:{}: joint '{}' is a mimic joint; massid supports independent revolute, "
+                        "continuous, prismatic and fixed joints only",
+                        source, line, j->name));
       switch (j->type) {
         case urdf::Joint::FIXED:
           link.type = JointType::Fixed;
@@ -134,8 +136,7 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
       if (link.type != JointType::Fixed) {
         Eigen::Vector3d axis(j->axis.x, j->axis.y, j->axis.z);
         if (axis.norm() < 1e-12)
-          throw InputError(
-              fmt::format("{}:{}: joint '{}' has a zero axis", source, line, j->name));
+          throw InputError(fmt::format("{}:{}: joint '{}' has a zero axis", source, line, j->name));
         link.axis = axis.normalized();
         Joint joint;
         joint.name = j->name;

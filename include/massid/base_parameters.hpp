@@ -35,10 +35,10 @@ struct Term {
 };
 
 struct BaseParameter {
-  std::string name;        // "p1", ..., "M" for the total mass
-  std::string expression;  // "mx(link2) + 0.198 m(link3)"
-  std::string unit;        // "kg" or "kg m"
-  std::vector<Term> terms; // base value = sum coef * standard parameter
+  std::string name;         // "p1", ..., "M" for the total mass
+  std::string expression;   // "mx(link2) + 0.198 m(link3)"
+  std::string unit;         // "kg" or "kg m"
+  std::vector<Term> terms;  // base value = sum coef * standard parameter
 };
 
 struct BaseParameterOptions {

@@ -27,10 +27,10 @@ struct IdentifyOptions {
 };
 
 struct IdentifySummary {
-  Eigen::VectorXd value;       // [num_unknowns] base parameters, then offsets
-  Eigen::VectorXd stddev;      // [num_unknowns] standard deviations
-  Eigen::MatrixXd covariance;  // [num_unknowns x num_unknowns]
-  double condition_number = 0; // eq. 36: moment rows over moment unknowns, unscaled
+  Eigen::VectorXd value;                     // [num_unknowns] base parameters, then offsets
+  Eigen::VectorXd stddev;                    // [num_unknowns] standard deviations
+  Eigen::MatrixXd covariance;                // [num_unknowns x num_unknowns]
+  double condition_number = 0;               // eq. 36: moment rows over moment unknowns, unscaled
   Eigen::Matrix<double, 6, 1> residual_rms;  // fx fy fz mx my mz, unweighted
   Eigen::Matrix<double, 6, 1> residual_max;  // largest |residual| per axis
   Eigen::Matrix<double, 6, 1> sigma;         // noise per axis used as weights

@@ -15,10 +15,10 @@ namespace massid {
 struct IdentifiabilityReport {
   int rank = 0;
   int unknowns = 0;
-  std::vector<int> undetermined;        // unknowns involved in the null space
-  bool tilt_would_help = false;         // more gravity directions would determine them
+  std::vector<int> undetermined;            // unknowns involved in the null space
+  bool tilt_would_help = false;             // more gravity directions would determine them
   std::vector<std::string> joints_to_move;  // moving one of these would help
-  std::string message;                  // the user-facing explanation with its fix
+  std::string message;                      // the user-facing explanation with its fix
   bool ok() const { return rank == unknowns; }
 };
 

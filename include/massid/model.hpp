@@ -13,12 +13,12 @@ enum class JointType { Fixed, Revolute, Prismatic };
 // A measured link and the joint that connects it to its parent link.
 struct Link {
   std::string name;
-  int parent = -1;                   // index in Model::links; -1 for the sensor link
-  std::string joint;                 // URDF joint from the parent ("" for the sensor link)
-  JointType type = JointType::Fixed; // revolute covers URDF "continuous" too
-  int joint_index = -1;              // index in Model::joints, -1 when fixed
+  int parent = -1;                    // index in Model::links; -1 for the sensor link
+  std::string joint;                  // URDF joint from the parent ("" for the sensor link)
+  JointType type = JointType::Fixed;  // revolute covers URDF "continuous" too
+  int joint_index = -1;               // index in Model::joints, -1 when fixed
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // parent frame -> joint frame, q = 0
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();            // unit joint axis, joint frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();           // unit joint axis, joint frame
   // Nominal inertial from the URDF (used by `simulate`, never by `predict`).
   double mass = 0.0;
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  // centre of mass in the link frame
@@ -40,9 +40,9 @@ struct Joint {
 };
 
 struct Model {
-  std::string name;         // URDF robot name
-  std::string source;       // file it was loaded from, for messages
-  std::vector<Link> links;  // depth-first from the sensor link: parent index < own index
+  std::string name;           // URDF robot name
+  std::string source;         // file it was loaded from, for messages
+  std::vector<Link> links;    // depth-first from the sensor link: parent index < own index
   std::vector<Joint> joints;  // movable joints, in the order of their links
 
   int num_links() const { return static_cast<int>(links.size()); }

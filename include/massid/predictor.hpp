@@ -25,13 +25,13 @@ using Wrench = Eigen::Matrix<double, 6, 1>;  // fx fy fz mx my mz
 
 struct Predictor {
   struct Body {
-    int parent = -1;                                    // body index, -1 for the sensor body
+    int parent = -1;                                         // body index, -1 for the sensor body
     Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // parent body -> joint frame
     Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();    // joint axis in the joint frame
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // joint axis in the joint frame
     JointType type = JointType::Fixed;
-    int joint = -1;                                     // index into q
-    double mass = 0.0;                                  // m_b: moves with the body's origin
+    int joint = -1;                                          // index into q
+    double mass = 0.0;                                       // m_b: moves with the body's origin
     Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();  // h_b, body frame
   };
   std::vector<Body> bodies;  // bodies[0] is the sensor body; parents come first

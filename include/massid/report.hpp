@@ -14,14 +14,15 @@ namespace massid {
 
 // Per-axis agreement of predicted with measured wrenches.
 struct PredictionErrors {
-  Wrench rms = Wrench::Zero();            // RMS of measured - predicted
-  Wrench max = Wrench::Zero();            // largest |measured - predicted|
-  Wrench range = Wrench::Zero();          // max - min of the measured axis over the file
+  Wrench rms = Wrench::Zero();               // RMS of measured - predicted
+  Wrench max = Wrench::Zero();               // largest |measured - predicted|
+  Wrench range = Wrench::Zero();             // max - min of the measured axis over the file
   Wrench percent_of_range = Wrench::Zero();  // 100 rms / range (inf for a constant axis)
 };
 
 // measured, predicted: [N x 6].
-PredictionErrors prediction_errors(const Eigen::MatrixXd& measured, const Eigen::MatrixXd& predicted);
+PredictionErrors prediction_errors(const Eigen::MatrixXd& measured,
+                                   const Eigen::MatrixXd& predicted);
 
 std::string model_report(const Model& model, const BaseParameters& base);
 std::string identify_report(const Model& model, const BaseParameters& base,

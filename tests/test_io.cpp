@@ -1,0 +1,121 @@
+// CSV reading and writing, atomic output files, params JSON round trip.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "massid/atomic_file.hpp"
+#include "massid/base_parameters.hpp"
+#include "massid/csv.hpp"
+#include "massid/errors.hpp"
+#include "massid/estimation.hpp"
+#include "massid/params_file.hpp"
+#include "massid/regressor.hpp"
+#include "massid/simulate.hpp"
+#include "test_support.hpp"
+
+namespace massid {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_csv(text, "f.csv");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Csv, AcceptsBomCrlfCommentsBlankLinesAndQuotes) {
+  const CsvTable t = parse_csv(
+      "\xEF\xBB\xBF# comment\r\na, b ,\"c,d\"\r\n\r\n1, 2 ,\"x\"\"y\"\r\n# x\n3,4,5", "f");
+  ASSERT_EQ(t.num_columns(), 3);
+  EXPECT_EQ(t.header[1], "b");
+  EXPECT_EQ(t.header[2], "c,d");
+  ASSERT_EQ(t.num_rows(), 2);
+  EXPECT_EQ(t.rows[0][2], "x\"y");
+  EXPECT_EQ(t.line[0], 4);
+  EXPECT_EQ(t.line[1], 6);
+  EXPECT_EQ(t.number(1, 1), 4.0);
+}
+
+TEST(Csv, ErrorsNameFileLineAndColumn) {
+  EXPECT_EQ(error_of("a,b\n1,2\n3"), "f.csv:3:2: row has 1 fields, the header has 2");
+  EXPECT_EQ(error_of("a,b\n"), "f.csv:1:1: header but no data rows");
+  EXPECT_EQ(error_of(""), "f.csv:1:1: empty file, no header row");
+  EXPECT_EQ(error_of("a,a\n1,2"), "f.csv:1:3: column 'a' appears twice in the header");
+  const CsvTable t = parse_csv("a,bb\n1, x1\n1,nan\n1,inf\n1,", "f.csv");
+  auto number_error = [&](int r, int c) {
+    try {
+      t.number(r, c);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(number_error(0, 1), "f.csv:2:4: column 'bb': 'x1' is not a number");
+  EXPECT_EQ(number_error(1, 1), "f.csv:3:3: column 'bb': 'nan' is not a finite number");
+  EXPECT_EQ(number_error(2, 1), "f.csv:4:3: column 'bb': 'inf' is not a finite number");
+  EXPECT_EQ(number_error(3, 1), "f.csv:5:3: column 'bb': empty cell, a number is expected");
+}
+
+TEST(Csv, NumbersRoundTripExactly) {
+  for (double v : {0.1, -2.445, 1e-300, 9.80665, 1.0 / 3.0, 123456789.123456789})
+    EXPECT_EQ(parse_csv("a\n" + format_number(v), "f").number(0, 0), v);
+}
+
+TEST(AtomicFile, FailureLeavesTheOldFileAndNoTemporary) {
+  const fs::path dir = fs::temp_directory_path() / "massid_atomic_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string path = (dir / "out.txt").string();
+  write_file_atomically(path, "old\n");
+  write_file_atomically(path, "new\n");
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  EXPECT_EQ(ss.str(), "new\n");
+  EXPECT_THROW(write_file_atomically((dir / "missing" / "x.txt").string(), "x"), InputError);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+  fs::remove_all(dir);
+}
+
+TEST(ParamsFile, RoundTripsThroughJson) {
+  const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/branching/branching.urdf");
+  BaseParameterOptions bo;
+  bo.offset = true;
+  const BaseParameters base = find_base_parameters(model, bo);
+  Samples s = test::load_plan(model, MASSID_SOURCE_DIR "/examples/branching/plan.csv");
+  SimulateOptions so;
+  so.offset << 1, 2, 3, 0.1, 0.2, 0.3;
+  s.wrench = simulate_wrenches(model, s, so);
+  const IdentifySummary r = identify(model, base, s);
+  const fs::path path = fs::temp_directory_path() / "massid_params_test.json";
+  write_file_atomically(path.string(), params_json(model, base, &r));
+  const ParamsFile p = read_params(path.string());
+  fs::remove(path);
+  EXPECT_EQ(p.sensor_link, "sensor");
+  EXPECT_EQ(static_cast<int>(p.base_parameters.size()), base.num_mass());
+  EXPECT_DOUBLE_EQ(p.total_mass, r.value[base.total_mass]);
+  EXPECT_TRUE(p.has_offset);
+  const Eigen::VectorXd v = values_in_basis(p, model, base);
+  EXPECT_LT((v - r.value).norm(), 1e-12 * r.value.norm());
+  // Terms evaluated on the URDF's standard parameters give the identified values.
+  const Eigen::VectorXd pi = nominal_standard_parameters(model);
+  for (const auto& e : p.base_parameters) {
+    double sum = 0.0;
+    for (const auto& t : e.terms) {
+      int k = 0;
+      while (t.param != standard_parameter_kind(k)) ++k;
+      sum += t.coef * pi[kParamsPerLink * model.find_link(t.link) + k];
+    }
+    EXPECT_NEAR(sum, e.value, 1e-9 * std::max(1.0, std::abs(e.value))) << e.name;
+  }
+}
+
+}  // namespace
+}  // namespace massid
