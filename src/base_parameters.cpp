@@ -19,11 +19,14 @@ void reparametrise(int num_links, const Eigen::Ref<const Eigen::MatrixXd>& Y,
   for (int l = 1; l < num_links; ++l) Yp.col(kParamsPerLink * l + kMass) -= Y.col(kMass);
 }
 
-// 12 significant digits: 0.19800000000000003 -> 0.198; |c| < 1e-11 -> 0.
+// Round-off cleaning: a coefficient within 1e-12 (relative) of a decimal with
+// at most 9 significant digits is snapped to it (0.19800000000000003 -> 0.198),
+// |c| < 1e-11 becomes 0; anything else (0.7071067811865476) is kept exact.
 double clean(double c) {
   if (std::abs(c) < 1e-11) return 0.0;
-  const double scale = std::pow(10.0, 11 - std::floor(std::log10(std::abs(c))));
-  return std::round(c * scale) / scale;
+  const double scale = std::pow(10.0, 8 - std::floor(std::log10(std::abs(c))));
+  const double snapped = std::round(c * scale) / scale;
+  return std::abs(snapped - c) <= 1e-12 * std::abs(c) ? snapped : c;
 }
 
 }  // namespace
