@@ -8,6 +8,7 @@
 #include "massid/base_regressor.hpp"
 #include "massid/estimation.hpp"
 #include "massid/predictor.hpp"
+#include "massid/report.hpp"
 #include "massid/simulate.hpp"
 #include "test_support.hpp"
 
@@ -65,6 +66,45 @@ TEST_P(PredictorTest, IdentifiedParametersPredictTheTruthAtNewPoses) {
 
 INSTANTIATE_TEST_SUITE_P(Examples, PredictorTest, ::testing::ValuesIn(test::examples()),
                          [](const auto& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace massid
+
+namespace massid {
+namespace {
+
+// The paper's claim (sec. V) in its own terms: identified from the 30-pose
+// plan with sensor noise, the prediction at 200 held-out poses (tilts up to
+// 25 deg in any direction) is within 1 % of each axis' range (Mz: 10 %). We
+// require far better, and errors at the noise level against noisy data.
+TEST(Puma260, HeldOutPredictionsAreFarInsideThePapersOnePercent) {
+  const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");
+  const BaseParameters base = find_base_parameters(model);
+  Samples plan = test::load_plan(model, MASSID_SOURCE_DIR "/examples/puma260/plan.csv");
+  SimulateOptions noise;
+  noise.noise_force = 0.05;
+  noise.noise_moment = 0.005;
+  plan.wrench = simulate_wrenches(model, plan, noise);
+  const Predictor pred = compile_predictor(model, base, identify(model, base, plan).value);
+  PredictorData data(pred);
+
+  Samples held = test::load_plan(model, MASSID_SOURCE_DIR "/examples/puma260/holdout.csv");
+  const Eigen::MatrixXd truth = simulate_wrenches(model, held);
+  noise.seed = 77;
+  const Eigen::MatrixXd measured = simulate_wrenches(model, held, noise);
+  Eigen::MatrixXd predicted(held.size(), 6);
+  for (int i = 0; i < held.size(); ++i)
+    predicted.row(i) = predict(pred, data, held.q.row(i).transpose(), held.gravity.row(i).transpose());
+  const PredictionErrors model_error = prediction_errors(truth, predicted);
+  const PredictionErrors vs_measured = prediction_errors(measured, predicted);
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_LT(model_error.percent_of_range[k], 0.3) << kWrenchColumns[k];
+    // Against noisy measurements the error is the noise itself.
+    const double sigma = k < 3 ? noise.noise_force : noise.noise_moment;
+    EXPECT_LT(vs_measured.rms[k], 1.25 * sigma) << kWrenchColumns[k];
+    EXPECT_GT(vs_measured.rms[k], 0.8 * sigma) << kWrenchColumns[k];
+  }
+}
 
 }  // namespace
 }  // namespace massid

@@ -1,0 +1,111 @@
+// Timings of the core algorithms on the example robots: the real-time
+// predictor, the regressors, identification and CSV reading.
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "massid/base_parameters.hpp"
+#include "massid/base_regressor.hpp"
+#include "massid/csv.hpp"
+#include "massid/estimation.hpp"
+#include "massid/predictor.hpp"
+#include "massid/regressor.hpp"
+#include "massid/simulate.hpp"
+
+namespace {
+
+using namespace massid;
+
+const char* const kRobots[] = {MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf",
+                               MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf",
+                               MASSID_SOURCE_DIR "/examples/branching/branching.urdf"};
+const char* const kNames[] = {"puma260", "ur_like", "branching"};
+
+// Random samples (joint positions and gravity) for a model.
+Samples random_samples(const Model& model, int n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> g;
+  Samples s;
+  s.source = "random";
+  s.q.resize(n, model.num_joints());
+  s.gravity.resize(n, 3);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < model.num_joints(); ++j) s.q(i, j) = model.joints[j].generic_position(u(rng));
+    s.gravity.row(i) = 9.81 * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+  }
+  return s;
+}
+
+void BM_Predict(benchmark::State& state) {
+  const Model model = load_urdf(kRobots[state.range(0)]);
+  const BaseParameters base = find_base_parameters(model);
+  const Predictor pred = compile_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns()));
+  PredictorData data(pred);
+  const Samples s = random_samples(model, 1024, 1);
+  int i = 0;
+  for (auto _ : state) {
+    const Wrench w = predict(pred, data, s.q.row(i).transpose(), s.gravity.row(i).transpose());
+    benchmark::DoNotOptimize(w);
+    i = (i + 1) & 1023;
+  }
+  state.SetLabel(kNames[state.range(0)]);
+}
+BENCHMARK(BM_Predict)->DenseRange(0, 2);
+
+void BM_StandardRegressor(benchmark::State& state) {
+  const Model model = load_urdf(kRobots[state.range(0)]);
+  KinematicsData kin(model);
+  Eigen::MatrixXd Y(6, num_standard_parameters(model));
+  const Samples s = random_samples(model, 1024, 2);
+  int i = 0;
+  for (auto _ : state) {
+    forward_kinematics(model, kin, s.q.row(i).transpose());
+    standard_regressor(model, kin, s.gravity.row(i).transpose(), Y);
+    benchmark::DoNotOptimize(Y.data());
+    i = (i + 1) & 1023;
+  }
+  state.SetLabel(kNames[state.range(0)]);
+}
+BENCHMARK(BM_StandardRegressor)->DenseRange(0, 2);
+
+void BM_FindBaseParameters(benchmark::State& state) {
+  const Model model = load_urdf(kRobots[state.range(0)]);
+  for (auto _ : state) benchmark::DoNotOptimize(find_base_parameters(model));
+  state.SetLabel(kNames[state.range(0)]);
+}
+BENCHMARK(BM_FindBaseParameters)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+void BM_Identify(benchmark::State& state) {
+  const Model model = load_urdf(kRobots[1]);
+  const BaseParameters base = find_base_parameters(model);
+  Samples s = random_samples(model, static_cast<int>(state.range(0)), 3);
+  SimulateOptions noise;
+  noise.noise_force = 0.05;
+  noise.noise_moment = 0.005;
+  s.wrench = simulate_wrenches(model, s, noise);
+  for (auto _ : state) benchmark::DoNotOptimize(identify(model, base, s));
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+  state.SetLabel("ur_like, rows/s");
+}
+BENCHMARK(BM_Identify)->Arg(30)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+void BM_ParseCsv(benchmark::State& state) {
+  const Model model = load_urdf(kRobots[1]);
+  Samples s = random_samples(model, static_cast<int>(state.range(0)), 4);
+  s.wrench = simulate_wrenches(model, s);
+  std::string text = "j1,j2,j3,j4,j5,j6,gx,gy,gz,fx,fy,fz,mx,my,mz\n";
+  for (int i = 0; i < s.size(); ++i) {
+    for (int j = 0; j < 6; ++j) text += format_number(s.q(i, j)) + ",";
+    for (int j = 0; j < 3; ++j) text += format_number(s.gravity(i, j)) + ",";
+    for (int j = 0; j < 6; ++j) text += format_number(s.wrench(i, j)) + (j < 5 ? "," : "\n");
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(parse_csv(text, "bench.csv"));
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(text.size()));
+}
+BENCHMARK(BM_ParseCsv)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
