@@ -13,11 +13,12 @@
 namespace massid {
 namespace {
 
-// Regressor rows for a few of the samples with the joint positions and/or the
-// gravity direction replaced by random ones.
+constexpr int kNoJoint = -1, kAllJoints = -2;
+
+// Regressor rows for the samples (cycled) with the gravity direction and/or
+// joint positions (one joint, all or none) replaced by random ones.
 Eigen::MatrixXd perturbed_rows(const Model& model, const BaseParameters& base,
-                               const Samples& samples, bool random_gravity, int random_joint,
-                               bool all_joints) {
+                               const Samples& samples, bool random_gravity, int random_joint) {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -28,28 +29,26 @@ Eigen::MatrixXd perturbed_rows(const Model& model, const BaseParameters& base,
     const int s = i % samples.size();
     Eigen::VectorXd q = samples.q.row(s).transpose();
     Eigen::Vector3d g = samples.gravity.row(s).transpose();
-    for (int j = 0; j < model.num_joints(); ++j) {
-      if (!all_joints && j != random_joint) continue;
-      q[j] = model.joints[j].generic_position(uniform(rng));
-    }
-    if (random_gravity) {
-      Eigen::Vector3d d(normal(rng), normal(rng), normal(rng));
-      g = g.norm() * d.normalized();
-    }
+    for (int j = 0; j < model.num_joints(); ++j)
+      if (random_joint == kAllJoints || j == random_joint)
+        q[j] = model.joints[j].generic_position(uniform(rng));
+    if (random_gravity)
+      g = g.norm() * Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
     base_regressor(model, base, data, q, g);
     rows.middleRows(6 * i, 6) = data.base;
   }
   return rows;
 }
 
-// Fraction of the directions in `null` (columns, original coordinates) that
-// the extra rows determine.
-bool determines(const Eigen::MatrixXd& rows, const Eigen::MatrixXd& null) {
-  for (int k = 0; k < null.cols(); ++k) {
-    const double scale = rows.norm() * null.col(k).norm();
-    if ((rows * null.col(k)).norm() < 1e-6 * scale) return false;
-  }
-  return true;
+// Would adding `rows` to the data determine every direction of `null` (an
+// orthonormal basis of the data's null space, column-scaled coordinates)?
+// Yes iff rows * S * null has full column rank.
+bool completes(const Eigen::MatrixXd& rows, const Eigen::VectorXd& scale,
+               const Eigen::MatrixXd& null) {
+  const Eigen::MatrixXd rs = rows * scale.asDiagonal();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(rs * null);
+  const double largest = Eigen::JacobiSVD<Eigen::MatrixXd>(rs).singularValues()(0);
+  return svd.singularValues().minCoeff() > 1e-6 * largest;
 }
 
 }  // namespace
@@ -81,21 +80,18 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
     if (sv[i] > tolerance * smax) ++report.rank;
   if (report.ok()) return report;
 
-  const int nnull = p - report.rank;
-  Eigen::MatrixXd null = scale.asDiagonal() * svd.matrixV().rightCols(nnull);
-  for (int c = 0; c < p; ++c) {
-    // Involved when it carries a noticeable share of some null direction.
-    const Eigen::VectorXd v = svd.matrixV().rightCols(nnull).row(c);
-    if (v.norm() > 0.05) report.undetermined.push_back(c);
-  }
+  const Eigen::MatrixXd null = svd.matrixV().rightCols(p - report.rank);
+  for (int c = 0; c < p; ++c)  // involved: a noticeable share of the null space
+    if (null.row(c).norm() > 0.05) report.undetermined.push_back(c);
 
-  report.tilt_would_help = determines(perturbed_rows(model, base, samples, true, -1, false), null);
+  report.tilt_would_help =
+      completes(perturbed_rows(model, base, samples, true, kNoJoint), scale, null);
   for (int j = 0; j < model.num_joints(); ++j)
-    if (determines(perturbed_rows(model, base, samples, false, j, false), null))
+    if (completes(perturbed_rows(model, base, samples, false, j), scale, null))
       report.joints_to_move.push_back(model.joints[j].name);
   const bool all_joints_help =
       model.num_joints() > 0 &&
-      determines(perturbed_rows(model, base, samples, false, -1, true), null);
+      completes(perturbed_rows(model, base, samples, false, kAllJoints), scale, null);
 
   std::vector<std::string> names;
   for (int c : report.undetermined) {
