@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <iostream>
 #include <optional>
 
@@ -44,6 +45,24 @@ Wrench parse_wrench(const std::string& text, const std::string& option) {
     if (comma != std::string_view::npos) rest.remove_prefix(comma + 1);
   }
   return w;
+}
+
+// Checks a number option with a readable message (CLI11's ranges print DBL_MAX in full).
+CLI::Validator sign_check(bool positive) {
+  return CLI::Validator(
+      [positive](std::string& text) -> std::string {
+        size_t used = 0;
+        double v = 0.0;
+        try {
+          v = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used > 0 && used == text.size() && std::isfinite(v) && (positive ? v > 0 : v >= 0))
+          return "";
+        return fmt::format("'{}' is not a {} number", text, positive ? "positive" : "non-negative");
+      },
+      positive ? "POSITIVE" : "NONNEGATIVE");
 }
 
 // Appends (or overwrites) named numeric columns of a table, for writing.
@@ -180,9 +199,9 @@ int main(int argc, char** argv) {
   simulate->add_option("-o,--output", out, "Data CSV to write")->required();
   add_sensor(simulate);
   simulate->add_option("--noise-force", sim.noise_force, "Force noise sigma, N")
-      ->check(CLI::NonNegativeNumber);
+      ->check(sign_check(false));
   simulate->add_option("--noise-moment", sim.noise_moment, "Moment noise sigma, N m")
-      ->check(CLI::NonNegativeNumber);
+      ->check(sign_check(false));
   simulate->add_option("--offset", offset_text, "Constant sensor offset fx,fy,fz,mx,my,mz");
   simulate->add_option("--seed", sim.seed, "Noise seed");
 
@@ -193,11 +212,11 @@ int main(int argc, char** argv) {
   add_sensor(ident);
   ident->add_flag("--offset", offset, "Estimate the six sensor offsets too");
   ident->add_option("--sigma-force", sigma_force, "Force noise sigma, N (default: from residuals)")
-      ->check(CLI::PositiveNumber);
+      ->check(sign_check(true));
   ident
       ->add_option("--sigma-moment", sigma_moment,
                    "Moment noise sigma, N m (default: from residuals)")
-      ->check(CLI::PositiveNumber);
+      ->check(sign_check(true));
 
   CLI::App* pred = app.add_subcommand("predict", "Gravity wrench predicted at every row of a CSV");
   pred->add_option("robot", common.urdf, "Robot URDF")->required();
@@ -208,8 +227,12 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // One line, like every other error.
+    const auto subs = app.get_subcommands();
+    std::cerr << fmt::format("massid: error: {} (see massid {}--help)\n", e.what(),
+                             subs.empty() ? "" : subs.front()->get_name() + " ");
+    return 2;
   }
 
   try {

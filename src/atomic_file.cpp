@@ -23,27 +23,26 @@ void write_file_atomically(const std::string& path, const std::string& content) 
   if (fd < 0)
     throw InputError(fmt::format("{}: cannot write output file: {}", path, std::strerror(errno)));
   size_t done = 0;
-  bool ok = true;
+  int err = 0;  // errno of the first failure
   while (done < content.size()) {
     const ssize_t w = ::write(fd, content.data() + done, content.size() - done);
     if (w < 0) {
       if (errno == EINTR) continue;
-      ok = false;
+      err = errno;
       break;
     }
     done += static_cast<size_t>(w);
   }
-  const int err = errno;
-  ok = ok && ::fsync(fd) == 0;
+  if (err == 0 && ::fsync(fd) != 0) err = errno;
   // mkstemp creates 0600; give the file the usual permissions.
   const mode_t mask = ::umask(0);
   ::umask(mask);
   ::fchmod(fd, 0666 & ~mask);
-  ok = (::close(fd) == 0) && ok;
-  if (!ok || std::rename(name.data(), path.c_str()) != 0) {
-    const int e = ok ? errno : err;
+  if (::close(fd) != 0 && err == 0) err = errno;
+  if (err == 0 && std::rename(name.data(), path.c_str()) != 0) err = errno;
+  if (err != 0) {
     std::remove(name.data());
-    throw InputError(fmt::format("{}: cannot write output file: {}", path, std::strerror(e)));
+    throw InputError(fmt::format("{}: cannot write output file: {}", path, std::strerror(err)));
   }
 }
 

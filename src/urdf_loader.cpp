@@ -6,7 +6,10 @@
 #include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <locale>
 #include <sstream>
 
 #include "massid/errors.hpp"
@@ -24,15 +27,62 @@ class CaptureLog : public console_bridge::OutputHandler {
   std::string first_error;
 };
 
-// Line of the first <tag name="name"> element, 0 when not found.
-int element_line(const tinyxml2::XMLDocument& doc, const char* tag, const std::string& name) {
+// The first <tag name="name"> element, null when not found.
+const tinyxml2::XMLElement* find_element(const tinyxml2::XMLDocument& doc, const char* tag,
+                                         const std::string& name) {
   const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
-  if (!robot) return 0;
+  if (!robot) return nullptr;
   for (auto* e = robot->FirstChildElement(tag); e; e = e->NextSiblingElement(tag)) {
     const char* n = e->Attribute("name");
-    if (n && name == n) return e->GetLineNum();
+    if (n && name == n) return e;
   }
-  return 0;
+  return nullptr;
+}
+
+// Line of the first <tag name="name"> element, 0 when not found.
+int element_line(const tinyxml2::XMLDocument& doc, const char* tag, const std::string& name) {
+  const tinyxml2::XMLElement* e = find_element(doc, tag, name);
+  return e ? e->GetLineNum() : 0;
+}
+
+// True when text is exactly `count` finite numbers separated by blanks.
+bool finite_numbers(const char* text, int count) {
+  std::istringstream in(text);
+  in.imbue(std::locale::classic());
+  double v = 0.0;
+  int n = 0;
+  while (in >> v) {
+    if (!std::isfinite(v)) return false;
+    ++n;
+  }
+  return in.eof() && n == count;
+}
+
+// urdfdom logs a malformed <inertial> origin or mass and goes on with a zero
+// mass; a measured link's mass must not be silently wrong, so check them here.
+// (<inertia> does not matter to static wrenches and is not checked.)
+void check_inertial(const tinyxml2::XMLDocument& doc, const std::string& source,
+                    const std::string& link) {
+  const tinyxml2::XMLElement* e = find_element(doc, "link", link);
+  const tinyxml2::XMLElement* inertial = e ? e->FirstChildElement("inertial") : nullptr;
+  if (!inertial) return;
+  const tinyxml2::XMLElement* mass = inertial->FirstChildElement("mass");
+  const char* value = mass ? mass->Attribute("value") : nullptr;
+  if (!value)
+    throw InputError(fmt::format("{}:{}: link '{}': <inertial> has no <mass value=\"...\"/>",
+                                 source, inertial->GetLineNum(), link));
+  if (!finite_numbers(value, 1))
+    throw InputError(fmt::format("{}:{}: link '{}': mass value '{}' is not a number", source,
+                                 mass->GetLineNum(), link, value));
+  if (const tinyxml2::XMLElement* origin = inertial->FirstChildElement("origin")) {
+    for (const char* attr : {"xyz", "rpy"}) {
+      const char* text = origin->Attribute(attr);
+      if (text && !finite_numbers(text, 3))
+        throw InputError(
+            fmt::format("{}:{}: link '{}': inertial origin {}='{}' is not three numbers", source,
+                        origin->GetLineNum(), link, attr, text));
+    }
+  }
 }
 
 Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
@@ -51,8 +101,12 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
                        const std::string& source) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
-    throw InputError(fmt::format("{}:{}: malformed XML: {}", source, doc.ErrorLineNum(),
-                                 doc.ErrorStr() ? doc.ErrorStr() : "parse error"));
+    // ErrorStr() is "Error=NAME ErrorID=N (0xN) Line number=N[: detail]": keep name and detail.
+    const std::string what = doc.ErrorStr() ? doc.ErrorStr() : "";
+    const size_t detail = what.find(": ", what.find("Line number="));
+    throw InputError(fmt::format("{}:{}: malformed XML: {}{}", source,
+                                 std::max(1, doc.ErrorLineNum()), doc.ErrorName(),
+                                 detail == std::string::npos ? "" : what.substr(detail)));
   }
   if (!doc.FirstChildElement("robot"))
     throw InputError(fmt::format("{}:1: not a URDF: no <robot> element", source));
@@ -98,6 +152,7 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
     link.name = cur.link->name;
     link.parent = cur.parent;
     if (cur.link->inertial) {
+      check_inertial(doc, source, cur.link->name);
       link.has_inertial = true;
       link.mass = cur.link->inertial->mass;
       const auto& p = cur.link->inertial->origin.position;
