@@ -8,6 +8,7 @@
 #include <iostream>
 #include <optional>
 
+#include "design_command.hpp"
 #include "massid/atomic_file.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
@@ -18,52 +19,12 @@
 #include "massid/report.hpp"
 #include "massid/samples.hpp"
 #include "massid/simulate.hpp"
+#include "options.hpp"
 
 namespace {
 
 using namespace massid;
-
-// "a,b,c,d,e,f" -> six numbers.
-Wrench parse_wrench(const std::string& text, const std::string& option) {
-  Wrench w;
-  std::string_view rest(text);
-  for (int k = 0; k < 6; ++k) {
-    const size_t comma = rest.find(',');
-    std::string cell(rest.substr(0, comma));
-    size_t used = 0;
-    try {
-      w[k] = std::stod(cell, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != cell.size() || !std::isfinite(w[k]))
-      throw InputError(
-          fmt::format("{}: '{}' is not a number (expected fx,fy,fz,mx,my,mz)", option, cell));
-    if ((comma == std::string_view::npos) != (k == 5))
-      throw InputError(
-          fmt::format("{}: expected six comma-separated numbers fx,fy,fz,mx,my,mz", option));
-    if (comma != std::string_view::npos) rest.remove_prefix(comma + 1);
-  }
-  return w;
-}
-
-// Checks a number option with a readable message (CLI11's ranges print DBL_MAX in full).
-CLI::Validator sign_check(bool positive) {
-  return CLI::Validator(
-      [positive](std::string& text) -> std::string {
-        size_t used = 0;
-        double v = 0.0;
-        try {
-          v = std::stod(text, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used > 0 && used == text.size() && std::isfinite(v) && (positive ? v > 0 : v >= 0))
-          return "";
-        return fmt::format("'{}' is not a {} number", text, positive ? "positive" : "non-negative");
-      },
-      positive ? "POSITIVE" : "NONNEGATIVE");
-}
+using namespace massid::cli;
 
 // Appends (or overwrites) named numeric columns of a table, for writing.
 struct OutputTable {
@@ -224,6 +185,9 @@ int main(int argc, char** argv) {
   pred->add_option("data", data, "Plan or data CSV")->required();
   pred->add_option("-o,--output", out, "CSV to write: input plus *_pred (and *_comp)");
 
+  DesignCommand design;
+  add_design_command(app, design);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -238,7 +202,8 @@ int main(int argc, char** argv) {
   try {
     if (*model) return run_model(common, offset, as_json);
     if (*simulate) {
-      if (!offset_text.empty()) sim.offset = parse_wrench(offset_text, "--offset");
+      if (!offset_text.empty())
+        sim.offset = parse_numbers<6>(offset_text, "--offset", "fx,fy,fz,mx,my,mz");
       return run_simulate(common, plan, out, sim);
     }
     if (*ident) {
@@ -247,6 +212,7 @@ int main(int argc, char** argv) {
       return run_identify(common, data, out, offset, idopts);
     }
     if (*pred) return run_predict(common.urdf, params, data, out);
+    if (*design.app) return run_design(design);
   } catch (const InputError& e) {
     std::cerr << "massid: error: " << e.what() << "\n";
     return 2;

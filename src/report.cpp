@@ -103,4 +103,35 @@ std::string prediction_report(const PredictionErrors& e, int samples) {
   return out;
 }
 
+std::string design_report(const Model& model, const BaseParameters& base, const DesignSummary& s,
+                          const DesignOptions& o, const std::string& evaluated) {
+  std::string out =
+      evaluated.empty()
+          ? fmt::format(
+                "plan: {} poses for {} (sensor link '{}'), criterion {}, optimised in {:.2f} s\n",
+                s.plan.size(), model.name, model.sensor_link(),
+                o.criterion == Criterion::Cond ? "cond (eq. 36)" : "d-opt", s.seconds)
+          : fmt::format("plan {}: {} poses for {} (sensor link '{}')\n", evaluated, s.plan.size(),
+                        model.name, model.sensor_link());
+  out += fmt::format("order: {} tilt changes, joint travel {:.3g} (rad or m)\n", s.tilt_changes,
+                     s.joint_travel);
+  out += fmt::format("condition number (eq. 36, moment rows): {:.4g}\n", s.condition_number);
+  if (!s.identifiable) return out + "the plan does not determine every base parameter\n";
+  out += fmt::format(
+      "predicted standard deviations at sensor noise {:.3g} N, {:.3g} N m (log det of the "
+      "information matrix {:.4g}):\n",
+      o.noise_force, o.noise_moment, s.log_det);
+  for (int i = 0; i < base.num_unknowns(); ++i) {
+    const bool mass = i < base.num_mass();
+    out += fmt::format("  {:<10} {:>12.3g} {:<5} {}\n", base.unknown_name(i), s.predicted_std[i],
+                       mass ? base.params[i].unit : (i - base.num_mass() < 3 ? "N" : "N m"),
+                       mass ? base.params[i].expression : "sensor offset");
+  }
+  out +=
+      "expected error of the predicted wrench (RMS over random poses within the constraints):\n ";
+  for (int k = 0; k < 6; ++k)
+    out += fmt::format(" {} {:.3g}", kWrenchColumns[k], s.expected_error[k]);
+  return out + "\n";
+}
+
 }  // namespace massid

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "massid/base_parameters.hpp"
+#include "massid/design.hpp"
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
 #include "massid/predictor.hpp"
@@ -28,5 +29,8 @@ std::string model_report(const Model& model, const BaseParameters& base);
 std::string identify_report(const Model& model, const BaseParameters& base,
                             const IdentifySummary& summary, const std::string& data_source);
 std::string prediction_report(const PredictionErrors& errors, int samples);
+// `evaluated` names the file for --evaluate, empty for a new plan.
+std::string design_report(const Model& model, const BaseParameters& base, const DesignSummary& s,
+                          const DesignOptions& options, const std::string& evaluated);
 
 }  // namespace massid

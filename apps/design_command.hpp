@@ -1,0 +1,23 @@
+// `massid design`: options, registration with CLI11, and the run.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+namespace massid::cli {
+
+struct DesignCommand {
+  CLI::App* app = nullptr;
+  std::string urdf, sensor, output, evaluate, tilts, gravity, criterion = "cond";
+  std::vector<std::string> fixed, limits;
+  int poses = 0, candidates = 0;
+  double tilt_max_deg = 0.0, min_height = 0.0, noise_force = 0.05, noise_moment = 0.005;
+  bool offset = false;
+  unsigned long long seed = 1;
+};
+
+void add_design_command(CLI::App& app, DesignCommand& cmd);
+int run_design(const DesignCommand& cmd);
+
+}  // namespace massid::cli

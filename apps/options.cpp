@@ -1,0 +1,67 @@
+#include "options.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "massid/errors.hpp"
+
+namespace massid::cli {
+
+namespace {
+bool to_number(const std::string& text, double& value) {
+  size_t used = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used > 0 && used == text.size() && std::isfinite(value);
+}
+}  // namespace
+
+double parse_number(const std::string& text, const std::string& option) {
+  double v = 0.0;
+  if (!to_number(text, v)) throw InputError(fmt::format("{}: '{}' is not a number", option, text));
+  return v;
+}
+
+std::vector<double> parse_list(const std::string& text, size_t count, const std::string& option,
+                               const std::string& names) {
+  std::vector<double> out;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    const std::string cell = text.substr(start, comma == std::string::npos ? comma : comma - start);
+    double v = 0.0;
+    if (!to_number(cell, v))
+      throw InputError(fmt::format("{}: '{}' is not a number (expected {})", option, cell, names));
+    out.push_back(v);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (out.size() != count)
+    throw InputError(fmt::format("{}: expected {} comma-separated numbers {}, got {}", option,
+                                 count, names, out.size()));
+  return out;
+}
+
+std::pair<std::string, std::string> parse_assignment(const std::string& text,
+                                                     const std::string& option) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw InputError(fmt::format("{}: '{}' should read JOINT=VALUE", option, text));
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+CLI::Validator sign_check(bool positive) {
+  return CLI::Validator(
+      [positive](std::string& text) -> std::string {
+        double v = 0.0;
+        if (to_number(text, v) && (positive ? v > 0 : v >= 0)) return "";
+        return fmt::format("'{}' is not a {} number", text, positive ? "positive" : "non-negative");
+      },
+      positive ? "POSITIVE" : "NONNEGATIVE");
+}
+
+}  // namespace massid::cli

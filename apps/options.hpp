@@ -1,0 +1,33 @@
+// Parsing of option values that CLI11 leaves as text: number lists, tilts,
+// JOINT=VALUE pairs. Errors are InputError naming the option.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace massid::cli {
+
+// A finite number, or InputError "OPTION: 'TEXT' is not a number".
+double parse_number(const std::string& text, const std::string& option);
+
+// "a,b,c" -> N numbers; `names` describes them in the message ("gx,gy,gz").
+std::vector<double> parse_list(const std::string& text, size_t count, const std::string& option,
+                               const std::string& names);
+template <int N>
+Eigen::Matrix<double, N, 1> parse_numbers(const std::string& text, const std::string& option,
+                                          const std::string& names) {
+  const std::vector<double> v = parse_list(text, N, option, names);
+  return Eigen::Map<const Eigen::Matrix<double, N, 1>>(v.data());
+}
+
+// "NAME=VALUE" -> (NAME, VALUE text).
+std::pair<std::string, std::string> parse_assignment(const std::string& text,
+                                                     const std::string& option);
+
+// A number option validator with a readable message (CLI11's ranges print DBL_MAX in full).
+CLI::Validator sign_check(bool positive);
+
+}  // namespace massid::cli

@@ -1,0 +1,94 @@
+// Experiment design: choose the static poses (joint positions and platform
+// tilts) that determine the base parameters as well as the platform allows
+// (paper eqs. 34-36 and sec. V).
+//
+// Options -> design() -> DesignSummary; evaluate_plan() gives the same figures
+// for an existing plan.
+//
+// Criteria (minimised):
+//   cond   the paper's eq. 36 number: condition number of the stacked moment
+//          rows over the moment unknowns (all but M and the force offsets),
+//          unscaled, in the reported basis (the default);
+//   d-opt  -log det of the information matrix A^T W A over all unknowns, rows
+//          weighted by 1/sigma^2 of their axis (D-optimality: independent of
+//          the basis and of the units).
+// Optimiser: greedy D-optimal start from random feasible candidates, then
+// Fedorov exchange against the candidates (DETMAX style) and a pattern-search
+// refinement of each pose's free joints and tilt, alternated until no gain.
+// Deterministic for a given seed.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "massid/base_parameters.hpp"
+#include "massid/model.hpp"
+#include "massid/predictor.hpp"
+#include "massid/samples.hpp"
+
+namespace massid {
+
+enum class Criterion { Cond, DOpt };
+
+// Platform tilt: rotation about the sensor x axis by `x`, then about the
+// (rotated) y axis by `y`, radians: R = Rx(x) Ry(y). Gravity in the tilted
+// sensor frame is R^T g_level.
+struct Tilt {
+  double x = 0.0, y = 0.0;
+};
+Eigen::Vector3d tilted_gravity(const Eigen::Vector3d& level, const Tilt& tilt);
+// Angle between tilted and level gravity, radians.
+double tilt_angle(const Eigen::Vector3d& level, const Tilt& tilt);
+
+struct DesignOptions {
+  int poses = 30;
+  std::optional<double> tilt_max;  // rad: any tilt within this cone around level
+  std::vector<Tilt> tilts;         // or only these (empty and no tilt_max: level only)
+  Eigen::Vector3d level_gravity{0.0, 0.0, -kStandardGravity};  // sensor frame, platform level
+  std::map<std::string, double> fixed;                         // joint -> held position
+  std::map<std::string, std::pair<double, double>> limits;     // joint -> narrowed range
+  std::optional<double> min_height;  // m: moving link origins above the platform plane
+  Criterion criterion = Criterion::Cond;
+  double noise_force = 0.05;    // N, per axis: for the predicted standard deviations
+  double noise_moment = 0.005;  // N m
+  std::uint64_t seed = 1;
+  int candidates = 0;  // random feasible candidate poses; 0: automatic
+};
+
+struct PlanPose {
+  Eigen::VectorXd q;  // [num_joints]
+  Tilt tilt;
+  Eigen::Vector3d gravity;  // sensor frame
+};
+
+struct DesignSummary {
+  std::vector<PlanPose> plan;     // in the order to run it
+  double condition_number = 0.0;  // eq. 36 (as identify reports it)
+  double log_det = 0.0;           // log det(A^T W A), all unknowns
+  bool identifiable = false;      // full rank over every unknown
+  Eigen::VectorXd predicted_std;  // [num_unknowns] at the given noise
+  Wrench expected_error;          // RMS predicted-wrench error per axis over random feasible poses
+  int tilt_changes = 0;           // distinct consecutive tilts - 1
+  double joint_travel = 0.0;      // sum of |dq| along the order (rad or m)
+  double seconds = 0.0;           // optimisation time
+  std::string identifiability_message;  // when !identifiable
+};
+
+// Throws InputError for options that contradict the model (unknown joints,
+// empty ranges, no feasible pose).
+DesignSummary design(const Model& model, const BaseParameters& base, const DesignOptions& options);
+
+// The same figures for an existing plan or data file. Options give the noise,
+// the level gravity and the constraints of the random poses for expected_error.
+DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, const Samples& plan,
+                            const DesignOptions& options);
+
+// Writes a plan CSV: the joint columns, gx,gy,gz, tilt_x_deg, tilt_y_deg.
+void write_plan(const std::string& path, const Model& model, const std::vector<PlanPose>& plan);
+
+}  // namespace massid

@@ -1,0 +1,294 @@
+#include "massid/design.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "design_space.hpp"
+#include "massid/base_regressor.hpp"
+#include "massid/errors.hpp"
+#include "massid/estimation.hpp"
+#include "massid/identifiability.hpp"
+#include "plan_order.hpp"
+
+namespace massid {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// The rows of one pose that enter the criterion and the criterion itself,
+// evaluated on the information matrix I = sum over poses of R^T R.
+class CriterionRows {
+ public:
+  CriterionRows(const Model& model, const BaseParameters& base, const DesignOptions& o)
+      : model_(model), base_(base), reg_(model, base), criterion_(o.criterion) {
+    for (int c = 0; c < base.num_unknowns(); ++c)
+      if (criterion_ == Criterion::DOpt || base.is_moment_unknown(c)) cols_.push_back(c);
+    // cond: the moment rows, unweighted (eq. 33); d-opt: all rows over sigma.
+    for (int k = criterion_ == Criterion::Cond ? 3 : 0; k < 6; ++k) {
+      rows_.push_back(k);
+      weight_.push_back(criterion_ == Criterion::Cond ? 1.0
+                        : k < 3                       ? 1.0 / o.noise_force
+                                                      : 1.0 / o.noise_moment);
+    }
+  }
+  int size() const { return static_cast<int>(cols_.size()); }
+  int num_rows() const { return static_cast<int>(rows_.size()); }
+
+  void rows(const PlanPose& pose, Eigen::Ref<Eigen::MatrixXd> out) {
+    base_regressor(model_, base_, reg_, pose.q, pose.gravity);
+    for (int r = 0; r < num_rows(); ++r)
+      for (int c = 0; c < size(); ++c) out(r, c) = weight_[r] * reg_.base(rows_[r], cols_[c]);
+  }
+
+  // cond: lambda_max / lambda_min of I (= cond^2 of the stacked rows);
+  // d-opt: -log det I. +inf when I is singular.
+  double value(const Eigen::MatrixXd& info) const {
+    if (criterion_ == Criterion::DOpt) {
+      Eigen::LLT<Eigen::MatrixXd> llt(info);
+      if (llt.info() != Eigen::Success) return kInfinity;
+      return -2.0 * llt.matrixLLT().diagonal().array().log().sum();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(info, Eigen::EigenvaluesOnly);
+    const auto& ev = es.eigenvalues();
+    if (!(ev[0] > 1e-13 * ev[ev.size() - 1])) return kInfinity;
+    return ev[ev.size() - 1] / ev[0];
+  }
+
+ private:
+  const Model& model_;
+  const BaseParameters& base_;
+  RegressorData reg_;
+  Criterion criterion_;
+  std::vector<int> cols_, rows_;
+  std::vector<double> weight_;
+};
+
+// A plan under optimisation: poses, their criterion rows, the information matrix.
+struct Working {
+  std::vector<PlanPose> poses;
+  std::vector<Eigen::MatrixXd> rows;
+  Eigen::MatrixXd info;
+  double value = kInfinity;
+};
+
+void add_pose(Working& w, const PlanPose& pose, const Eigen::MatrixXd& rows) {
+  w.poses.push_back(pose);
+  w.rows.push_back(rows);
+  w.info += rows.transpose() * rows;
+}
+
+// Greedy D-optimal start on the criterion rows (a small ridge keeps the first
+// steps defined): each step adds the candidate with the largest
+// log det(I + R^T R) = log det I + log det(1 + R I^-1 R^T).
+Working greedy_start(const std::vector<PlanPose>& cand,
+                     const std::vector<Eigen::MatrixXd>& cand_rows, int poses, int n) {
+  Working w;
+  double trace = 0.0;
+  for (const auto& r : cand_rows) trace += r.squaredNorm();
+  w.info = Eigen::MatrixXd::Identity(n, n) * (1e-8 * trace / cand_rows.size());
+  const Eigen::MatrixXd ridge = w.info;
+  for (int t = 0; t < poses; ++t) {
+    const Eigen::MatrixXd inv = w.info.llt().solve(Eigen::MatrixXd::Identity(n, n));
+    double best = -kInfinity;
+    size_t pick = 0;
+    for (size_t c = 0; c < cand.size(); ++c) {
+      const Eigen::MatrixXd& R = cand_rows[c];
+      Eigen::MatrixXd S = R * inv * R.transpose();
+      S.diagonal().array() += 1.0;
+      const double gain = Eigen::LLT<Eigen::MatrixXd>(S).matrixLLT().diagonal().array().log().sum();
+      if (gain > best) best = gain, pick = c;
+    }
+    add_pose(w, cand[pick], cand_rows[pick]);
+  }
+  w.info -= ridge;
+  return w;
+}
+
+// Fedorov exchange: replace a pose by the candidate that improves the
+// criterion most; sweeps until no exchange helps. Each position scans a
+// random subset of the candidates (all when few).
+bool exchange(Working& w, const std::vector<PlanPose>& cand,
+              const std::vector<Eigen::MatrixXd>& cand_rows, const CriterionRows& crit,
+              std::mt19937_64& rng) {
+  const size_t scan = std::min<size_t>(cand.size(), 600);
+  std::uniform_int_distribution<size_t> pick(0, cand.size() - 1);
+  bool any = false;
+  for (int sweep = 0; sweep < 6; ++sweep) {
+    bool improved = false;
+    for (size_t i = 0; i < w.poses.size(); ++i) {
+      const Eigen::MatrixXd without = w.info - w.rows[i].transpose() * w.rows[i];
+      double best = w.value;
+      size_t best_c = cand.size();
+      for (size_t k = 0; k < scan; ++k) {
+        const size_t c = scan == cand.size() ? k : pick(rng);
+        const double v = crit.value(without + cand_rows[c].transpose() * cand_rows[c]);
+        if (v < best) best = v, best_c = c;
+      }
+      if (best_c < cand.size() && best < w.value * (1.0 - 1e-9)) {
+        w.poses[i] = cand[best_c];
+        w.rows[i] = cand_rows[best_c];
+        w.info = without + w.rows[i].transpose() * w.rows[i];
+        w.value = best;
+        improved = any = true;
+      }
+    }
+    if (!improved) break;
+  }
+  return any;
+}
+
+// Pattern search on each pose's continuous coordinates (free joints, cone tilt).
+bool refine(Working& w, DesignSpace& space, CriterionRows& crit) {
+  if (space.dimension() == 0) return false;
+  bool any = false;
+  Eigen::MatrixXd R(crit.num_rows(), crit.size());
+  PlanPose trial;
+  for (size_t i = 0; i < w.poses.size(); ++i) {
+    Eigen::VectorXd x = space.coordinates(w.poses[i]);
+    Eigen::VectorXd step = space.steps();
+    const double stop = 1e-3 * step.maxCoeff();
+    Eigen::MatrixXd without = w.info - w.rows[i].transpose() * w.rows[i];
+    for (int evals = 0; evals < 400 && step.maxCoeff() > stop;) {
+      bool moved = false;
+      for (int d = 0; d < x.size() && !moved; ++d) {
+        for (double sign : {1.0, -1.0}) {
+          Eigen::VectorXd y = x;
+          y[d] += sign * step[d];
+          ++evals;
+          if (!space.pose_at(y, w.poses[i], trial)) continue;
+          crit.rows(trial, R);
+          const Eigen::MatrixXd info = without + R.transpose() * R;
+          const double v = crit.value(info);
+          if (v < w.value * (1.0 - 1e-12)) {
+            w.poses[i] = trial;
+            w.rows[i] = R;
+            w.info = info;
+            w.value = v;
+            x = space.coordinates(trial);
+            moved = any = true;
+            break;
+          }
+        }
+      }
+      if (!moved) step *= 0.5;
+    }
+  }
+  return any;
+}
+
+Samples to_samples(const std::vector<PlanPose>& plan, int num_joints) {
+  Samples s;
+  s.source = "plan";
+  s.q.resize(plan.size(), num_joints);
+  s.gravity.resize(plan.size(), 3);
+  for (size_t i = 0; i < plan.size(); ++i) {
+    s.q.row(i) = plan[i].q.transpose();
+    s.gravity.row(i) = plan[i].gravity.transpose();
+    s.line.push_back(static_cast<int>(i) + 1);
+  }
+  return s;
+}
+
+// Condition number, covariance at the given noise and the expected error of
+// predicted wrenches over random feasible poses.
+void figures(const Model& model, const BaseParameters& base, const Samples& plan,
+             const DesignOptions& o, DesignSpace& space, DesignSummary& out) {
+  const Eigen::MatrixXd A = stacked_regressor(model, base, plan);
+  out.condition_number = moment_condition_number(base, A);
+  const IdentifiabilityReport id = check_identifiability(model, base, plan, A, 1e-9);
+  out.identifiable = id.ok();
+  out.identifiability_message = id.message;
+  const int p = base.num_unknowns();
+  out.predicted_std = Eigen::VectorXd::Constant(p, kInfinity);
+  out.expected_error.setConstant(kInfinity);
+  if (!out.identifiable) return;
+  Eigen::MatrixXd Aw = A;
+  for (int r = 0; r < A.rows(); ++r) Aw.row(r) /= (r % 6 < 3 ? o.noise_force : o.noise_moment);
+  const Eigen::MatrixXd info = Aw.transpose() * Aw;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(info);
+  out.log_det = ldlt.vectorD().array().log().sum();
+  const Eigen::MatrixXd cov = ldlt.solve(Eigen::MatrixXd::Identity(p, p));
+  out.predicted_std = cov.diagonal().cwiseSqrt();
+  std::mt19937_64 rng(12345);
+  RegressorData reg(model, base);
+  const int draws = 400;
+  Wrench sum = Wrench::Zero();
+  for (int k = 0; k < draws; ++k) {
+    const PlanPose pose = space.sample(rng);
+    base_regressor(model, base, reg, pose.q, pose.gravity);
+    sum += (reg.base * cov * reg.base.transpose()).diagonal();
+  }
+  out.expected_error = (sum / draws).cwiseSqrt();
+}
+
+}  // namespace
+
+DesignSummary design(const Model& model, const BaseParameters& base, const DesignOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  if (o.poses < 1) throw InputError("--poses must be at least 1");
+  DesignSpace space(model, o);
+  CriterionRows crit(model, base, o);
+  std::mt19937_64 rng(o.seed);
+
+  const int count =
+      o.candidates > 0 ? o.candidates : std::clamp(300 * (space.dimension() + 1), 1000, 3000);
+  std::vector<PlanPose> cand;
+  std::vector<Eigen::MatrixXd> cand_rows;
+  for (int c = 0; c < count; ++c) {
+    cand.push_back(space.sample(rng));
+    cand_rows.emplace_back(crit.num_rows(), crit.size());
+    crit.rows(cand.back(), cand_rows.back());
+  }
+
+  Working w = greedy_start(cand, cand_rows, o.poses, crit.size());
+  w.value = crit.value(w.info);
+  for (int round = 0; round < 4; ++round) {
+    const bool exchanged = exchange(w, cand, cand_rows, crit, rng);
+    const bool refined = refine(w, space, crit);
+    if (!exchanged && !refined) break;
+  }
+
+  DesignSummary out;
+  out.plan = order_plan(w.poses);
+  const Samples plan = to_samples(out.plan, model.num_joints());
+  figures(model, base, plan, o, space, out);
+  const PlanTravel travel = plan_travel(out.plan);
+  out.tilt_changes = travel.tilt_changes;
+  out.joint_travel = travel.joint_travel;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, const Samples& plan,
+                            const DesignOptions& o) {
+  DesignOptions opts = o;
+  DesignSummary out;
+  for (int i = 0; i < plan.size(); ++i) {
+    PlanPose pose;
+    pose.q = plan.q.row(i).transpose();
+    pose.gravity = plan.gravity.row(i).transpose();
+    out.plan.push_back(pose);
+  }
+  // Random poses for the expected error: the file's largest tilt unless given.
+  if (!opts.tilt_max && opts.tilts.empty()) {
+    double largest = 0.0;
+    for (const PlanPose& p : out.plan)
+      largest = std::max(largest, std::atan2(p.gravity.cross(opts.level_gravity).norm(),
+                                             p.gravity.dot(opts.level_gravity)));
+    opts.tilt_max = largest;
+  }
+  DesignSpace space(model, opts);
+  figures(model, base, plan, opts, space, out);
+  const PlanTravel travel = plan_travel(out.plan);
+  out.tilt_changes = travel.tilt_changes;
+  out.joint_travel = travel.joint_travel;
+  return out;
+}
+
+}  // namespace massid

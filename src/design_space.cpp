@@ -1,0 +1,150 @@
+#include "design_space.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "massid/errors.hpp"
+
+namespace massid {
+
+Eigen::Vector3d tilted_gravity(const Eigen::Vector3d& level, const Tilt& t) {
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(t.x, Eigen::Vector3d::UnitX()) *
+                             Eigen::AngleAxisd(t.y, Eigen::Vector3d::UnitY()))
+                                .toRotationMatrix();
+  return R.transpose() * level;
+}
+
+double tilt_angle(const Eigen::Vector3d& level, const Tilt& t) {
+  const Eigen::Vector3d g = tilted_gravity(level, t);
+  return std::atan2(g.cross(level).norm(), g.dot(level));
+}
+
+DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
+    : model_(model),
+      level_(o.level_gravity),
+      held_(Eigen::VectorXd::Zero(model.num_joints())),
+      min_height_(o.min_height),
+      kin_(model) {
+  if (!(level_.norm() > 0.0)) throw InputError("--gravity: the level gravity vector is zero");
+  for (const auto& [name, value] : o.fixed)
+    if (model.find_joint(name) < 0)
+      throw InputError(
+          fmt::format("--fixed: '{}' is not a movable joint below the sensor link", name));
+  for (const auto& [name, range] : o.limits)
+    if (model.find_joint(name) < 0)
+      throw InputError(
+          fmt::format("--limits: '{}' is not a movable joint below the sensor link", name));
+  for (int j = 0; j < model.num_joints(); ++j) {
+    const Joint& joint = model.joints[j];
+    if (auto f = o.fixed.find(joint.name); f != o.fixed.end()) {
+      held_[j] = f->second;
+      continue;
+    }
+    double lo = joint.generic_position(0.0), hi = joint.generic_position(1.0);
+    if (joint.limited) lo = joint.lower, hi = joint.upper;
+    if (auto l = o.limits.find(joint.name); l != o.limits.end()) {
+      lo = std::max(lo, l->second.first);
+      hi = std::min(hi, l->second.second);
+      if (!(hi > lo))
+        throw InputError(
+            fmt::format("--limits {}={}:{}: empty range within the URDF limits [{}, {}]",
+                        joint.name, l->second.first, l->second.second, joint.lower, joint.upper));
+    }
+    free_.push_back({j, lo, hi});
+  }
+  if (o.tilt_max) {
+    cone_ = true;
+    tilt_max_ = *o.tilt_max;
+    if (!(tilt_max_ >= 0.0 && tilt_max_ < std::numbers::pi / 2))
+      throw InputError("--tilt-max: the tilt must be between 0 and 90 degrees");
+  } else {
+    tilts_ = o.tilts.empty() ? std::vector<Tilt>{Tilt{}} : o.tilts;
+  }
+  // Links whose origin moves: compare forward kinematics at random poses.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Eigen::Vector3d> first;
+  std::vector<bool> moves(model.num_links(), false);
+  for (int trial = 0; trial < 4; ++trial) {
+    Eigen::VectorXd q(model.num_joints());
+    for (int j = 0; j < model.num_joints(); ++j) q[j] = model.joints[j].generic_position(u(rng));
+    forward_kinematics(model, kin_, q);
+    if (trial == 0) first = kin_.position;
+    for (int l = 0; l < model.num_links(); ++l)
+      if ((kin_.position[l] - first[l]).norm() > 1e-9) moves[l] = true;
+  }
+  for (int l = 0; l < model.num_links(); ++l)
+    if (moves[l]) moving_links_.push_back(l);
+}
+
+bool DesignSpace::high_enough(const Eigen::VectorXd& q) {
+  if (!min_height_) return true;
+  forward_kinematics(model_, kin_, q);
+  const Eigen::Vector3d up = -level_.normalized();
+  for (int l : moving_links_)
+    if (up.dot(kin_.position[l]) < *min_height_) return false;
+  return true;
+}
+
+Tilt DesignSpace::clamp_to_cone(Tilt t) const {
+  if (tilt_angle(level_, t) <= tilt_max_) return t;
+  double lo = 0.0, hi = 1.0;  // scale the tilt back onto the cone
+  for (int i = 0; i < 50; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (tilt_angle(level_, {mid * t.x, mid * t.y}) <= tilt_max_ ? lo : hi) = mid;
+  }
+  return {lo * t.x, lo * t.y};
+}
+
+PlanPose DesignSpace::sample(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  PlanPose pose;
+  pose.q = held_;
+  for (int attempt = 0; attempt < 10000; ++attempt) {
+    for (const Free& f : free_) pose.q[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
+    if (!high_enough(pose.q)) continue;
+    if (cone_) {
+      // Half on the cone's rim (where optimal plans go), half inside.
+      // Half on the cone's rim (where good plans go: overshoot, then clamp), half inside.
+      const double az = 2 * std::numbers::pi * u(rng);
+      const double angle = u(rng) < 0.5 ? 1.5 * tilt_max_ : tilt_max_ * std::sqrt(u(rng));
+      pose.tilt = clamp_to_cone({angle * std::cos(az), angle * std::sin(az)});
+    } else {
+      pose.tilt = tilts_[std::min<size_t>(tilts_.size() - 1, u(rng) * tilts_.size())];
+    }
+    pose.gravity = tilted_gravity(level_, pose.tilt);
+    return pose;
+  }
+  throw InputError(fmt::format(
+      "design: no pose satisfies the constraints (--min-height {} m with the joint ranges given)",
+      min_height_.value_or(0.0)));
+}
+
+Eigen::VectorXd DesignSpace::coordinates(const PlanPose& pose) const {
+  Eigen::VectorXd x(dimension());
+  for (size_t i = 0; i < free_.size(); ++i) x[i] = pose.q[free_[i].joint];
+  if (cone_) x.tail<2>() << pose.tilt.x, pose.tilt.y;
+  return x;
+}
+
+bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPose& out) {
+  out.q = held_;
+  for (size_t i = 0; i < free_.size(); ++i)
+    out.q[free_[i].joint] = std::clamp(x[i], free_[i].lo, free_[i].hi);
+  out.tilt = cone_ ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]}) : like.tilt;
+  out.gravity = tilted_gravity(level_, out.tilt);
+  return high_enough(out.q);
+}
+
+Eigen::VectorXd DesignSpace::steps() const {
+  Eigen::VectorXd s(dimension());
+  for (size_t i = 0; i < free_.size(); ++i) s[i] = 0.25 * (free_[i].hi - free_[i].lo);
+  if (cone_) s.tail<2>().setConstant(0.5 * tilt_max_);
+  return s;
+}
+
+}  // namespace massid
