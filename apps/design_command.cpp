@@ -52,7 +52,7 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
 }
 
 int run_design(const DesignCommand& c) {
-  const Model model = load_urdf(c.urdf, c.sensor);
+  const Model model = hold_joints(load_urdf(c.urdf, c.sensor), parse_held(c.fixed));
   BaseParameterOptions bo;
   bo.offset = c.offset;
   const BaseParameters base = find_base_parameters(model, bo);
@@ -81,10 +81,6 @@ int run_design(const DesignCommand& c) {
     }
   }
   if (!c.gravity.empty()) o.level_gravity = parse_numbers<3>(c.gravity, "--gravity", "gx,gy,gz");
-  for (const std::string& f : c.fixed) {
-    const auto [joint, value] = parse_assignment(f, "--fixed");
-    o.fixed[joint] = parse_number(value, "--fixed " + joint);
-  }
   for (const std::string& l : c.limits) {
     const auto [joint, range] = parse_assignment(l, "--limits");
     const size_t colon = range.find(':');

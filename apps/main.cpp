@@ -47,10 +47,12 @@ struct OutputTable {
 
 struct Common {
   std::string urdf, sensor;
+  std::vector<std::string> fixed;  // --fixed JOINT=VALUE (model, identify)
+  Model load() const { return hold_joints(load_urdf(urdf, sensor), parse_held(fixed)); }
 };
 
 int run_model(const Common& c, bool offset, bool as_json) {
-  const Model model = load_urdf(c.urdf, c.sensor);
+  const Model model = c.load();
   BaseParameterOptions opts;
   opts.offset = offset;
   const BaseParameters base = find_base_parameters(model, opts);
@@ -76,7 +78,7 @@ int run_simulate(const Common& c, const std::string& plan_path, const std::strin
 
 int run_identify(const Common& c, const std::string& data_path, const std::string& out, bool offset,
                  const IdentifyOptions& opts) {
-  const Model model = load_urdf(c.urdf, c.sensor);
+  const Model model = c.load();
   BaseParameterOptions bopts;
   bopts.offset = offset;
   const BaseParameters base = find_base_parameters(model, bopts);
@@ -96,7 +98,7 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
 int run_predict(const std::string& urdf, const std::string& params_path,
                 const std::string& data_path, const std::string& out) {
   const ParamsFile params = read_params(params_path);
-  const Model model = load_urdf(urdf, params.sensor_link);
+  const Model model = hold_joints(load_urdf(urdf, params.sensor_link), params.held);
   BaseParameterOptions bopts;
   bopts.offset = params.has_offset;
   const BaseParameters base = find_base_parameters(model, bopts);
@@ -151,6 +153,8 @@ int main(int argc, char** argv) {
   model->add_option("robot", common.urdf, "Robot URDF")->required();
   add_sensor(model);
   model->add_flag("--offset", offset, "Include the six sensor offsets as unknowns");
+  model->add_option("--fixed", common.fixed,
+                    "Joint held still: JOINT=VALUE (rad or m); repeatable");
   model->add_flag("--json", as_json, "Print JSON (the params file's base_parameters, no values)");
 
   CLI::App* simulate =
@@ -172,6 +176,8 @@ int main(int argc, char** argv) {
   ident->add_option("-o,--output", out, "Params JSON to write")->required();
   add_sensor(ident);
   ident->add_flag("--offset", offset, "Estimate the six sensor offsets too");
+  ident->add_option("--fixed", common.fixed,
+                    "Joint held still in the experiment: JOINT=VALUE (rad or m); repeatable");
   ident->add_option("--sigma-force", sigma_force, "Force noise sigma, N (default: from residuals)")
       ->check(sign_check(true));
   ident

@@ -54,6 +54,15 @@ std::pair<std::string, std::string> parse_assignment(const std::string& text,
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
+std::vector<std::pair<std::string, double>> parse_held(const std::vector<std::string>& items) {
+  std::vector<std::pair<std::string, double>> held;
+  for (const std::string& item : items) {
+    const auto [joint, value] = parse_assignment(item, "--fixed");
+    held.emplace_back(joint, parse_number(value, "--fixed " + joint));
+  }
+  return held;
+}
+
 CLI::Validator sign_check(bool positive) {
   return CLI::Validator(
       [positive](std::string& text) -> std::string {

@@ -27,6 +27,9 @@ Eigen::Matrix<double, N, 1> parse_numbers(const std::string& text, const std::st
 std::pair<std::string, std::string> parse_assignment(const std::string& text,
                                                      const std::string& option);
 
+// --fixed JOINT=VALUE items -> (joint, position) pairs for hold_joints().
+std::vector<std::pair<std::string, double>> parse_held(const std::vector<std::string>& items);
+
 // A number option validator with a readable message (CLI11's ranges print DBL_MAX in full).
 CLI::Validator sign_check(bool positive);
 

@@ -24,26 +24,14 @@ double tilt_angle(const Eigen::Vector3d& level, const Tilt& t) {
 }
 
 DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
-    : model_(model),
-      level_(o.level_gravity),
-      held_(Eigen::VectorXd::Zero(model.num_joints())),
-      min_height_(o.min_height),
-      kin_(model) {
+    : model_(model), level_(o.level_gravity), min_height_(o.min_height), kin_(model) {
   if (!(level_.norm() > 0.0)) throw InputError("--gravity: the level gravity vector is zero");
-  for (const auto& [name, value] : o.fixed)
-    if (model.find_joint(name) < 0)
-      throw InputError(
-          fmt::format("--fixed: '{}' is not a movable joint below the sensor link", name));
   for (const auto& [name, range] : o.limits)
     if (model.find_joint(name) < 0)
       throw InputError(
           fmt::format("--limits: '{}' is not a movable joint below the sensor link", name));
   for (int j = 0; j < model.num_joints(); ++j) {
     const Joint& joint = model.joints[j];
-    if (auto f = o.fixed.find(joint.name); f != o.fixed.end()) {
-      held_[j] = f->second;
-      continue;
-    }
     double lo = joint.generic_position(0.0), hi = joint.generic_position(1.0);
     if (joint.limited) lo = joint.lower, hi = joint.upper;
     if (auto l = o.limits.find(joint.name); l != o.limits.end()) {
@@ -103,7 +91,7 @@ Tilt DesignSpace::clamp_to_cone(Tilt t) const {
 PlanPose DesignSpace::sample(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   PlanPose pose;
-  pose.q = held_;
+  pose.q.resize(model_.num_joints());
   for (int attempt = 0; attempt < 10000; ++attempt) {
     for (const Free& f : free_) pose.q[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
     if (!high_enough(pose.q)) continue;
@@ -132,7 +120,7 @@ Eigen::VectorXd DesignSpace::coordinates(const PlanPose& pose) const {
 }
 
 bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPose& out) {
-  out.q = held_;
+  out.q.resize(model_.num_joints());
   for (size_t i = 0; i < free_.size(); ++i)
     out.q[free_[i].joint] = std::clamp(x[i], free_[i].lo, free_[i].hi);
   out.tilt = cone_ ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]}) : like.tilt;

@@ -1,5 +1,5 @@
-// The set of poses a plan may use: free joints within their (narrowed) limits,
-// held joints, platform tilts (a list or a cone) and the minimum height of the
+// The set of poses a plan may use: joints within their (narrowed) limits,
+// platform tilts (a list or a cone) and the minimum height of the
 // moving link origins above the platform plane. Internal to design.
 #pragma once
 
@@ -41,7 +41,6 @@ class DesignSpace {
     double lo, hi;
   };
   std::vector<Free> free_;
-  Eigen::VectorXd held_;  // [num_joints] positions of held joints (others ignored)
   bool cone_ = false;
   double tilt_max_ = 0.0;
   std::vector<Tilt> tilts_;  // listed tilts (level only when empty and no cone)

@@ -104,6 +104,15 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
     fix = fmt::format("move joint{} {} over a wider range of positions",
                       report.joints_to_move.size() > 1 ? "s" : "",
                       fmt::join(report.joints_to_move, " or "));
+    // A joint that never moves may have been held on purpose (the paper held the wrist).
+    for (const std::string& name : report.joints_to_move) {
+      const auto col = samples.q.col(model.find_joint(name));
+      if (samples.size() > 0 && col.maxCoeff() == col.minCoeff())
+        fix += fmt::format(
+            " ({} never moves in the data: if it was held still on purpose, pass "
+            "--fixed {}={} to identify what such data can)",
+            name, name, col[0]);
+    }
   } else if (all_joints_help) {
     fix = "move several joints together over wider ranges";
   }

@@ -52,6 +52,11 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
   json joints = json::array();
   for (const Joint& jt : model.joints) joints.push_back(jt.name);
   j["joints"] = joints;
+  if (!model.held.empty()) {
+    json held = json::object();
+    for (const auto& [name, value] : model.held) held[name] = value;
+    j["held_joints"] = held;
+  }
   if (s) {
     j["gravity_from"] = s->gravity_from_force ? "force" : "columns";
     j["samples"] = s->samples;
@@ -135,6 +140,9 @@ ParamsFile read_params(const std::string& path) {
       fail(fmt::format("not a massid params file: \"format\" must be \"{}\"", kFormat));
     p.sensor_link = j.at("sensor_link").get<std::string>();
     p.joints = j.at("joints").get<std::vector<std::string>>();
+    if (j.contains("held_joints"))
+      for (const auto& [name, value] : j["held_joints"].items())
+        p.held.emplace_back(name, value.get<double>());
     p.gravity_from = j.value("gravity_from", "columns");
     p.samples = j.value("samples", 0);
     p.total_mass = j.at("total_mass").get<double>();

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
-#include <Eigen/SVD>
 #include <cmath>
 
 #include "massid/base_parameters.hpp"
@@ -148,33 +147,13 @@ TEST(Estimation, UserSigmasScaleTheCovariance) {
   EXPECT_NEAR(a.chi2_per_dof, 1.0, 0.5);
 }
 
-// The paper's W (eq. 30, first column with eq. 23's sign) and F (eq. 18).
-Eigen::Matrix<double, 3, 9> paper_W(double q1, double q2, double q3) {
-  const double s1 = std::sin(q1), c1 = std::cos(q1), s2 = std::sin(q2), c2 = std::cos(q2),
-               s3 = std::sin(q3), c3 = std::cos(q3);
-  Eigen::Matrix<double, 3, 9> W;
-  W << s1 * (s2 * s3 - c2 * c3), s1 * (c2 * s3 + s2 * c3), -s1 * c2, s1 * s2, c1, -s1, 1, 0, 0,
-      c1 * (s2 * s3 - c2 * c3), c1 * (c2 * s3 + s2 * c3), -c1 * c2, c1 * s2, -s1, -c1, 0, 1, 0,
-      -(s2 * c3 + c2 * s3), s2 * s3 - c2 * c3, -s2, -c2, 0, 0, 0, 0, 1;
-  return W;
-}
-
 TEST(Puma260, ConditionNumberIsThePapersEq36) {
   const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");
   const BaseParameters base = find_base_parameters(model);
   Samples s = test::load_plan(model, MASSID_SOURCE_DIR "/examples/puma260/plan.csv");
   s.wrench = simulate_wrenches(model, s);
   const IdentifySummary r = identify(model, base, s);
-  // F* W* of eq. 33, built from the paper alone.
-  Eigen::MatrixXd FW(3 * s.size(), 9);
-  for (int i = 0; i < s.size(); ++i) {
-    const Eigen::Vector3d f = s.gravity.row(i).normalized();
-    Eigen::Matrix3d F;
-    F << 0, f.z(), -f.y(), -f.z(), 0, f.x(), f.y(), -f.x(), 0;
-    FW.middleRows(3 * i, 3) = F * paper_W(s.q(i, 0), s.q(i, 1), s.q(i, 2));
-  }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(FW);
-  const double paper = svd.singularValues()(0) / svd.singularValues()(8);
+  const double paper = test::paper_condition_number(s);
   EXPECT_NEAR(r.condition_number, paper, 1e-9 * paper);
 }
 

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/SVD>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -30,6 +32,32 @@ inline std::vector<Example> examples() {
 
 inline Samples load_plan(const Model& model, const std::string& path) {
   return read_samples(model, read_csv(path), WrenchColumns::Optional);
+}
+
+// The paper's W (eq. 30, first column in the sign of eq. 23's T3; the printed
+// s2 s3 + c2 c3 is a slip) for the PUMA 260's joint angles.
+inline Eigen::Matrix<double, 3, 9> paper_W(double q1, double q2, double q3) {
+  const double s1 = std::sin(q1), c1 = std::cos(q1), s2 = std::sin(q2), c2 = std::cos(q2),
+               s3 = std::sin(q3), c3 = std::cos(q3);
+  Eigen::Matrix<double, 3, 9> W;
+  W << s1 * (s2 * s3 - c2 * c3), s1 * (c2 * s3 + s2 * c3), -s1 * c2, s1 * s2, c1, -s1, 1, 0, 0,
+      c1 * (s2 * s3 - c2 * c3), c1 * (c2 * s3 + s2 * c3), -c1 * c2, c1 * s2, -s1, -c1, 0, 1, 0,
+      -(s2 * c3 + c2 * s3), s2 * s3 - c2 * c3, -s2, -c2, 0, 0, 0, 0, 1;
+  return W;
+}
+
+// The paper's eq. 36 figure for PUMA 260 samples: cond(F* W*) of eq. 33 with
+// F of eq. 18 from the unit gravity direction, built from the paper alone.
+inline double paper_condition_number(const Samples& s) {
+  Eigen::MatrixXd FW(3 * s.size(), 9);
+  for (int i = 0; i < s.size(); ++i) {
+    const Eigen::Vector3d f = s.gravity.row(i).normalized();
+    Eigen::Matrix3d F;
+    F << 0, f.z(), -f.y(), -f.z(), 0, f.x(), f.y(), -f.x(), 0;
+    FW.middleRows(3 * i, 3) = F * paper_W(s.q(i, 0), s.q(i, 1), s.q(i, 2));
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(FW);
+  return svd.singularValues()(0) / svd.singularValues()(8);
 }
 
 }  // namespace massid::test

@@ -50,7 +50,6 @@ struct DesignOptions {
   std::optional<double> tilt_max;  // rad: any tilt within this cone around level
   std::vector<Tilt> tilts;         // or only these (empty and no tilt_max: level only)
   Eigen::Vector3d level_gravity{0.0, 0.0, -kStandardGravity};  // sensor frame, platform level
-  std::map<std::string, double> fixed;                         // joint -> held position
   std::map<std::string, std::pair<double, double>> limits;     // joint -> narrowed range
   std::optional<double> min_height;  // m: moving link origins above the platform plane
   Criterion criterion = Criterion::Cond;
@@ -88,7 +87,11 @@ DesignSummary design(const Model& model, const BaseParameters& base, const Desig
 DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, const Samples& plan,
                             const DesignOptions& options);
 
-// Writes a plan CSV: the joint columns, gx,gy,gz, tilt_x_deg, tilt_y_deg.
+// Joints held still (the CLI's --fixed) are fixed in the model given to
+// design: see hold_joints() in model.hpp.
+
+// Writes a plan CSV: the joint columns (held joints too, at their positions),
+// gx,gy,gz, tilt_x_deg, tilt_y_deg.
 void write_plan(const std::string& path, const Model& model, const std::vector<PlanPose>& plan);
 
 }  // namespace massid

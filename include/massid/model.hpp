@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace massid {
@@ -44,6 +45,8 @@ struct Model {
   std::string source;         // file it was loaded from, for messages
   std::vector<Link> links;    // depth-first from the sensor link: parent index < own index
   std::vector<Joint> joints;  // movable joints, in the order of their links
+  // Joints held still at a position (hold_joints): fixed in this model.
+  std::vector<std::pair<std::string, double>> held;
 
   int num_links() const { return static_cast<int>(links.size()); }
   int num_joints() const { return static_cast<int>(joints.size()); }
@@ -57,6 +60,12 @@ struct Model {
 // InputError for unreadable or malformed files, unsupported joints (floating,
 // planar, mimic) and unknown sensor links.
 Model load_urdf(const std::string& path, const std::string& sensor_link = "");
+// The model with some joints held still at the given positions (rad or m):
+// they become fixed joints, so the base parameters are those such an
+// experiment can determine (the paper held the PUMA's wrist). InputError for a
+// name that is not a movable joint of the model.
+Model hold_joints(Model model, const std::vector<std::pair<std::string, double>>& held);
+
 Model load_urdf_string(const std::string& xml, const std::string& sensor_link = "",
                        const std::string& source = "<string>");
 

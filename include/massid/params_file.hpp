@@ -26,7 +26,8 @@ struct ParamsFile {
   std::string source;  // path, for messages
   std::string sensor_link;
   std::vector<std::string> joints;
-  std::string gravity_from;  // "columns" or "force"
+  std::vector<std::pair<std::string, double>> held;  // joints held still (hold_joints)
+  std::string gravity_from;                          // "columns" or "force"
   int samples = 0;
   double total_mass = 0.0;
   std::vector<Entry> base_parameters;
