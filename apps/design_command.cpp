@@ -29,6 +29,11 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
   auto* tl =
       d->add_option("--tilts", c.tilts, "Only these tilts: ax_deg:ay_deg,... (about x, then y)");
   tmax->excludes(tl);
+  d->add_option("--tilt-groups", c.tilt_groups,
+                "With --tilt-max: use this many tilts, chosen by the optimiser (default 4; 0: a "
+                "tilt per pose)")
+      ->check(CLI::Range(0, 1000))
+      ->needs(tmax);
   d->add_option("--gravity", c.gravity,
                 "Gravity gx,gy,gz in the sensor frame when level (default 0,0,-9.80665)");
   d->add_option("--fixed", c.fixed, "Hold a joint: JOINT=VALUE (rad or m); repeatable");
@@ -52,7 +57,15 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
 }
 
 int run_design(const DesignCommand& c) {
-  const Model model = hold_joints(load_urdf(c.urdf, c.sensor), parse_held(c.fixed));
+  const Model urdf = load_urdf(c.urdf, c.sensor);
+  const auto held = parse_held(c.fixed);
+  for (const auto& [name, value] : held)  // a held joint stays within its URDF limits too
+    if (const int j = urdf.find_joint(name);
+        j >= 0 && urdf.joints[j].limited &&
+        !(value >= urdf.joints[j].lower && value <= urdf.joints[j].upper))
+      throw InputError(fmt::format("--fixed {}={}: outside the URDF limits [{}, {}]", name, value,
+                                   urdf.joints[j].lower, urdf.joints[j].upper));
+  const Model model = hold_joints(urdf, held);
   BaseParameterOptions bo;
   bo.offset = c.offset;
   const BaseParameters base = find_base_parameters(model, bo);
@@ -65,6 +78,7 @@ int run_design(const DesignCommand& c) {
   o.seed = c.seed;
   o.candidates = c.candidates;
   if (c.app->count("--tilt-max")) o.tilt_max = c.tilt_max_deg * kDeg;
+  o.tilt_groups = c.tilt_groups;
   if (!c.tilts.empty()) {
     size_t start = 0;
     while (start <= c.tilts.size()) {
@@ -101,8 +115,7 @@ int run_design(const DesignCommand& c) {
   if (c.output.empty()) throw InputError("design: -o PLAN.csv is required (or --evaluate FILE)");
   if (c.poses < 1) throw InputError("design: --poses N is required (or --evaluate FILE)");
   const DesignSummary s = design(model, base, o);
-  if (!s.identifiable)
-    throw IdentifiabilityError("the best plan found " + s.identifiability_message);
+  if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);
   write_plan(c.output, model, s.plan);
   std::cout << design_report(model, base, s, o, "");
   std::cout << "wrote " << c.output << "\n";

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 
 #include "design_space.hpp"
@@ -182,9 +183,55 @@ bool refine(Working& w, DesignSpace& space, CriterionRows& crit) {
   return any;
 }
 
+// Pattern search on the shared tilt groups: moving a group's tilt moves every
+// pose and candidate of that group.
+bool refine_tilts(Working& w, std::vector<PlanPose>& cand, std::vector<Eigen::MatrixXd>& cand_rows,
+                  DesignSpace& space, CriterionRows& crit) {
+  if (!space.tilts_adjustable()) return false;
+  bool any = false;
+  auto retilt = [&](PlanPose& p, const Tilt& t) {
+    p.tilt = t;
+    p.gravity = tilted_gravity(space.level(), t);
+  };
+  for (int k = 0; k < space.num_tilts(); ++k) {
+    Tilt best = space.tilt(k);
+    bool changed = false;
+    for (double step = 0.5 * space.tilt_max(); step > 5e-4 * space.tilt_max();) {
+      bool moved = false;
+      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        const Tilt t = space.set_tilt(k, {best.x + dx * step, best.y + dy * step});
+        Working trial = w;
+        for (size_t i = 0; i < trial.poses.size(); ++i) {
+          if (trial.poses[i].group != k) continue;
+          trial.info -= trial.rows[i].transpose() * trial.rows[i];
+          retilt(trial.poses[i], t);
+          crit.rows(trial.poses[i], trial.rows[i]);
+          trial.info += trial.rows[i].transpose() * trial.rows[i];
+        }
+        trial.value = crit.value(trial.info);
+        if (trial.value < w.value * (1.0 - 1e-12)) {
+          w = std::move(trial);
+          best = t;
+          moved = changed = any = true;
+          break;
+        }
+      }
+      if (!moved) step *= 0.5;
+    }
+    space.set_tilt(k, best);
+    if (!changed) continue;
+    for (size_t c = 0; c < cand.size(); ++c) {
+      if (cand[c].group != k) continue;
+      retilt(cand[c], best);
+      crit.rows(cand[c], cand_rows[c]);
+    }
+  }
+  return any;
+}
+
 Samples to_samples(const std::vector<PlanPose>& plan, int num_joints) {
   Samples s;
-  s.source = "plan";
+  s.source = "the best plan found";
   s.q.resize(plan.size(), num_joints);
   s.gravity.resize(plan.size(), 3);
   for (size_t i = 0; i < plan.size(); ++i) {
@@ -251,13 +298,19 @@ DesignSummary design(const Model& model, const BaseParameters& base, const Desig
   for (int round = 0; round < 4; ++round) {
     const bool exchanged = exchange(w, cand, cand_rows, crit, rng);
     const bool refined = refine(w, space, crit);
-    if (!exchanged && !refined) break;
+    const bool retilted = refine_tilts(w, cand, cand_rows, space, crit);
+    if (!exchanged && !refined && !retilted) break;
   }
 
   DesignSummary out;
   out.plan = order_plan(w.poses);
   const Samples plan = to_samples(out.plan, model.num_joints());
-  figures(model, base, plan, o, space, out);
+  // The expected error is over every feasible pose: any tilt in the cone, not
+  // only the plan's tilt groups (as evaluate_plan sees the plan too).
+  DesignOptions anywhere = o;
+  anywhere.tilt_groups = 0;
+  DesignSpace feasible(model, anywhere);
+  figures(model, base, plan, o, feasible, out);
   const PlanTravel travel = plan_travel(out.plan);
   out.tilt_changes = travel.tilt_changes;
   out.joint_travel = travel.joint_travel;
@@ -281,8 +334,22 @@ DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, cons
     for (const PlanPose& p : out.plan)
       largest = std::max(largest, std::atan2(p.gravity.cross(opts.level_gravity).norm(),
                                              p.gravity.dot(opts.level_gravity)));
-    opts.tilt_max = largest;
+    // A level far from the file's gravity (say the default -z for a sensor
+    // mounted upside down): take the file's mean gravity direction as level.
+    if (largest >= std::numbers::pi / 2 - 1e-6) {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (const PlanPose& p : out.plan) mean += p.gravity.normalized();
+      if (mean.norm() > 1e-9) {
+        opts.level_gravity = mean.normalized() * opts.level_gravity.norm();
+        largest = 0.0;
+        for (const PlanPose& p : out.plan)
+          largest = std::max(largest, std::atan2(p.gravity.cross(opts.level_gravity).norm(),
+                                                 p.gravity.dot(opts.level_gravity)));
+      }
+    }
+    opts.tilt_max = std::min(largest, 89.0 * std::numbers::pi / 180.0);
   }
+  opts.tilt_groups = 0;  // random poses: any tilt in the cone
   DesignSpace space(model, opts);
   figures(model, base, plan, opts, space, out);
   const PlanTravel travel = plan_travel(out.plan);

@@ -47,8 +47,15 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
   if (o.tilt_max) {
     cone_ = true;
     tilt_max_ = *o.tilt_max;
+    groups_ = std::max(0, o.tilt_groups);
     if (!(tilt_max_ >= 0.0 && tilt_max_ < std::numbers::pi / 2))
       throw InputError("--tilt-max: the tilt must be between 0 and 90 degrees");
+    // Tilt groups start evenly spread on the cone's rim.
+    for (int k = 0; k < groups_; ++k) {
+      const double az = 2 * std::numbers::pi * (k + 0.25) / groups_;
+      tilts_.push_back(
+          clamp_to_cone({1.5 * tilt_max_ * std::cos(az), 1.5 * tilt_max_ * std::sin(az)}));
+    }
   } else {
     tilts_ = o.tilts.empty() ? std::vector<Tilt>{Tilt{}} : o.tilts;
   }
@@ -95,14 +102,15 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng) {
   for (int attempt = 0; attempt < 10000; ++attempt) {
     for (const Free& f : free_) pose.q[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
     if (!high_enough(pose.q)) continue;
-    if (cone_) {
+    if (own_tilt()) {
       // Half on the cone's rim (where optimal plans go), half inside.
       // Half on the cone's rim (where good plans go: overshoot, then clamp), half inside.
       const double az = 2 * std::numbers::pi * u(rng);
       const double angle = u(rng) < 0.5 ? 1.5 * tilt_max_ : tilt_max_ * std::sqrt(u(rng));
       pose.tilt = clamp_to_cone({angle * std::cos(az), angle * std::sin(az)});
     } else {
-      pose.tilt = tilts_[std::min<size_t>(tilts_.size() - 1, u(rng) * tilts_.size())];
+      pose.group = std::min<int>(num_tilts() - 1, static_cast<int>(u(rng) * num_tilts()));
+      pose.tilt = tilts_[pose.group];
     }
     pose.gravity = tilted_gravity(level_, pose.tilt);
     return pose;
@@ -115,7 +123,7 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng) {
 Eigen::VectorXd DesignSpace::coordinates(const PlanPose& pose) const {
   Eigen::VectorXd x(dimension());
   for (size_t i = 0; i < free_.size(); ++i) x[i] = pose.q[free_[i].joint];
-  if (cone_) x.tail<2>() << pose.tilt.x, pose.tilt.y;
+  if (own_tilt()) x.tail<2>() << pose.tilt.x, pose.tilt.y;
   return x;
 }
 
@@ -123,7 +131,8 @@ bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPo
   out.q.resize(model_.num_joints());
   for (size_t i = 0; i < free_.size(); ++i)
     out.q[free_[i].joint] = std::clamp(x[i], free_[i].lo, free_[i].hi);
-  out.tilt = cone_ ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]}) : like.tilt;
+  out.group = like.group;
+  out.tilt = own_tilt() ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]}) : like.tilt;
   out.gravity = tilted_gravity(level_, out.tilt);
   return high_enough(out.q);
 }
@@ -131,8 +140,10 @@ bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPo
 Eigen::VectorXd DesignSpace::steps() const {
   Eigen::VectorXd s(dimension());
   for (size_t i = 0; i < free_.size(); ++i) s[i] = 0.25 * (free_[i].hi - free_[i].lo);
-  if (cone_) s.tail<2>().setConstant(0.5 * tilt_max_);
+  if (own_tilt()) s.tail<2>().setConstant(0.5 * tilt_max_);
   return s;
 }
+
+Tilt DesignSpace::set_tilt(int k, Tilt t) { return tilts_[k] = clamp_to_cone(t); }
 
 }  // namespace massid

@@ -117,9 +117,10 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
     fix = "move several joints together over wider ranges";
   }
   if (report.tilt_would_help) {
-    const std::string tilt =
-        "tilt the platform: record poses with gravity in more directions of the sensor frame "
-        "(at least three directions not in one plane when the offsets are estimated)";
+    std::string tilt =
+        "tilt the platform: record poses with gravity in more directions of the sensor frame";
+    if (base.offset)
+      tilt += " (with the offsets estimated, at least three directions not in one plane)";
     fix = fix.empty() ? tilt : fix + ", or " + tilt;
   }
   if (fix.empty()) fix = "both move the joints and tilt the platform to more directions";

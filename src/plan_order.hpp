@@ -8,8 +8,10 @@
 
 namespace massid {
 
-// Open path through the poses: nearest neighbour from the least tilted pose,
-// then 2-opt, on the cost  1000 [tilt changes] + 100 |gravity angle change| + sum |dq|.
+// Poses grouped by tilt (equal gravity direction): the tilts from the least
+// tilted on, each next the nearest; within a tilt an open path of short joint
+// travel (sum |dq|: nearest neighbour, then 2-opt) starting near the previous
+// tilt's last pose. Tilt changes: one fewer than distinct tilts.
 std::vector<PlanPose> order_plan(std::vector<PlanPose> poses);
 
 struct PlanTravel {

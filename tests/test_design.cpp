@@ -69,6 +69,17 @@ TEST_F(PumaDesign, AnyTiltUpTo25DegreesReaches2Point5) {
     EXPECT_LE(tilt_angle(o.level_gravity, p.tilt), 25 * kDeg + 1e-12);
 }
 
+TEST_F(PumaDesign, FourTiltGroupsKeepTheTargetWithThreeTiltChanges) {
+  DesignOptions o = puma_options();
+  o.tilt_max = 25 * kDeg;
+  o.tilt_groups = 4;
+  const DesignSummary d = design(model, base, o);
+  EXPECT_LE(test::paper_condition_number(as_samples(d.plan)), 2.5);
+  EXPECT_LE(d.tilt_changes, 3);
+  for (const PlanPose& p : d.plan)
+    EXPECT_LE(tilt_angle(o.level_gravity, p.tilt), 25 * kDeg + 1e-12);
+}
+
 TEST_F(PumaDesign, SameSeedSamePlanOtherSeedOtherPlan) {
   DesignOptions o = puma_options();
   o.tilts = {{0, 0}, {0, 25 * kDeg}};

@@ -94,7 +94,8 @@ TEST(Puma260, HeldOutPredictionsAreFarInsideThePapersOnePercent) {
   const Eigen::MatrixXd measured = simulate_wrenches(model, held, noise);
   Eigen::MatrixXd predicted(held.size(), 6);
   for (int i = 0; i < held.size(); ++i)
-    predicted.row(i) = predict(pred, data, held.q.row(i).transpose(), held.gravity.row(i).transpose());
+    predicted.row(i) =
+        predict(pred, data, held.q.row(i).transpose(), held.gravity.row(i).transpose());
   const PredictionErrors model_error = prediction_errors(truth, predicted);
   const PredictionErrors vs_measured = prediction_errors(measured, predicted);
   for (int k = 0; k < 6; ++k) {

@@ -14,7 +14,8 @@
 //          the basis and of the units).
 // Optimiser: greedy D-optimal start from random feasible candidates, then
 // Fedorov exchange against the candidates (DETMAX style) and a pattern-search
-// refinement of each pose's free joints and tilt, alternated until no gain.
+// refinement of each pose's joints and tilt (or of the shared tilt groups),
+// alternated until no gain.
 // Deterministic for a given seed.
 #pragma once
 
@@ -48,6 +49,7 @@ double tilt_angle(const Eigen::Vector3d& level, const Tilt& tilt);
 struct DesignOptions {
   int poses = 30;
   std::optional<double> tilt_max;  // rad: any tilt within this cone around level
+  int tilt_groups = 0;             // with tilt_max: this many shared tilts (0: one per pose)
   std::vector<Tilt> tilts;         // or only these (empty and no tilt_max: level only)
   Eigen::Vector3d level_gravity{0.0, 0.0, -kStandardGravity};  // sensor frame, platform level
   std::map<std::string, std::pair<double, double>> limits;     // joint -> narrowed range
@@ -62,6 +64,7 @@ struct DesignOptions {
 struct PlanPose {
   Eigen::VectorXd q;  // [num_joints]
   Tilt tilt;
+  int group = -1;           // index of a shared tilt (listed or tilt group), -1: its own
   Eigen::Vector3d gravity;  // sensor frame
 };
 
