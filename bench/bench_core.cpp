@@ -7,6 +7,7 @@
 #include "massid/base_parameters.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/csv.hpp"
+#include "massid/design.hpp"
 #include "massid/estimation.hpp"
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
@@ -105,6 +106,30 @@ void BM_ParseCsv(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(text.size()));
 }
 BENCHMARK(BM_ParseCsv)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// The speed targets: a 30-pose PUMA 260 plan (paper's tilts, and any
+// tilt up to 25 deg in 4 groups) under 2 s, a 60-pose ur_like plan under 10 s.
+void BM_Design(benchmark::State& state) {
+  const bool puma = state.range(0) < 2;
+  const Model model = load_urdf(kRobots[puma ? 0 : 1]);
+  const BaseParameters base = find_base_parameters(model);
+  DesignOptions o;
+  o.poses = puma ? 30 : 60;
+  if (puma) o.level_gravity = Eigen::Vector3d(0, 0, kStandardGravity);
+  if (state.range(0) == 0) {
+    o.tilts = {{0, 0}, {0, 25 * 3.141592653589793 / 180}};
+  } else {
+    o.tilt_max = (puma ? 25 : 30) * 3.141592653589793 / 180;
+    o.tilt_groups = 4;
+  }
+  double cond = 0;
+  for (auto _ : state) cond = design(model, base, o).condition_number;
+  state.counters["cond"] = cond;
+  state.SetLabel(state.range(0) == 0   ? "puma260 30 poses, tilts 0:0,0:25"
+                 : state.range(0) == 1 ? "puma260 30 poses, tilt-max 25"
+                                       : "ur_like 60 poses, tilt-max 30");
+}
+BENCHMARK(BM_Design)->DenseRange(0, 2)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 

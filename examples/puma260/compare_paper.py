@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
 """Print identified PUMA 260 base parameters next to the paper's (section V).
 
+The paper's values are the example URDF's truth, so error/std should look
+like draws from a unit normal distribution.
+
 Usage: compare_paper.py PARAMS.json
 
 The paper's p1..p9 (eq. 28) are written here as combinations of the URDF's
@@ -54,7 +57,8 @@ def main():
     params = json.load(open(sys.argv[1]))
     mass_v = vec(PAPER["M_t"][1])
     total = params["total_mass"]
-    print(f"{'paper':<6} {'paper value':>12} {'identified':>12} {'std':>10}  massid parameter")
+    print(f"{'paper':<6} {'paper value':>12} {'identified':>12} {'std':>10} {'error/std':>9}"
+          "  massid parameter")
     for name, (value, terms) in PAPER.items():
         for bp in params["base_parameters"]:
             ours = vec({(t["link"], t["param"]): t["coef"] for t in bp["terms"]})
@@ -62,7 +66,8 @@ def main():
             if m:
                 s, a = m
                 ident = s * bp["value"] - a * total
-                print(f"{name:<6} {value:>12.4f} {ident:>12.4f} {bp['std']:>10.2g}  "
+                z = (ident - value) / bp["std"]
+                print(f"{name:<6} {value:>12.4f} {ident:>12.4f} {bp['std']:>10.2g} {z:>9.2f}  "
                       f"{'-' if s < 0 else ''}{bp['name']} = {bp['expression']}")
                 break
         else:
