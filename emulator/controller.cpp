@@ -1,0 +1,137 @@
+#include "massid/emulator/controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace massid::emulator {
+
+const char* to_string(SupervisorState state) {
+  switch (state) {
+    case SupervisorState::Running:
+      return "running";
+    case SupervisorState::Stopping:
+      return "stopping";
+    case SupervisorState::Stopped:
+      return "stopped";
+  }
+  return "?";
+}
+
+const char* to_string(StopReason reason) {
+  switch (reason) {
+    case StopReason::None:
+      return "none";
+    case StopReason::LegLimit:
+      return "leg limit";
+    case StopReason::Workspace:
+      return "workspace";
+    case StopReason::TrackingError:
+      return "tracking error";
+  }
+  return "?";
+}
+
+EmulatorData::EmulatorData(const EmulatorModel& model) : predictor(model.predictor) {
+  reset(model, *this);
+}
+
+void reset(const EmulatorModel& model, EmulatorData& data) {
+  data.command = model.geometry.home;
+  data.legs = leg_lengths(model.geometry, data.command);
+  data.command_twist.setZero();
+  data.spacecraft = state_at_rest(model.spacecraft, model.geometry.home * model.platform_T_sensor);
+  data.gravity_sensor.setZero();
+  data.gravity_wrench.setZero();
+  data.compensated.setZero();
+  data.state = SupervisorState::Running;
+  data.reason = StopReason::None;
+  data.time = 0.0;
+}
+
+namespace {
+
+// Shrinks a speed by what the deceleration removes in one period.
+void decelerate(Eigen::Ref<Eigen::Vector3d> v, double rate, double dt) {
+  const double speed = v.norm();
+  v *= speed > rate * dt ? (speed - rate * dt) / speed : 0.0;
+}
+
+// Where the platform ends if it brakes now at the supervisor's decelerations:
+// half the current speed over the braking time (constant deceleration).
+Eigen::Isometry3d stopping_pose(const EmulatorModel& model, const Eigen::Isometry3d& pose,
+                                const Twist& twist) {
+  const SupervisorOptions& s = model.supervisor;
+  Twist d;
+  d.head<3>() = twist.head<3>() * (0.5 * twist.head<3>().norm() / s.linear_deceleration);
+  d.tail<3>() = twist.tail<3>() * (0.5 * twist.tail<3>().norm() / s.angular_deceleration);
+  return apply_twist(pose, d);
+}
+
+StopReason violation(const EmulatorModel& model, const Eigen::Isometry3d& pose) {
+  if (!within_workspace(model.geometry, pose)) return StopReason::Workspace;
+  if (!legs_within_limits(model.geometry, leg_lengths(model.geometry, pose),
+                          model.supervisor.leg_margin))
+    return StopReason::LegLimit;
+  return StopReason::None;
+}
+
+}  // namespace
+
+void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& measured,
+                  const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Isometry3d& platform) {
+  data.time += model.dt;
+
+  // Gravity compensation with gravity rotated into the current sensor frame.
+  const Eigen::Matrix3d R_ws = platform.linear() * model.platform_T_sensor.linear();
+  data.gravity_sensor = R_ws.transpose() * model.gravity_world;
+  data.gravity_wrench = model.compensate_gravity
+                            ? predict(model.predictor, data.predictor, q, data.gravity_sensor)
+                            : Wrench::Zero();
+  data.compensated = measured - data.gravity_wrench;
+
+  if (data.state == SupervisorState::Running) {
+    // Tracking: the platform must follow the previous command.
+    const Eigen::Vector3d dp = platform.translation() - data.command.translation();
+    const double angle =
+        Eigen::AngleAxisd(platform.linear().transpose() * data.command.linear()).angle();
+    if (dp.norm() > model.supervisor.max_tracking_error ||
+        angle > model.supervisor.max_tracking_angle) {
+      data.state = SupervisorState::Stopping;
+      data.reason = StopReason::TrackingError;
+    }
+  }
+
+  if (data.state == SupervisorState::Running) {
+    // Admittance: the spacecraft under the robot's dynamic wrench.
+    SpacecraftState next = data.spacecraft;
+    step(model.spacecraft, next, data.compensated, model.dt);
+    const Eigen::Isometry3d interface = interface_pose(model.spacecraft, next);
+    const Eigen::Isometry3d command = interface * model.platform_T_sensor.inverse();
+    const Twist it = interface_twist(model.spacecraft, next);
+    Twist twist;
+    twist.tail<3>() = it.tail<3>();
+    twist.head<3>() =
+        it.head<3>() + it.tail<3>().cross(command.translation() - interface.translation());
+    // Stop before a limit: the pose where braking from here would end must be safe.
+    const StopReason reason = violation(model, stopping_pose(model, command, twist));
+    if (reason == StopReason::None) {
+      data.spacecraft = next;
+      data.command = command;
+      data.command_twist = twist;
+    } else {
+      data.state = SupervisorState::Stopping;
+      data.reason = reason;
+    }
+  }
+
+  if (data.state == SupervisorState::Stopping) {
+    // Brake smoothly from the last command's velocity: no jump in pose or speed.
+    decelerate(data.command_twist.head<3>(), model.supervisor.linear_deceleration, model.dt);
+    decelerate(data.command_twist.tail<3>(), model.supervisor.angular_deceleration, model.dt);
+    data.command = apply_twist(data.command, data.command_twist * model.dt);
+    if (data.command_twist.isZero(0.0)) data.state = SupervisorState::Stopped;
+  }
+  data.legs = leg_lengths(model.geometry, data.command);
+}
+
+}  // namespace massid::emulator

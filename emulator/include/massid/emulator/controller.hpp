@@ -1,0 +1,79 @@
+// The space emulator's control step (the paper's Figure 4): each tick
+//
+//   g_s   = R_ws^T g_w                       gravity in the current sensor frame
+//   w_g   = predict(q, g_s)                  identified gravity wrench (core predictor)
+//   w_c   = w_measured - w_g                 the robot's dynamic wrench on its base
+//   x    <- RK4 step of the spacecraft under w_c at the interface (= sensor frame)
+//   T_cmd = T_interface(x) * sensor_T_platform,   l = IK(T_cmd)
+//
+// and a supervisor that brings the platform smoothly to rest before a leg,
+// workspace or tracking limit is violated.
+//
+// EmulatorModel is immutable; EmulatorData is the workspace. control_step()
+// does not allocate.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+
+#include "massid/emulator/spacecraft.hpp"
+#include "massid/emulator/stewart_platform.hpp"
+#include "massid/predictor.hpp"
+
+namespace massid::emulator {
+
+enum class SupervisorState { Running, Stopping, Stopped };
+enum class StopReason { None, LegLimit, Workspace, TrackingError };
+const char* to_string(SupervisorState state);
+const char* to_string(StopReason reason);
+
+struct SupervisorOptions {
+  double leg_margin = 0.01;           // m kept from every leg's stroke ends
+  double max_tracking_error = 0.005;  // m, commanded vs measured platform origin
+  double max_tracking_angle = 0.02;   // rad, commanded vs measured platform attitude
+  double linear_deceleration = 0.5;   // m/s^2 while stopping
+  double angular_deceleration = 1.0;  // rad/s^2 while stopping
+};
+
+struct EmulatorModel {
+  Predictor predictor;  // identified gravity model (compile_predictor)
+  SpacecraftParameters spacecraft;
+  PlatformGeometry geometry;  // base frame = world: level, gravity along gravity_world
+  Eigen::Isometry3d platform_T_sensor =
+      Eigen::Isometry3d::Identity();  // sensor on the platform top
+  Eigen::Vector3d gravity_world{0.0, 0.0, -9.80665};
+  double dt = 0.001;  // control period, s
+  SupervisorOptions supervisor;
+  bool compensate_gravity = true;  // false: feed the raw measured wrench (for comparison)
+};
+
+// Workspace and state of the emulator, grouped by the stage that writes it.
+struct EmulatorData {
+  explicit EmulatorData(const EmulatorModel& model);
+  // gravity compensation
+  PredictorData predictor;                 // predictor workspace
+  Eigen::Vector3d gravity_sensor;          // g in the current sensor frame, m/s^2
+  Wrench gravity_wrench = Wrench::Zero();  // predicted w_g, sensor frame
+  Wrench compensated = Wrench::Zero();     // w_c = measured - w_g
+  // admittance
+  SpacecraftState spacecraft;  // emulated spacecraft
+  // command
+  Eigen::Isometry3d command;            // base_T_platform commanded
+  LegVector legs;                       // leg lengths of the command, m
+  Twist command_twist = Twist::Zero();  // [v of platform origin; w], base frame
+  // supervisor
+  SupervisorState state = SupervisorState::Running;
+  StopReason reason = StopReason::None;
+  double time = 0.0;  // s since start
+};
+
+// Resets data to the start: platform at home, spacecraft at rest there.
+void reset(const EmulatorModel& model, EmulatorData& data);
+
+// One control tick. measured: sensor wrench (massid convention); q: joint
+// positions; platform: measured base_T_platform (from the legs' forward
+// kinematics or a tracker).
+void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& measured,
+                  const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Isometry3d& platform);
+
+}  // namespace massid::emulator
