@@ -130,3 +130,71 @@ TEST(Controller, TrackingErrorStopsThePlatform) {
 
 }  // namespace
 }  // namespace massid::emulator
+
+namespace massid::emulator {
+namespace {
+
+// Admittance control with delay: the sensor also feels the robot's inertia
+// (-m_r a) one loop delay late, so the emulated acceleration obeys
+//   M a_k = F - m_r a_{k-n}   ->  stable only when m_r / M < 1.
+// Shown here with a platform that follows the command n ticks late and a rigid
+// (static) arm: the wrench it exerts on an accelerating, non-rotating platform
+// is the static wrench with gravity replaced by g - a (linear in g).
+struct DelayRun {
+  double peak_force = 0.0;  // largest |compensated force|
+  double final_accel = 0.0;
+  SupervisorState state;
+};
+
+DelayRun run_with_delay(double spacecraft_mass, int delay_ticks) {
+  PumaOnPlatform s;
+  s.em.spacecraft.mass = spacecraft_mass;
+  s.em.spacecraft.body_T_interface.setIdentity();  // pushes through the centre of mass
+  s.em.supervisor.max_tracking_error = 0.05;
+  EmulatorData data(s.em);
+  const Eigen::VectorXd q = Eigen::Vector3d(0.0, -1.5, 1.5);
+  std::vector<Eigen::Isometry3d> commands(delay_ticks + 3, data.command);
+  Wrench push = Wrench::Zero();
+  push[1] = 2.0;  // an external push on the robot, sensor y
+  const double dt = s.em.dt;
+  DelayRun out;
+  Eigen::Vector3d a = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 1500; ++k) {
+    // Platform: the command of n ticks ago; acceleration by second difference.
+    const size_t n = commands.size();
+    const Eigen::Isometry3d& platform = commands[n - 1 - delay_ticks];
+    a = (commands[n - 1 - delay_ticks].translation() -
+         2 * commands[n - 2 - delay_ticks].translation() +
+         commands[n - 3 - delay_ticks].translation()) /
+        (dt * dt);
+    const Eigen::Vector3d g = s.em.gravity_world - a;  // apparent gravity, world
+    Samples smp;
+    smp.q = q.transpose();
+    smp.gravity = ((platform * s.em.platform_T_sensor).linear().transpose() * g).transpose();
+    const Wrench measured = simulate_wrenches(s.model, smp).row(0).transpose() + push;
+    control_step(s.em, data, measured, q, platform);
+    out.peak_force = std::max(out.peak_force, data.compensated.head<3>().norm());
+    commands.erase(commands.begin());
+    commands.push_back(data.command);
+    if (data.state != SupervisorState::Running) break;
+  }
+  out.final_accel = a.norm();
+  out.state = data.state;
+  return out;
+}
+
+TEST(Controller, DelayedAdmittanceNeedsMoreEmulatedMassThanTheRobot) {
+  const double robot = 10.6;  // kg on the sensor
+  // Heavier spacecraft than robot: converges to a = F / (M + m_r).
+  const DelayRun heavy = run_with_delay(1.25 * robot, 2);
+  EXPECT_EQ(heavy.state, SupervisorState::Running);
+  EXPECT_NEAR(heavy.final_accel, 2.0 / (2.25 * robot), 1e-3);
+  EXPECT_LT(heavy.peak_force, 2.5);
+  // Lighter: the force loop diverges until the supervisor stops it.
+  const DelayRun light = run_with_delay(0.8 * robot, 2);
+  EXPECT_NE(light.state, SupervisorState::Running);
+  EXPECT_GT(light.peak_force, 20.0);
+}
+
+}  // namespace
+}  // namespace massid::emulator
