@@ -12,6 +12,7 @@
 
 #include "massid/atomic_file.hpp"
 #include "massid/errors.hpp"
+#include "massid/text_position.hpp"
 
 namespace massid::emulator {
 namespace {
@@ -20,20 +21,6 @@ using json = nlohmann::ordered_json;
 constexpr const char* kFormat = "massid-platform-1";
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
-
-// 1-based line and column of a byte offset.
-std::pair<int, int> line_column(const std::string& text, size_t byte) {
-  int line = 1, col = 1;
-  for (size_t i = 0; i < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return {line, col};
-}
 
 // Thrown by the field readers and turned into an InputError naming the file.
 struct FieldError {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "massid/errors.hpp"
+#include "massid/text_position.hpp"
 #include "massid/regressor.hpp"
 
 namespace massid {
@@ -27,20 +28,6 @@ json terms_json(const Model& model, const std::vector<Term>& terms) {
 
 json wrench_part(const Eigen::VectorXd& v, int start) {
   return json::array({v[start], v[start + 1], v[start + 2]});
-}
-
-// 1-based line and column of a byte offset.
-std::pair<int, int> line_column(const std::string& text, size_t byte) {
-  int line = 1, col = 1;
-  for (size_t i = 0; i < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
-  return {line, col};
 }
 
 }  // namespace

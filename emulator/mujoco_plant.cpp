@@ -1,0 +1,540 @@
+#include "massid/emulator/mujoco_plant.hpp"
+
+#include <fmt/format.h>
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <iomanip>
+#include <locale>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "massid/errors.hpp"
+
+namespace massid::emulator {
+
+namespace {
+
+// Full precision: 17 significant digits read back to the same double.
+std::string num(double v) {
+  std::ostringstream s;
+  s.imbue(std::locale::classic());
+  s << std::setprecision(17) << v;
+  return s.str();
+}
+
+std::string vec(const Eigen::Vector3d& v) {
+  return num(v.x()) + " " + num(v.y()) + " " + num(v.z());
+}
+
+std::string quat(const Eigen::Matrix3d& r) {
+  const Eigen::Quaterniond q(r);
+  return num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z());
+}
+
+std::string pose_attributes(const Eigen::Isometry3d& t) {
+  return "pos=\"" + vec(t.translation()) + "\" quat=\"" + quat(t.linear()) + "\"";
+}
+
+// <inertial> of mass `mass`, com `com`, inertia `inertia` about the com (body frame).
+std::string inertial(const Eigen::Vector3d& com, double mass, const Eigen::Matrix3d& inertia) {
+  const Eigen::Matrix3d i = 0.5 * (inertia + inertia.transpose());
+  return "<inertial pos=\"" + vec(com) + "\" mass=\"" + num(mass) + "\" fullinertia=\"" +
+         num(i(0, 0)) + " " + num(i(1, 1)) + " " + num(i(2, 2)) + " " + num(i(0, 1)) + " " +
+         num(i(0, 2)) + " " + num(i(1, 2)) + "\"/>";
+}
+
+void emit_body(const Model& model, const PlantOptions& options, int index,
+               const Eigen::Isometry3d& pose, int indent, std::ostringstream& x) {
+  const Link& link = model.links[static_cast<std::size_t>(index)];
+  const std::string pad(static_cast<std::size_t>(indent), ' ');
+  x << pad << "<body name=\"" << link.name << "\" " << pose_attributes(pose) << ">\n";
+  if (link.type != JointType::Fixed) {
+    x << pad << "  <joint name=\"" << link.joint << "\" type=\""
+      << (link.type == JointType::Revolute ? "hinge" : "slide") << "\" axis=\"" << vec(link.axis)
+      << "\" pos=\"0 0 0\" limited=\"false\"/>\n";
+  }
+  if (link.mass > 0.0) {
+    const Eigen::Matrix3d inertia = options.link_inertia.empty()
+                                        ? Eigen::Matrix3d(Eigen::Matrix3d::Identity() * link.mass *
+                                                          options.default_radius_of_gyration *
+                                                          options.default_radius_of_gyration)
+                                        : options.link_inertia[static_cast<std::size_t>(index)];
+    x << pad << "  " << inertial(link.com, link.mass, inertia) << "\n";
+  }
+  if (index == 0) x << pad << "  <site name=\"massid_ft\" pos=\"0 0 0\" quat=\"1 0 0 0\"/>\n";
+  for (int child = 0; child < model.num_links(); ++child) {
+    const Link& c = model.links[static_cast<std::size_t>(child)];
+    if (c.parent == index) emit_body(model, options, child, c.origin, indent + 2, x);
+  }
+  x << pad << "</body>\n";
+}
+
+void check_options(const Model& model, const PlantOptions& o) {
+  const auto positive = [](double v, const char* what) {
+    if (!(std::isfinite(v) && v > 0.0)) {
+      throw InputError(fmt::format("plant option {} must be positive and finite, not {}", what, v));
+    }
+  };
+  positive(o.timestep, "timestep");
+  positive(o.platform_mass, "platform_mass");
+  positive(o.platform_kp, "platform_kp");
+  positive(o.platform_kd, "platform_kd");
+  positive(o.joint_kp, "joint_kp");
+  positive(o.joint_kd, "joint_kd");
+  positive(o.default_radius_of_gyration, "default_radius_of_gyration");
+  if (!o.gravity.allFinite()) throw InputError("plant option gravity is not finite");
+  if (!o.link_inertia.empty() && static_cast<int>(o.link_inertia.size()) != model.num_links()) {
+    throw InputError(fmt::format("plant option link_inertia has {} entries, the model {} links",
+                                 o.link_inertia.size(), model.num_links()));
+  }
+  if (model.num_links() == 0) throw InputError("the model has no links");
+}
+
+std::string options_xml(double timestep, const Eigen::Vector3d& gravity) {
+  return "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n  <option timestep=\"" +
+         num(timestep) + "\" integrator=\"RK4\" gravity=\"" + vec(gravity) +
+         "\">\n    <flag contact=\"disable\" constraint=\"disable\"/>\n  </option>\n";
+}
+
+const char* const kSensorsXml =
+    "  <sensor>\n"
+    "    <force name=\"massid_ft_force\" site=\"massid_ft\"/>\n"
+    "    <torque name=\"massid_ft_torque\" site=\"massid_ft\"/>\n"
+    "  </sensor>\n";
+
+Eigen::Vector3d rotation_log(const Eigen::Matrix3d& r) {
+  const Eigen::AngleAxisd aa(r);
+  return aa.angle() * aa.axis();
+}
+
+Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& w) {
+  const double angle = w.norm();
+  if (angle < 1e-300) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+}
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+struct VfsDeleter {
+  void operator()(mjVFS* v) const {
+    mj_deleteVFS(v);
+    delete v;
+  }
+};
+
+}  // namespace
+
+std::string robot_mjcf(const Model& model, const PlantOptions& options,
+                       const Eigen::Isometry3d& parent_T_sensor, int indent) {
+  check_options(model, options);
+  std::ostringstream x;
+  emit_body(model, options, 0, parent_T_sensor, indent, x);
+  return x.str();
+}
+
+// The MuJoCo model and data, the servo laws and the stepping protocol:
+// invariant after every public call, mjData holds a complete forward pass of
+// the current state under the servo forces now applied (sensors included).
+class MujocoSimulation {
+ public:
+  MujocoSimulation(const Model& model, const std::string& xml, const char* free_body,
+                   bool platform_servo, const PlantOptions& options)
+      : options_(options), platform_servo_(platform_servo) {
+    std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
+    mj_defaultVFS(vfs.get());
+    const char* name = "massid_plant.xml";
+    if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) != 0) {
+      throw InputError("MuJoCo: cannot make a virtual file for the plant model");
+    }
+    const int file = mj_findFileVFS(vfs.get(), name);
+    std::memcpy(vfs->filedata[file], xml.data(), xml.size());
+    char error[1000] = "";
+    m_.reset(mj_loadXML(name, vfs.get(), error, sizeof(error)));
+    if (!m_) throw InputError(fmt::format("MuJoCo rejects the plant model: {}", error));
+    m_->opt.timestep = options.timestep;
+    m_->opt.integrator = mjINT_RK4;
+    m_->opt.disableflags |= mjDSBL_CONTACT | mjDSBL_CONSTRAINT;
+    d_.reset(mj_makeData(m_.get()));
+    if (!d_) throw InputError("MuJoCo cannot allocate the plant's data");
+
+    const auto id = [this](int type, const std::string& n) {
+      const int i = mj_name2id(m_.get(), type, n.c_str());
+      if (i < 0) throw InputError("MuJoCo plant model has no object named " + n);
+      return i;
+    };
+    for (const Joint& joint : model.joints) {
+      const int j = id(mjOBJ_JOINT, joint.name);
+      qadr_.push_back(m_->jnt_qposadr[j]);
+      dadr_.push_back(m_->jnt_dofadr[j]);
+    }
+    const int free_joint = m_->body_jntadr[id(mjOBJ_BODY, free_body)];
+    if (free_joint < 0 || m_->jnt_type[free_joint] != mjJNT_FREE) {
+      throw InputError("MuJoCo plant model: no free joint on the base body");
+    }
+    free_body_ = id(mjOBJ_BODY, free_body);
+    free_qadr_ = m_->jnt_qposadr[free_joint];
+    free_dadr_ = m_->jnt_dofadr[free_joint];
+    sensor_body_ = id(mjOBJ_BODY, model.sensor_link());
+    force_adr_ = m_->sensor_adr[id(mjOBJ_SENSOR, "massid_ft_force")];
+    torque_adr_ = m_->sensor_adr[id(mjOBJ_SENSOR, "massid_ft_torque")];
+    if (m_->nv != 6 + model.num_joints()) {
+      throw InputError(fmt::format("MuJoCo plant model has {} degrees of freedom, expected {}",
+                                   m_->nv, 6 + model.num_joints()));
+    }
+    const auto nv = static_cast<std::size_t>(m_->nv);
+    x_.assign(nv, 0.0);
+    mx_.assign(nv, 0.0);
+    qpos0_.assign(static_cast<std::size_t>(m_->nq), 0.0);
+    qvel0_.assign(nv, 0.0);
+    dvel_.assign(nv, 0.0);
+    dacc_.assign(nv, 0.0);
+    for (auto& v : stage_vel_) v.assign(nv, 0.0);
+    for (auto& a : stage_acc_) a.assign(nv, 0.0);
+    q_cmd_ = Eigen::VectorXd::Zero(model.num_joints());
+    qd_cmd_ = Eigen::VectorXd::Zero(model.num_joints());
+    platform_p_cmd_ = position();
+    platform_r_cmd_ = rotation();
+    evaluate(true);
+  }
+
+  int num_joints() const { return static_cast<int>(qadr_.size()); }
+
+  void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+    check_size(q, "joint command q");
+    check_size(qd, "joint command qd");
+    q_cmd_ = q;
+    qd_cmd_ = qd;
+    joint_cmd_time_ = d_->time;
+    evaluate(true);
+  }
+
+  void set_joints(const Eigen::VectorXd& q, bool stop_everything) {
+    check_size(q, "joint positions");
+    for (int j = 0; j < num_joints(); ++j) {
+      d_->qpos[qadr_[static_cast<std::size_t>(j)]] = q[j];
+      d_->qvel[dadr_[static_cast<std::size_t>(j)]] = 0.0;
+    }
+    if (stop_everything) mju_zero(d_->qvel, m_->nv);
+    q_cmd_ = q;
+    qd_cmd_.setZero();
+    joint_cmd_time_ = d_->time;
+    evaluate(true);
+  }
+
+  void set_platform_command(const Eigen::Isometry3d& pose, const Twist* twist) {
+    const Eigen::Vector3d p = pose.translation();
+    const Eigen::Matrix3d r = pose.linear();
+    if (twist != nullptr) {
+      platform_twist_cmd_ = *twist;
+    } else if (d_->time > platform_cmd_time_) {
+      const double dt = d_->time - platform_cmd_time_;
+      platform_twist_cmd_.head<3>() = (p - platform_p_cmd_) / dt;
+      platform_twist_cmd_.tail<3>() = rotation_log(r * platform_r_cmd_.transpose()) / dt;
+    }
+    platform_p_cmd_ = p;
+    platform_r_cmd_ = r;
+    platform_cmd_time_ = d_->time;
+    evaluate(true);
+  }
+
+  void advance(double dt) {
+    const double end = d_->time + dt;
+    while (d_->time < end - 0.5 * m_->opt.timestep) rk4_step();
+  }
+
+  Wrench measured_wrench() const {
+    Wrench w;
+    for (int k = 0; k < 3; ++k) {
+      w[k] = -d_->sensordata[force_adr_ + k];
+      w[3 + k] = -d_->sensordata[torque_adr_ + k];
+    }
+    return w;
+  }
+
+  Eigen::Isometry3d body_pose(int body) const {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    for (int r = 0; r < 3; ++r) {
+      t.translation()[r] = d_->xpos[3 * body + r];
+      for (int c = 0; c < 3; ++c) t.linear()(r, c) = d_->xmat[9 * body + 3 * r + c];
+    }
+    return t;
+  }
+  // Twist of a body frame: [velocity of its origin; angular velocity], world.
+  Twist body_twist(int body) const {
+    mjtNum v[6];
+    mj_objectVelocity(m_.get(), d_.get(), mjOBJ_BODY, body, v, 0);
+    Twist t;
+    t << v[3], v[4], v[5], v[0], v[1], v[2];
+    return t;
+  }
+  Eigen::Isometry3d base_pose() const { return body_pose(free_body_); }
+  Twist base_twist() const { return body_twist(free_body_); }
+  Eigen::Isometry3d sensor_pose() const { return body_pose(sensor_body_); }
+  Twist sensor_twist() const { return body_twist(sensor_body_); }
+
+  Eigen::VectorXd joint_positions() const {
+    Eigen::VectorXd q(num_joints());
+    for (int j = 0; j < num_joints(); ++j) q[j] = d_->qpos[qadr_[static_cast<std::size_t>(j)]];
+    return q;
+  }
+  Eigen::VectorXd joint_velocities() const {
+    Eigen::VectorXd v(num_joints());
+    for (int j = 0; j < num_joints(); ++j) v[j] = d_->qvel[dadr_[static_cast<std::size_t>(j)]];
+    return v;
+  }
+  double time() const { return d_->time; }
+
+  // Momenta of the subtree of the base body (the whole system).
+  Eigen::Vector3d linear_momentum() const {
+    mj_subtreeVel(m_.get(), d_.get());
+    return m_->body_subtreemass[free_body_] * Eigen::Vector3d(d_->subtree_linvel + 3 * free_body_);
+  }
+  Eigen::Vector3d angular_momentum() const {
+    mj_subtreeVel(m_.get(), d_.get());
+    return Eigen::Vector3d(d_->subtree_angmom + 3 * free_body_);
+  }
+  Eigen::Vector3d center_of_mass() const {
+    return Eigen::Vector3d(d_->subtree_com + 3 * free_body_);
+  }
+  double total_mass() const { return m_->body_subtreemass[free_body_]; }
+
+ private:
+  void check_size(const Eigen::VectorXd& v, const char* what) const {
+    if (v.size() != num_joints() || !v.allFinite()) {
+      throw InputError(
+          fmt::format("{}: {} finite values expected, got {}", what, num_joints(), v.size()));
+    }
+  }
+
+  Eigen::Vector3d position() const {
+    return Eigen::Vector3d(d_->qpos[free_qadr_], d_->qpos[free_qadr_ + 1],
+                           d_->qpos[free_qadr_ + 2]);
+  }
+  Eigen::Matrix3d rotation() const {
+    return Eigen::Quaterniond(d_->qpos[free_qadr_ + 3], d_->qpos[free_qadr_ + 4],
+                              d_->qpos[free_qadr_ + 5], d_->qpos[free_qadr_ + 6])
+        .normalized()
+        .toRotationMatrix();
+  }
+
+  // mj_forward with the servo forces computed between the velocity and the
+  // acceleration stages. The platform servo acts at every Runge-Kutta stage
+  // (continuous time: held over a step, it destabilises the stiff coupling of
+  // the platform with the arm). The joint servo is sampled (new_sample) at the
+  // start of each step and held over it, a digital controller at the MuJoCo
+  // rate: its forces are then constant over the step and RK4 integrates the
+  // free-floating reference with momentum drift ~1e-8 instead of ~1e-6 kg m/s.
+  // The sensors are evaluated at new samples.
+  void evaluate(bool new_sample) {
+    mjModel* m = m_.get();
+    mjData* d = d_.get();
+    mj_fwdPosition(m, d);
+    mj_fwdVelocity(m, d);
+    apply_controls(new_sample);
+    mj_fwdActuation(m, d);
+    mj_fwdAcceleration(m, d);
+    mj_fwdConstraint(m, d);
+    if (new_sample) {
+      mj_sensorPos(m, d);
+      mj_sensorVel(m, d);
+      mj_sensorAcc(m, d);
+    }
+  }
+
+  // One classical RK4 step as MuJoCo's mj_RungeKutta does it (positions on the
+  // manifold with mj_integratePos), the servo forces evaluated at each stage.
+  // Expects mjData evaluated at the current state; leaves it so.
+  void rk4_step() {
+    mjModel* m = m_.get();
+    mjData* d = d_.get();
+    const int nq = m->nq, nv = m->nv;
+    const double h = m->opt.timestep, t0 = d->time;
+    static constexpr double kA[3] = {0.5, 0.5, 1.0};  // stage i uses kA[i-1] * stage i-1
+    static constexpr double kB[4] = {1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0};
+    mju_copy(qpos0_.data(), d->qpos, nq);
+    mju_copy(qvel0_.data(), d->qvel, nv);
+    mju_copy(stage_vel_[0].data(), d->qvel, nv);
+    mju_copy(stage_acc_[0].data(), d->qacc, nv);
+    for (int i = 1; i < 4; ++i) {
+      const double a = kA[i - 1] * h;
+      const auto& v = stage_vel_[static_cast<std::size_t>(i - 1)];
+      const auto& acc = stage_acc_[static_cast<std::size_t>(i - 1)];
+      mju_copy(d->qpos, qpos0_.data(), nq);
+      mj_integratePos(m, d->qpos, v.data(), a);
+      for (int k = 0; k < nv; ++k)
+        d->qvel[k] = qvel0_[static_cast<std::size_t>(k)] + a * acc[static_cast<std::size_t>(k)];
+      d->time = t0 + a;
+      evaluate(false);
+      mju_copy(stage_vel_[static_cast<std::size_t>(i)].data(), d->qvel, nv);
+      mju_copy(stage_acc_[static_cast<std::size_t>(i)].data(), d->qacc, nv);
+    }
+    mju_zero(dvel_.data(), nv);
+    mju_zero(dacc_.data(), nv);
+    for (int i = 0; i < 4; ++i) {
+      mju_addToScl(dvel_.data(), stage_vel_[static_cast<std::size_t>(i)].data(), kB[i], nv);
+      mju_addToScl(dacc_.data(), stage_acc_[static_cast<std::size_t>(i)].data(), kB[i], nv);
+    }
+    mju_copy(d->qpos, qpos0_.data(), nq);
+    mj_integratePos(m, d->qpos, dvel_.data(), h);
+    for (int k = 0; k < nv; ++k)
+      d->qvel[k] = qvel0_[static_cast<std::size_t>(k)] + h * dacc_[static_cast<std::size_t>(k)];
+    d->time = t0 + h;
+    evaluate(true);
+  }
+
+  // Servo forces into qfrc_applied from the state; needs the position and
+  // velocity stages (M, bias) of the current state.
+  void apply_controls(bool new_sample) {
+    const double t = d_->time;
+    if (new_sample) {
+      // Joints, sampled: tau = M_jj (kp e + kd e') + bias, held until the next sample.
+      const double tj = t - joint_cmd_time_;
+      for (int j = 0; j < num_joints(); ++j) {
+        const auto k = static_cast<std::size_t>(j);
+        const int dof = dadr_[k];
+        const double e = q_cmd_[j] + qd_cmd_[j] * tj - d_->qpos[qadr_[k]];
+        const double ed = qd_cmd_[j] - d_->qvel[dof];
+        const double mjj = d_->qM[m_->dof_Madr[dof]];
+        d_->qfrc_applied[dof] =
+            mjj * (options_.joint_kp * e + options_.joint_kd * ed) + d_->qfrc_bias[dof];
+      }
+    }
+    if (platform_servo_) {
+      // Free joint: linear dofs world frame (body origin), angular dofs body frame.
+      const double tp = t - platform_cmd_time_;
+      const Eigen::Vector3d p_target = platform_p_cmd_ + platform_twist_cmd_.head<3>() * tp;
+      const Eigen::Matrix3d r_target =
+          rotation_exp(platform_twist_cmd_.tail<3>() * tp) * platform_r_cmd_;
+      const Eigen::Matrix3d r = rotation();
+      const Eigen::Vector3d e_lin = p_target - position();
+      const Eigen::Vector3d e_rot = rotation_log(r.transpose() * r_target);
+      const Eigen::Vector3d v(d_->qvel + free_dadr_);
+      const Eigen::Vector3d w(d_->qvel + free_dadr_ + 3);
+      const Eigen::Vector3d ed_lin = platform_twist_cmd_.head<3>() - v;
+      const Eigen::Vector3d ed_rot = r.transpose() * platform_twist_cmd_.tail<3>() - w;
+      std::fill(x_.begin(), x_.end(), 0.0);
+      for (int k = 0; k < 3; ++k) {
+        x_[static_cast<std::size_t>(free_dadr_ + k)] =
+            options_.platform_kp * e_lin[k] + options_.platform_kd * ed_lin[k];
+        x_[static_cast<std::size_t>(free_dadr_ + 3 + k)] =
+            options_.platform_kp * e_rot[k] + options_.platform_kd * ed_rot[k];
+      }
+      mj_mulM(m_.get(), d_.get(), mx_.data(), x_.data());
+      for (int k = 0; k < 6; ++k) {
+        const int dof = free_dadr_ + k;
+        d_->qfrc_applied[dof] = mx_[static_cast<std::size_t>(dof)] + d_->qfrc_bias[dof];
+      }
+    }
+  }
+
+  PlantOptions options_;
+  bool platform_servo_;
+  std::unique_ptr<mjModel, ModelDeleter> m_;
+  std::unique_ptr<mjData, DataDeleter> d_;
+  std::vector<int> qadr_, dadr_;
+  int free_body_ = -1, free_qadr_ = -1, free_dadr_ = -1;
+  int sensor_body_ = -1, force_adr_ = -1, torque_adr_ = -1;
+  std::vector<mjtNum> x_, mx_;  // platform servo accelerations and M times them
+  std::vector<mjtNum> qpos0_, qvel0_, dvel_, dacc_;  // RK4 workspace
+  std::array<std::vector<mjtNum>, 4> stage_vel_, stage_acc_;
+  Eigen::VectorXd q_cmd_, qd_cmd_;
+  double joint_cmd_time_ = 0.0;
+  Eigen::Vector3d platform_p_cmd_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d platform_r_cmd_ = Eigen::Matrix3d::Identity();
+  Twist platform_twist_cmd_ = Twist::Zero();
+  double platform_cmd_time_ = 0.0;
+};
+
+// ---------------------------------------------------------------------------
+
+PlatformPlant::PlatformPlant(const Model& model, const PlatformGeometry& geometry,
+                             const PlantOptions& options) {
+  check_options(model, options);
+  std::ostringstream x;
+  x << "<mujoco model=\"massid_platform_plant\">\n"
+    << options_xml(options.timestep, options.gravity) << "  <worldbody>\n"
+    << "    <body name=\"massid_platform\" " << pose_attributes(geometry.home) << ">\n"
+    << "      <joint name=\"massid_platform_free\" type=\"free\"/>\n"
+    << "      "
+    << inertial(Eigen::Vector3d::Zero(), options.platform_mass, options.platform_inertia) << "\n"
+    << robot_mjcf(model, options, options.platform_T_sensor, 6) << "    </body>\n"
+    << "  </worldbody>\n"
+    << kSensorsXml << "</mujoco>\n";
+  sim_ = std::make_unique<MujocoSimulation>(model, x.str(), "massid_platform", true, options);
+}
+
+PlatformPlant::~PlatformPlant() = default;
+PlatformPlant::PlatformPlant(PlatformPlant&&) noexcept = default;
+PlatformPlant& PlatformPlant::operator=(PlatformPlant&&) noexcept = default;
+
+void PlatformPlant::set_platform_command(const Eigen::Isometry3d& base_T_platform) {
+  sim_->set_platform_command(base_T_platform, nullptr);
+}
+void PlatformPlant::set_platform_command(const Eigen::Isometry3d& base_T_platform,
+                                         const Twist& twist) {
+  sim_->set_platform_command(base_T_platform, &twist);
+}
+void PlatformPlant::set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  sim_->set_joint_command(q, qd);
+}
+void PlatformPlant::set_joints(const Eigen::VectorXd& q) { sim_->set_joints(q, false); }
+void PlatformPlant::advance(double dt) { sim_->advance(dt); }
+Wrench PlatformPlant::measured_wrench() const { return sim_->measured_wrench(); }
+Eigen::Isometry3d PlatformPlant::platform_pose() const { return sim_->base_pose(); }
+Twist PlatformPlant::platform_twist() const { return sim_->base_twist(); }
+Eigen::Isometry3d PlatformPlant::sensor_pose() const { return sim_->sensor_pose(); }
+Eigen::VectorXd PlatformPlant::joint_positions() const { return sim_->joint_positions(); }
+Eigen::VectorXd PlatformPlant::joint_velocities() const { return sim_->joint_velocities(); }
+double PlatformPlant::time() const { return sim_->time(); }
+
+// ---------------------------------------------------------------------------
+
+FreeFloatingReference::FreeFloatingReference(const Model& model,
+                                             const SpacecraftParameters& spacecraft,
+                                             const Eigen::Isometry3d& world_T_interface0,
+                                             const PlantOptions& options) {
+  check_options(model, options);
+  validate(spacecraft);
+  const Eigen::Isometry3d world_T_body = world_T_interface0 * spacecraft.body_T_interface.inverse();
+  std::ostringstream x;
+  x << "<mujoco model=\"massid_free_floating_reference\">\n"
+    << options_xml(options.timestep, Eigen::Vector3d::Zero()) << "  <worldbody>\n"
+    << "    <body name=\"massid_spacecraft\" " << pose_attributes(world_T_body) << ">\n"
+    << "      <joint name=\"massid_spacecraft_free\" type=\"free\"/>\n"
+    << "      " << inertial(Eigen::Vector3d::Zero(), spacecraft.mass, spacecraft.inertia) << "\n"
+    << robot_mjcf(model, options, spacecraft.body_T_interface, 6) << "    </body>\n"
+    << "  </worldbody>\n"
+    << kSensorsXml << "</mujoco>\n";
+  sim_ = std::make_unique<MujocoSimulation>(model, x.str(), "massid_spacecraft", false, options);
+}
+
+FreeFloatingReference::~FreeFloatingReference() = default;
+FreeFloatingReference::FreeFloatingReference(FreeFloatingReference&&) noexcept = default;
+FreeFloatingReference& FreeFloatingReference::operator=(FreeFloatingReference&&) noexcept = default;
+
+void FreeFloatingReference::set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  sim_->set_joint_command(q, qd);
+}
+void FreeFloatingReference::set_joints(const Eigen::VectorXd& q) { sim_->set_joints(q, true); }
+void FreeFloatingReference::advance(double dt) { sim_->advance(dt); }
+Eigen::Isometry3d FreeFloatingReference::interface_pose() const { return sim_->sensor_pose(); }
+Twist FreeFloatingReference::interface_twist() const { return sim_->sensor_twist(); }
+Eigen::VectorXd FreeFloatingReference::joint_positions() const { return sim_->joint_positions(); }
+Eigen::VectorXd FreeFloatingReference::joint_velocities() const { return sim_->joint_velocities(); }
+double FreeFloatingReference::time() const { return sim_->time(); }
+Eigen::Vector3d FreeFloatingReference::linear_momentum() const { return sim_->linear_momentum(); }
+Eigen::Vector3d FreeFloatingReference::angular_momentum() const { return sim_->angular_momentum(); }
+Eigen::Vector3d FreeFloatingReference::center_of_mass() const { return sim_->center_of_mass(); }
+double FreeFloatingReference::total_mass() const { return sim_->total_mass(); }
+
+}  // namespace massid::emulator
