@@ -1,0 +1,60 @@
+// The emulator in simulation: the control step (controller.hpp) driving the
+// MuJoCo plant (the robot on its sensor on a servo-driven platform, gravity
+// on), against the free-floating reference (the same robot on the spacecraft,
+// no gravity), with the same joint trajectory. The error between the two
+// interface (sensor frame) poses is how well the platform emulates orbit.
+#pragma once
+
+#include <functional>
+
+#include "massid/emulator/controller.hpp"
+#include "massid/emulator/mujoco_plant.hpp"
+#include "massid/model.hpp"
+
+namespace massid::emulator {
+
+// Joint positions and velocities at time t (Model::joints order), written into q, qd.
+using JointTrajectory = std::function<void(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd)>;
+
+// A smooth maneuver that starts and ends at rest: every joint swings from the
+// middle of its range by an amplitude (0.6 rad, or a fifth of a prismatic
+// range, alternating in sign) as sin^2(pi t / duration).
+JointTrajectory smooth_maneuver(const Model& model, double duration);
+
+struct EmulationOptions {
+  double duration = 10.0;  // s
+  double rate = 1000.0;    // control rate, Hz
+  SpacecraftParameters spacecraft;
+  PlatformGeometry geometry = default_geometry();
+  Eigen::Isometry3d platform_T_sensor = Eigen::Isometry3d::Identity();
+  SupervisorOptions supervisor;
+  PlantOptions plant;
+  JointTrajectory trajectory;  // empty: smooth_maneuver(model, duration)
+};
+
+struct EmulationSummary {
+  double position_error_max_m = 0.0, position_error_rms_m = 0.0;
+  double attitude_error_max_deg = 0.0, attitude_error_rms_deg = 0.0;
+  double reference_excursion_m = 0.0, reference_excursion_deg = 0.0;
+  int supervisor_stops = 0;
+  double seconds = 0.0;          // wall-clock time of the run
+  double control_step_ns = 0.0;  // mean wall-clock time of control_step
+};
+
+// One trace row per control tick (optional).
+struct TraceRow {
+  double t;
+  Eigen::Isometry3d command, reached,
+      reference;  // platform (base frame), reference interface (world)
+  LegVector legs;
+  Wrench measured, compensated;
+  SupervisorState state;
+};
+
+// predictor: the gravity model to compensate with; compensate=false feeds the
+// raw wrench. trace, when given, receives every tick.
+EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
+                               const EmulationOptions& options, bool compensate,
+                               std::vector<TraceRow>* trace = nullptr);
+
+}  // namespace massid::emulator
