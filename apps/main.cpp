@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "design_command.hpp"
+#include "emulate_command.hpp"
 #include "massid/atomic_file.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
@@ -193,6 +194,8 @@ int main(int argc, char** argv) {
 
   DesignCommand design;
   add_design_command(app, design);
+  EmulateCommand emulate;
+  add_emulate_command(app, emulate);
 
   try {
     app.parse(argc, argv);
@@ -219,6 +222,7 @@ int main(int argc, char** argv) {
     }
     if (*pred) return run_predict(common.urdf, params, data, out);
     if (*design.app) return run_design(design);
+    if (*emulate.app) return run_emulate(emulate);
   } catch (const InputError& e) {
     std::cerr << "massid: error: " << e.what() << "\n";
     return 2;

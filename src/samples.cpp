@@ -33,14 +33,10 @@ std::vector<int> column_group(const CsvTable& table, std::initializer_list<const
 
 }  // namespace
 
-Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench, double g0) {
-  Samples s;
-  s.source = table.source;
+Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table) {
   const int N = table.num_rows();
   const int nj = model.num_joints();
-  s.line = table.line;
-
-  s.q.resize(N, nj);
+  Eigen::MatrixXd q(N, nj);
   for (int j = 0; j < nj; ++j) {
     const Joint& joint = model.joints[j];
     int c = table.find(joint.name);
@@ -54,8 +50,18 @@ Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wr
           "{}:{}: no column for joint '{}' (expected '{}'{})", table.source, table.header_line,
           joint.name, joint.name,
           joint.type == JointType::Revolute ? fmt::format(" or '{}_deg'", joint.name) : ""));
-    for (int r = 0; r < N; ++r) s.q(r, j) = scale * table.number(r, c);
+    for (int r = 0; r < N; ++r) q(r, j) = scale * table.number(r, c);
   }
+  return q;
+}
+
+Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench, double g0) {
+  Samples s;
+  s.source = table.source;
+  const int N = table.num_rows();
+  s.line = table.line;
+
+  s.q = read_joint_columns(model, table);
 
   const std::vector<int> w = column_group(table, {"fx", "fy", "fz", "mx", "my", "mz"});
   if (w.empty() && wrench == WrenchColumns::Required)

@@ -32,6 +32,9 @@ enum class WrenchColumns { Required, Optional };
 Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench,
                      double g0 = kStandardGravity);
 
+// [N x num_joints] joint columns (named as the joint, or JOINT_deg in degrees).
+Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table);
+
 extern const char* const kWrenchColumns[6];  // "fx" ... "mz"
 
 }  // namespace massid

@@ -1,0 +1,172 @@
+#include "emulate_command.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "massid/atomic_file.hpp"
+#include "massid/csv.hpp"
+#include "massid/emulator/emulation.hpp"
+#include "massid/errors.hpp"
+#include "massid/params_file.hpp"
+#include "massid/regressor.hpp"
+#include "options.hpp"
+
+namespace massid::cli {
+
+using namespace massid::emulator;
+
+void add_emulate_command(CLI::App& app, EmulateCommand& c) {
+  c.app = app.add_subcommand(
+      "emulate", "Space emulator in simulation: platform vs free-floating reference (MuJoCo)");
+  CLI::App* e = c.app;
+  e->add_option("robot", c.urdf, "Robot URDF")->required();
+  e->add_option("params", c.params, "Params JSON from identify")->required();
+  e->add_option("-o,--output", c.output, "Trace CSV to write (the identified run)")->required();
+  e->add_option("--summary", c.summary, "Summary JSON to write");
+  e->add_option("--platform", c.platform, "Platform geometry JSON (default: docs/emulator.md)");
+  e->add_option("--spacecraft-mass", c.mass, "Emulated spacecraft mass, kg (default 50)")
+      ->check(sign_check(true));
+  e->add_option("--spacecraft-inertia", c.inertia,
+                "Principal inertia about its centre of mass IXX,IYY,IZZ, kg m^2 (default 5,5,5)");
+  e->add_option("--trajectory", c.trajectory,
+                "Joint trajectory CSV: t and one column per joint (default: a smooth maneuver)");
+  e->add_option("--duration", c.duration, "Seconds (default 10)")->check(sign_check(true));
+  e->add_option("--rate", c.rate, "Control rate, Hz (default 1000)")->check(sign_check(true));
+  e->add_option("--gravity", c.gravity,
+                "Gravity in the sensor frame when the platform is level (default 0,0,-9.80665): "
+                "sets how the sensor is mounted");
+}
+
+namespace {
+
+// Linear interpolation of a t, joint... CSV; velocities by the segment slope.
+JointTrajectory trajectory_from_csv(const Model& model, const std::string& path) {
+  const CsvTable table = read_csv(path);
+  const int tc = table.find("t");
+  if (tc < 0) throw InputError(fmt::format("{}:{}: no column 't'", path, table.header_line));
+  Eigen::VectorXd t(table.num_rows());
+  for (int r = 0; r < table.num_rows(); ++r) {
+    t[r] = table.number(r, tc);
+    if (r > 0 && !(t[r] > t[r - 1]))
+      throw InputError(fmt::format("{}:{}: times must increase", path, table.line[r]));
+  }
+  const Eigen::MatrixXd q = read_joint_columns(model, table);
+  return [t, q](double time, Eigen::VectorXd& out, Eigen::VectorXd& qd) {
+    const int n = static_cast<int>(t.size());
+    int k = 0;
+    while (k + 2 < n && time >= t[k + 1]) ++k;
+    if (n == 1 || time <= t[0] || time >= t[n - 1]) {
+      out = q.row(time >= t[n - 1] ? n - 1 : 0).transpose();
+      qd.setZero();
+      return;
+    }
+    const double a = (time - t[k]) / (t[k + 1] - t[k]);
+    out = ((1 - a) * q.row(k) + a * q.row(k + 1)).transpose();
+    qd = ((q.row(k + 1) - q.row(k)) / (t[k + 1] - t[k])).transpose();
+  };
+}
+
+std::vector<std::string> pose_cells(const Eigen::Isometry3d& pose) {
+  const Eigen::Vector3d rpy = rpy_from_rotation(pose.linear());
+  std::vector<std::string> c;
+  for (int k = 0; k < 3; ++k) c.push_back(format_number(pose.translation()[k]));
+  for (int k = 0; k < 3; ++k) c.push_back(format_number(rpy[k]));
+  return c;
+}
+
+}  // namespace
+
+int run_emulate(const EmulateCommand& c) {
+  const ParamsFile params = read_params(c.params);
+  const Model model = hold_joints(load_urdf(c.urdf, params.sensor_link), params.held);
+  BaseParameterOptions bo;
+  bo.offset = params.has_offset;
+  const BaseParameters base = find_base_parameters(model, bo);
+  const Predictor identified = compile_predictor(model, base, values_in_basis(params, model, base));
+  Eigen::VectorXd nominal_values = Eigen::VectorXd::Zero(base.num_unknowns());
+  nominal_values.head(base.num_mass()) = base.K * nominal_standard_parameters(model);
+  const Predictor nominal = compile_predictor(model, base, nominal_values);
+
+  EmulationOptions o;
+  o.duration = c.duration;
+  o.rate = c.rate;
+  o.spacecraft.mass = c.mass;
+  o.spacecraft.inertia =
+      parse_numbers<3>(c.inertia, "--spacecraft-inertia", "IXX,IYY,IZZ").asDiagonal();
+  validate(o.spacecraft);
+  if (!c.platform.empty()) o.geometry = load_geometry(c.platform);
+  if (!c.gravity.empty()) {
+    // Mount the sensor so that its level gravity points down the platform's -z.
+    const Eigen::Vector3d g = parse_numbers<3>(c.gravity, "--gravity", "gx,gy,gz");
+    o.platform_T_sensor.linear() =
+        Eigen::Quaterniond::FromTwoVectors(g.normalized(), -Eigen::Vector3d::UnitZ())
+            .toRotationMatrix();
+  }
+  if (!c.trajectory.empty()) o.trajectory = trajectory_from_csv(model, c.trajectory);
+
+  std::vector<TraceRow> trace;
+  const EmulationSummary runs[3] = {run_emulation(model, identified, o, true, &trace),
+                                    run_emulation(model, nominal, o, true),
+                                    run_emulation(model, identified, o, false)};
+  const char* names[3] = {"identified", "nominal", "none"};
+
+  std::vector<std::string> header{"t"};
+  for (const char* p : {"cmd", "reached", "ref"})
+    for (const char* a : {"x", "y", "z", "roll", "pitch", "yaw"})
+      header.push_back(fmt::format("{}_{}", p, a));
+  for (int l = 1; l <= 6; ++l) header.push_back(fmt::format("leg{}", l));
+  for (const char* w : {"fx", "fy", "fz", "mx", "my", "mz"}) header.push_back(w);
+  for (const char* w : {"fx", "fy", "fz", "mx", "my", "mz"})
+    header.push_back(std::string(w) + "_comp");
+  header.push_back("supervisor");
+  std::vector<std::vector<std::string>> rows;
+  for (const TraceRow& r : trace) {
+    std::vector<std::string> row{format_number(r.t)};
+    for (const auto* pose : {&r.command, &r.reached, &r.reference})
+      for (auto& cell : pose_cells(*pose)) row.push_back(cell);
+    for (int l = 0; l < 6; ++l) row.push_back(format_number(r.legs[l]));
+    for (int k = 0; k < 6; ++k) row.push_back(format_number(r.measured[k]));
+    for (int k = 0; k < 6; ++k) row.push_back(format_number(r.compensated[k]));
+    row.push_back(to_string(r.state));
+    rows.push_back(std::move(row));
+  }
+  write_csv(c.output, header, rows);
+
+  const double realtime = c.duration / runs[0].seconds;
+  std::cout << fmt::format(
+      "emulated {:.3g} s of {} on a {:.4g} kg spacecraft at {:.4g} Hz ({:.3g}x real time)\n",
+      c.duration, model.name, c.mass, c.rate, realtime);
+  std::cout << fmt::format("  {:<11} {:>12} {:>12} {:>12} {:>12} {:>6}\n", "gravity", "pos max m",
+                           "pos rms m", "att max deg", "att rms deg", "stops");
+  nlohmann::ordered_json j;
+  for (int r = 0; r < 3; ++r) {
+    const EmulationSummary& s = runs[r];
+    std::cout << fmt::format("  {:<11} {:>12.4g} {:>12.4g} {:>12.4g} {:>12.4g} {:>6}\n", names[r],
+                             s.position_error_max_m, s.position_error_rms_m,
+                             s.attitude_error_max_deg, s.attitude_error_rms_deg,
+                             s.supervisor_stops);
+    j[names[r]] = {{"position_error_max_m", s.position_error_max_m},
+                   {"position_error_rms_m", s.position_error_rms_m},
+                   {"attitude_error_max_deg", s.attitude_error_max_deg},
+                   {"attitude_error_rms_deg", s.attitude_error_rms_deg},
+                   {"reference_excursion_m", s.reference_excursion_m},
+                   {"reference_excursion_deg", s.reference_excursion_deg},
+                   {"supervisor_stops", s.supervisor_stops}};
+  }
+  std::cout << fmt::format(
+      "reference excursion: {:.4g} m, {:.4g} deg; identified error {:.3g} % and {:.3g} % of it\n",
+      runs[0].reference_excursion_m, runs[0].reference_excursion_deg,
+      100 * runs[0].position_error_max_m / runs[0].reference_excursion_m,
+      100 * runs[0].attitude_error_max_deg / runs[0].reference_excursion_deg);
+  j["realtime_factor"] = realtime;
+  j["control_step_ns"] = runs[0].control_step_ns;
+  if (!c.summary.empty()) write_file_atomically(c.summary, j.dump(2) + "\n");
+  std::cout << "wrote " << c.output << (c.summary.empty() ? "" : " and " + c.summary) << "\n";
+  return 0;
+}
+
+}  // namespace massid::cli
