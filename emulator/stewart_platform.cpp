@@ -12,7 +12,7 @@
 
 #include "massid/atomic_file.hpp"
 #include "massid/errors.hpp"
-#include "massid/text_position.hpp"
+#include "massid/json_text.hpp"
 
 namespace massid::emulator {
 namespace {
@@ -284,16 +284,7 @@ std::string geometry_json(const PlatformGeometry& g) {
 }
 
 PlatformGeometry parse_geometry(const std::string& text, const std::string& source) {
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    const auto [line, col] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
-    std::string what = e.what();
-    const auto pos = what.find("parse error");
-    throw InputError(fmt::format("{}:{}:{}: malformed JSON: {}", source, line, col,
-                                 pos == std::string::npos ? what : what.substr(pos)));
-  }
+  json j = parse_json(text, source);
   PlatformGeometry g = default_geometry();
   try {
     if (!j.is_object())

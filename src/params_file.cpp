@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "massid/errors.hpp"
-#include "massid/text_position.hpp"
+#include "massid/json_text.hpp"
 #include "massid/regressor.hpp"
 
 namespace massid {
@@ -108,16 +108,7 @@ ParamsFile read_params(const std::string& path) {
   std::ostringstream buf;
   buf << in.rdbuf();
   const std::string text = buf.str();
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    const auto [line, col] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
-    std::string what = e.what();
-    const auto pos = what.find("parse error");
-    throw InputError(fmt::format("{}:{}:{}: malformed JSON: {}", path, line, col,
-                                 pos == std::string::npos ? what : what.substr(pos)));
-  }
+  json j = parse_json(text, path);
   ParamsFile p;
   p.source = path;
   auto fail = [&](const std::string& what) { throw InputError(fmt::format("{}: {}", path, what)); };
