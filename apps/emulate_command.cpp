@@ -36,6 +36,9 @@ void add_emulate_command(CLI::App& app, EmulateCommand& c) {
                 "Joint trajectory CSV: t and one column per joint (default: a smooth maneuver)");
   e->add_option("--duration", c.duration, "Seconds (default 10)")->check(sign_check(true));
   e->add_option("--rate", c.rate, "Control rate, Hz (default 1000)")->check(sign_check(true));
+  e->add_option("--plant", c.plant,
+                "URDF of the robot as it really is (same joints, other inertials): the simulated "
+                "robot on the platform and in the reference (default: ROBOT)");
   e->add_option("--gravity", c.gravity,
                 "Gravity in the sensor frame when the platform is level (default 0,0,-9.80665): "
                 "sets how the sensor is mounted");
@@ -43,7 +46,7 @@ void add_emulate_command(CLI::App& app, EmulateCommand& c) {
 
 namespace {
 
-// Linear interpolation of a t, joint... CSV; velocities by the segment slope.
+// A t, joint... CSV through a clamped cubic spline (joint_trajectory.hpp).
 JointTrajectory trajectory_from_csv(const Model& model, const std::string& path) {
   const CsvTable table = read_csv(path);
   const int tc = table.find("t");
@@ -54,20 +57,26 @@ JointTrajectory trajectory_from_csv(const Model& model, const std::string& path)
     if (r > 0 && !(t[r] > t[r - 1]))
       throw InputError(fmt::format("{}:{}: times must increase", path, table.line[r]));
   }
-  const Eigen::MatrixXd q = read_joint_columns(model, table);
-  return [t, q](double time, Eigen::VectorXd& out, Eigen::VectorXd& qd) {
-    const int n = static_cast<int>(t.size());
-    int k = 0;
-    while (k + 2 < n && time >= t[k + 1]) ++k;
-    if (n == 1 || time <= t[0] || time >= t[n - 1]) {
-      out = q.row(time >= t[n - 1] ? n - 1 : 0).transpose();
-      qd.setZero();
-      return;
-    }
-    const double a = (time - t[k]) / (t[k + 1] - t[k]);
-    out = ((1 - a) * q.row(k) + a * q.row(k + 1)).transpose();
-    qd = ((q.row(k + 1) - q.row(k)) / (t[k + 1] - t[k])).transpose();
+  return spline_trajectory(t, read_joint_columns(model, table));
+}
+
+// The plant robot must move like the model the parameters belong to.
+void check_same_kinematics(const Model& model, const Model& plant, const std::string& path) {
+  const auto fail = [&](const std::string& what) {
+    throw InputError(
+        fmt::format("{}: {} differs from the robot URDF's; --plant must be the same "
+                    "robot with other inertials",
+                    path, what));
   };
+  if (plant.num_links() != model.num_links()) fail("the number of links below the sensor");
+  if (plant.num_joints() != model.num_joints()) fail("the number of joints");
+  for (int i = 0; i < model.num_links(); ++i) {
+    const Link& a = model.links[static_cast<std::size_t>(i)];
+    const Link& b = plant.links[static_cast<std::size_t>(i)];
+    if (a.name != b.name || a.parent != b.parent || a.type != b.type || a.joint != b.joint ||
+        !a.origin.isApprox(b.origin, 1e-12) || !a.axis.isApprox(b.axis, 1e-12))
+      fail(fmt::format("link '{}' (its joint, origin or axis)", a.name));
+  }
 }
 
 std::vector<std::string> pose_cells(const Eigen::Isometry3d& pose) {
@@ -83,6 +92,9 @@ std::vector<std::string> pose_cells(const Eigen::Isometry3d& pose) {
 int run_emulate(const EmulateCommand& c) {
   const ParamsFile params = read_params(c.params);
   const Model model = hold_joints(load_urdf(c.urdf, params.sensor_link), params.held);
+  const Model plant =
+      c.plant.empty() ? model : hold_joints(load_urdf(c.plant, params.sensor_link), params.held);
+  check_same_kinematics(model, plant, c.plant);
   BaseParameterOptions bo;
   bo.offset = params.has_offset;
   const BaseParameters base = find_base_parameters(model, bo);
@@ -109,9 +121,9 @@ int run_emulate(const EmulateCommand& c) {
   if (!c.trajectory.empty()) o.trajectory = trajectory_from_csv(model, c.trajectory);
 
   std::vector<TraceRow> trace;
-  const EmulationSummary runs[3] = {run_emulation(model, identified, o, true, &trace),
-                                    run_emulation(model, nominal, o, true),
-                                    run_emulation(model, identified, o, false)};
+  const EmulationSummary runs[3] = {run_emulation(plant, identified, o, true, &trace),
+                                    run_emulation(plant, nominal, o, true),
+                                    run_emulation(plant, identified, o, false)};
   const char* names[3] = {"identified", "nominal", "none"};
 
   std::vector<std::string> header{"t"};

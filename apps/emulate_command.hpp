@@ -8,7 +8,8 @@ namespace massid::cli {
 
 struct EmulateCommand {
   CLI::App* app = nullptr;
-  std::string urdf, params, output, summary, platform, inertia = "5,5,5", trajectory, gravity;
+  std::string urdf, params, output, summary, platform, inertia = "5,5,5", trajectory, gravity,
+                                                       plant;
   double mass = 50.0, duration = 10.0, rate = 1000.0;
 };
 

@@ -69,10 +69,17 @@ int run_simulate(const Common& c, const std::string& plan_path, const std::strin
   if (plan.gravity_from_force) throw InputError(plan_path + ": simulate needs gx,gy,gz columns");
   const Eigen::MatrixXd W = simulate_wrenches(model, plan, opts);
   OutputTable t(table);
+  if (opts.repeat > 1) {
+    std::vector<std::vector<std::string>> rows;
+    rows.reserve(W.rows());
+    for (const auto& row : t.rows)
+      for (int r = 0; r < opts.repeat; ++r) rows.push_back(row);
+    t.rows = std::move(rows);
+  }
   for (int k = 0; k < 6; ++k) t.set_column(kWrenchColumns[k], W.col(k));
   write_csv(out, t.header, t.rows);
   std::cout << fmt::format(
-      "simulated {} samples of {} (sensor link '{}', total mass {:.6g} kg) -> {}\n", plan.size(),
+      "simulated {} samples of {} (sensor link '{}', total mass {:.6g} kg) -> {}\n", W.rows(),
       model.name, model.sensor_link(), model.nominal_total_mass(), out);
   return 0;
 }
@@ -170,6 +177,11 @@ int main(int argc, char** argv) {
       ->check(sign_check(false));
   simulate->add_option("--offset", offset_text, "Constant sensor offset fx,fy,fz,mx,my,mz");
   simulate->add_option("--seed", sim.seed, "Noise seed");
+  simulate
+      ->add_option("--repeat", sim.repeat,
+                   "Samples per plan row, each with its own noise (a log taken while the "
+                   "pose is held; default 1)")
+      ->check(CLI::Range(1, 1000000));
 
   CLI::App* ident = app.add_subcommand("identify", "Estimate the base parameters from a data CSV");
   ident->add_option("robot", common.urdf, "Robot URDF")->required();

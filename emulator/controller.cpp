@@ -39,10 +39,12 @@ void reset(const EmulatorModel& model, EmulatorData& data) {
   data.command = model.geometry.home;
   data.legs = leg_lengths(model.geometry, data.command);
   data.command_twist.setZero();
+  data.command_acceleration.setZero();
   data.spacecraft = state_at_rest(model.spacecraft, model.geometry.home * model.platform_T_sensor);
   data.gravity_sensor.setZero();
   data.gravity_wrench.setZero();
   data.compensated.setZero();
+  data.tare.setZero();
   data.state = SupervisorState::Running;
   data.reason = StopReason::None;
   data.time = 0.0;
@@ -77,17 +79,33 @@ StopReason violation(const EmulatorModel& model, const Eigen::Isometry3d& pose) 
 
 }  // namespace
 
-void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& measured,
-                  const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Isometry3d& platform) {
-  data.time += model.dt;
+namespace {
 
-  // Gravity compensation with gravity rotated into the current sensor frame.
+// w_g = predict(q, R_ws^T g_w): the gravity wrench in the current sensor frame.
+void gravity_wrench(const EmulatorModel& model, EmulatorData& data,
+                    const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Isometry3d& platform) {
   const Eigen::Matrix3d R_ws = platform.linear() * model.platform_T_sensor.linear();
   data.gravity_sensor = R_ws.transpose() * model.gravity_world;
   data.gravity_wrench = model.compensate_gravity
                             ? predict(model.predictor, data.predictor, q, data.gravity_sensor)
                             : Wrench::Zero();
-  data.compensated = measured - data.gravity_wrench;
+}
+
+}  // namespace
+
+void tare(const EmulatorModel& model, EmulatorData& data, const Wrench& measured,
+          const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Isometry3d& platform) {
+  gravity_wrench(model, data, q, platform);
+  data.tare = measured - data.gravity_wrench;
+}
+
+void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& measured,
+                  const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Isometry3d& platform) {
+  data.time += model.dt;
+
+  // Gravity compensation with gravity rotated into the current sensor frame.
+  gravity_wrench(model, data, q, platform);
+  data.compensated = measured - data.gravity_wrench - data.tare;
 
   if (data.state == SupervisorState::Running) {
     // Tracking: the platform must follow the previous command.
@@ -108,16 +126,26 @@ void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& 
     const Eigen::Isometry3d interface = interface_pose(model.spacecraft, next);
     const Eigen::Isometry3d command = interface * model.platform_T_sensor.inverse();
     const Twist it = interface_twist(model.spacecraft, next);
+    const Eigen::Vector3d r = command.translation() - interface.translation();
     Twist twist;
     twist.tail<3>() = it.tail<3>();
-    twist.head<3>() =
-        it.head<3>() + it.tail<3>().cross(command.translation() - interface.translation());
+    twist.head<3>() = it.head<3>() + it.tail<3>().cross(r);
+    // Acceleration of the platform origin: a_c + alpha x r_c + w x (w x r_c),
+    // r_c from the centre of mass, all in the world (= platform base) frame.
+    const SpacecraftAcceleration a = acceleration(model.spacecraft, next, data.compensated);
+    const Eigen::Matrix3d R_wb = next.orientation.toRotationMatrix();
+    const Eigen::Vector3d w = R_wb * next.angular_velocity, alpha = R_wb * a.angular;
+    const Eigen::Vector3d rc = command.translation() - next.position;
+    Twist accel;
+    accel.head<3>() = a.linear + alpha.cross(rc) + w.cross(w.cross(rc));
+    accel.tail<3>() = alpha;
     // Stop before a limit: the pose where braking from here would end must be safe.
     const StopReason reason = violation(model, stopping_pose(model, command, twist));
     if (reason == StopReason::None) {
       data.spacecraft = next;
       data.command = command;
       data.command_twist = twist;
+      data.command_acceleration = accel;
     } else {
       data.state = SupervisorState::Stopping;
       data.reason = reason;
@@ -126,8 +154,10 @@ void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& 
 
   if (data.state == SupervisorState::Stopping) {
     // Brake smoothly from the last command's velocity: no jump in pose or speed.
+    const Twist before = data.command_twist;
     decelerate(data.command_twist.head<3>(), model.supervisor.linear_deceleration, model.dt);
     decelerate(data.command_twist.tail<3>(), model.supervisor.angular_deceleration, model.dt);
+    data.command_acceleration = (data.command_twist - before) / model.dt;
     data.command = apply_twist(data.command, data.command_twist * model.dt);
     if (data.command_twist.isZero(0.0)) data.state = SupervisorState::Stopped;
   }

@@ -7,24 +7,6 @@
 
 namespace massid::emulator {
 
-JointTrajectory smooth_maneuver(const Model& model, double duration) {
-  const int n = model.num_joints();
-  Eigen::VectorXd mid(n), amp(n);
-  for (int j = 0; j < n; ++j) {
-    const Joint& joint = model.joints[j];
-    const double lo = joint.limited ? joint.lower : joint.generic_position(0.0);
-    const double hi = joint.limited ? joint.upper : joint.generic_position(1.0);
-    mid[j] = 0.5 * (lo + hi);
-    const double a = joint.type == JointType::Prismatic ? 0.2 * (hi - lo) : 0.6;
-    amp[j] = (j % 2 ? -1.0 : 1.0) * std::min(a, 0.45 * (hi - lo));
-  }
-  return [mid, amp, duration](double t, Eigen::VectorXd& q, Eigen::VectorXd& qd) {
-    const double w = std::numbers::pi / duration, s = std::sin(w * t), c = std::cos(w * t);
-    q = mid + amp * (s * s);
-    qd = amp * (2 * s * c * w);
-  };
-}
-
 EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
                                const EmulationOptions& o, bool compensate,
                                std::vector<TraceRow>* trace) {
@@ -48,10 +30,13 @@ EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
 
   const JointTrajectory trajectory =
       o.trajectory ? o.trajectory : smooth_maneuver(model, o.duration);
-  Eigen::VectorXd q(model.num_joints()), qd(model.num_joints());
-  trajectory(0.0, q, qd);
+  Eigen::VectorXd q(model.num_joints()), qd(model.num_joints()), qdd(model.num_joints());
+  trajectory(0.0, q, qd, qdd);
   plant.set_joints(q);
   reference.set_joints(q);
+
+  if (compensate && o.tare)
+    tare(em, data, plant.measured_wrench(), plant.joint_positions(), plant.platform_pose());
 
   EmulationSummary s;
   double sum_p2 = 0.0, sum_a2 = 0.0, step_seconds = 0.0;
@@ -59,9 +44,9 @@ EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
   SupervisorState previous = SupervisorState::Running;
   for (int k = 0; k < ticks; ++k) {
     const double t = k * em.dt;
-    trajectory(t, q, qd);
-    plant.set_joint_command(q, qd);
-    reference.set_joint_command(q, qd);
+    trajectory(t, q, qd, qdd);
+    plant.set_joint_command(q, qd, qdd);
+    reference.set_joint_command(q, qd, qdd);
     const Wrench measured = plant.measured_wrench();
     const auto t0 = std::chrono::steady_clock::now();
     control_step(em, data, measured, plant.joint_positions(), plant.platform_pose());
@@ -69,7 +54,7 @@ EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
     if (data.state != SupervisorState::Running && previous == SupervisorState::Running)
       ++s.supervisor_stops;
     previous = data.state;
-    plant.set_platform_command(data.command, data.command_twist);
+    plant.set_platform_command(data.command, data.command_twist, data.command_acceleration);
     plant.advance(em.dt);
     reference.advance(em.dt);
 

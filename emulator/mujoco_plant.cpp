@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <mujoco/mujoco.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -49,6 +51,18 @@ std::string inertial(const Eigen::Vector3d& com, double mass, const Eigen::Matri
          num(i(0, 2)) + " " + num(i(1, 2)) + "\"/>";
 }
 
+// The link's URDF inertia when MuJoCo can take it (symmetric positive definite,
+// principal moments obeying the triangle inequality), else an isotropic one.
+Eigen::Matrix3d plant_inertia(const Link& link, const PlantOptions& options) {
+  const Eigen::Matrix3d i = 0.5 * (link.inertia + link.inertia.transpose());
+  const Eigen::Vector3d moments =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(i, Eigen::EigenvaluesOnly).eigenvalues();
+  const double floor = 1e-9 * link.mass;  // kg m^2: a 30 um radius of gyration
+  if (i.allFinite() && moments[0] > floor && moments[0] + moments[1] >= moments[2]) return i;
+  const double r = options.default_radius_of_gyration;
+  return Eigen::Matrix3d::Identity() * link.mass * r * r;
+}
+
 void emit_body(const Model& model, const PlantOptions& options, int index,
                const Eigen::Isometry3d& pose, int indent, std::ostringstream& x) {
   const Link& link = model.links[static_cast<std::size_t>(index)];
@@ -59,14 +73,8 @@ void emit_body(const Model& model, const PlantOptions& options, int index,
       << (link.type == JointType::Revolute ? "hinge" : "slide") << "\" axis=\"" << vec(link.axis)
       << "\" pos=\"0 0 0\" limited=\"false\"/>\n";
   }
-  if (link.mass > 0.0) {
-    const Eigen::Matrix3d inertia = options.link_inertia.empty()
-                                        ? Eigen::Matrix3d(Eigen::Matrix3d::Identity() * link.mass *
-                                                          options.default_radius_of_gyration *
-                                                          options.default_radius_of_gyration)
-                                        : options.link_inertia[static_cast<std::size_t>(index)];
-    x << pad << "  " << inertial(link.com, link.mass, inertia) << "\n";
-  }
+  if (link.mass > 0.0)
+    x << pad << "  " << inertial(link.com, link.mass, plant_inertia(link, options)) << "\n";
   if (index == 0) x << pad << "  <site name=\"massid_ft\" pos=\"0 0 0\" quat=\"1 0 0 0\"/>\n";
   for (int child = 0; child < model.num_links(); ++child) {
     const Link& c = model.links[static_cast<std::size_t>(child)];
@@ -89,10 +97,6 @@ void check_options(const Model& model, const PlantOptions& o) {
   positive(o.joint_kd, "joint_kd");
   positive(o.default_radius_of_gyration, "default_radius_of_gyration");
   if (!o.gravity.allFinite()) throw InputError("plant option gravity is not finite");
-  if (!o.link_inertia.empty() && static_cast<int>(o.link_inertia.size()) != model.num_links()) {
-    throw InputError(fmt::format("plant option link_inertia has {} entries, the model {} links",
-                                 o.link_inertia.size(), model.num_links()));
-  }
   if (model.num_links() == 0) throw InputError("the model has no links");
 }
 
@@ -200,8 +204,14 @@ class MujocoSimulation {
     dacc_.assign(nv, 0.0);
     for (auto& v : stage_vel_) v.assign(nv, 0.0);
     for (auto& a : stage_acc_) a.assign(nv, 0.0);
+    full_m_.assign(nv * nv, 0.0);
+    m_bj_.setZero(6, model.num_joints());
+    m_jj_.setZero(model.num_joints(), model.num_joints());
+    joint_acc_.setZero(model.num_joints());
+    joint_tau_.setZero(model.num_joints());
     q_cmd_ = Eigen::VectorXd::Zero(model.num_joints());
     qd_cmd_ = Eigen::VectorXd::Zero(model.num_joints());
+    qdd_cmd_ = Eigen::VectorXd::Zero(model.num_joints());
     platform_p_cmd_ = position();
     platform_r_cmd_ = rotation();
     evaluate(true);
@@ -209,11 +219,18 @@ class MujocoSimulation {
 
   int num_joints() const { return static_cast<int>(qadr_.size()); }
 
-  void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                         const Eigen::VectorXd* qdd) {
     check_size(q, "joint command q");
     check_size(qd, "joint command qd");
+    if (qdd != nullptr) check_size(*qdd, "joint command qdd");
     q_cmd_ = q;
     qd_cmd_ = qd;
+    if (qdd != nullptr) {
+      qdd_cmd_ = *qdd;
+    } else {
+      qdd_cmd_.setZero();
+    }
     joint_cmd_time_ = d_->time;
     evaluate(true);
   }
@@ -227,11 +244,13 @@ class MujocoSimulation {
     if (stop_everything) mju_zero(d_->qvel, m_->nv);
     q_cmd_ = q;
     qd_cmd_.setZero();
+    qdd_cmd_.setZero();
     joint_cmd_time_ = d_->time;
     evaluate(true);
   }
 
-  void set_platform_command(const Eigen::Isometry3d& pose, const Twist* twist) {
+  void set_platform_command(const Eigen::Isometry3d& pose, const Twist* twist,
+                            const Twist* acceleration) {
     const Eigen::Vector3d p = pose.translation();
     const Eigen::Matrix3d r = pose.linear();
     if (twist != nullptr) {
@@ -240,6 +259,11 @@ class MujocoSimulation {
       const double dt = d_->time - platform_cmd_time_;
       platform_twist_cmd_.head<3>() = (p - platform_p_cmd_) / dt;
       platform_twist_cmd_.tail<3>() = rotation_log(r * platform_r_cmd_.transpose()) / dt;
+    }
+    if (acceleration != nullptr) {
+      platform_acc_cmd_ = *acceleration;
+    } else {
+      platform_acc_cmd_.setZero();
     }
     platform_p_cmd_ = p;
     platform_r_cmd_ = r;
@@ -328,19 +352,14 @@ class MujocoSimulation {
   }
 
   // mj_forward with the servo forces computed between the velocity and the
-  // acceleration stages. The platform servo acts at every Runge-Kutta stage
-  // (continuous time: held over a step, it destabilises the stiff coupling of
-  // the platform with the arm). The joint servo is sampled (new_sample) at the
-  // start of each step and held over it, a digital controller at the MuJoCo
-  // rate: its forces are then constant over the step and RK4 integrates the
-  // free-floating reference with momentum drift ~1e-8 instead of ~1e-6 kg m/s.
-  // The sensors are evaluated at new samples.
+  // acceleration stages; the sensors only when asked (new_sample: at the step
+  // boundaries, not the intermediate Runge-Kutta stages).
   void evaluate(bool new_sample) {
     mjModel* m = m_.get();
     mjData* d = d_.get();
     mj_fwdPosition(m, d);
     mj_fwdVelocity(m, d);
-    apply_controls(new_sample);
+    apply_controls();
     mj_fwdActuation(m, d);
     mj_fwdAcceleration(m, d);
     mj_fwdConstraint(m, d);
@@ -393,48 +412,80 @@ class MujocoSimulation {
   }
 
   // Servo forces into qfrc_applied from the state; needs the position and
-  // velocity stages (M, bias) of the current state.
-  void apply_controls(bool new_sample) {
+  // velocity stages (M, bias) of the current state. Both servos act in
+  // continuous time (every Runge-Kutta stage).
+  void apply_controls() {
     const double t = d_->time;
-    if (new_sample) {
-      // Joints, sampled: tau = M_jj (kp e + kd e') + bias, held until the next sample.
-      const double tj = t - joint_cmd_time_;
-      for (int j = 0; j < num_joints(); ++j) {
-        const auto k = static_cast<std::size_t>(j);
-        const int dof = dadr_[k];
-        const double e = q_cmd_[j] + qd_cmd_[j] * tj - d_->qpos[qadr_[k]];
-        const double ed = qd_cmd_[j] - d_->qvel[dof];
-        const double mjj = d_->qM[m_->dof_Madr[dof]];
-        d_->qfrc_applied[dof] =
-            mjj * (options_.joint_kp * e + options_.joint_kd * ed) + d_->qfrc_bias[dof];
-      }
-    }
+    const int nv = m_->nv;
+    std::fill(x_.begin(), x_.end(), 0.0);
     if (platform_servo_) {
       // Free joint: linear dofs world frame (body origin), angular dofs body frame.
+      // Target held to second order: p + v tau + a tau^2 / 2, likewise for the attitude.
       const double tp = t - platform_cmd_time_;
-      const Eigen::Vector3d p_target = platform_p_cmd_ + platform_twist_cmd_.head<3>() * tp;
+      const Eigen::Vector3d v_target =
+          platform_twist_cmd_.head<3>() + platform_acc_cmd_.head<3>() * tp;
+      const Eigen::Vector3d w_target =
+          platform_twist_cmd_.tail<3>() + platform_acc_cmd_.tail<3>() * tp;
+      const Eigen::Vector3d p_target =
+          platform_p_cmd_ +
+          (platform_twist_cmd_.head<3>() + 0.5 * platform_acc_cmd_.head<3>() * tp) * tp;
       const Eigen::Matrix3d r_target =
-          rotation_exp(platform_twist_cmd_.tail<3>() * tp) * platform_r_cmd_;
+          rotation_exp((platform_twist_cmd_.tail<3>() + 0.5 * platform_acc_cmd_.tail<3>() * tp) *
+                       tp) *
+          platform_r_cmd_;
       const Eigen::Matrix3d r = rotation();
       const Eigen::Vector3d e_lin = p_target - position();
       const Eigen::Vector3d e_rot = rotation_log(r.transpose() * r_target);
       const Eigen::Vector3d v(d_->qvel + free_dadr_);
       const Eigen::Vector3d w(d_->qvel + free_dadr_ + 3);
-      const Eigen::Vector3d ed_lin = platform_twist_cmd_.head<3>() - v;
-      const Eigen::Vector3d ed_rot = r.transpose() * platform_twist_cmd_.tail<3>() - w;
-      std::fill(x_.begin(), x_.end(), 0.0);
+      const Eigen::Vector3d ed_lin = v_target - v;
+      const Eigen::Vector3d ed_rot = r.transpose() * w_target - w;
+      const Eigen::Vector3d a_lin = platform_acc_cmd_.head<3>();
+      const Eigen::Vector3d a_rot = r.transpose() * platform_acc_cmd_.tail<3>();
       for (int k = 0; k < 3; ++k) {
         x_[static_cast<std::size_t>(free_dadr_ + k)] =
-            options_.platform_kp * e_lin[k] + options_.platform_kd * ed_lin[k];
+            a_lin[k] + options_.platform_kp * e_lin[k] + options_.platform_kd * ed_lin[k];
         x_[static_cast<std::size_t>(free_dadr_ + 3 + k)] =
-            options_.platform_kp * e_rot[k] + options_.platform_kd * ed_rot[k];
+            a_rot[k] + options_.platform_kp * e_rot[k] + options_.platform_kd * ed_rot[k];
       }
+      // F = M_pp x_p + bias_p: M times x with the joint entries still zero.
       mj_mulM(m_.get(), d_.get(), mx_.data(), x_.data());
       for (int k = 0; k < 6; ++k) {
         const int dof = free_dadr_ + k;
         d_->qfrc_applied[dof] = mx_[static_cast<std::size_t>(dof)] + d_->qfrc_bias[dof];
       }
+    } else {
+      for (int k = 0; k < 6; ++k) d_->qfrc_applied[free_dadr_ + k] = 0.0;
     }
+    // Joints, computed torque: the joint accelerations are exactly
+    // a = qdd_cmd + kp e + kd e' whatever the base does, the target held to
+    // second order between commands. With the base's applied force
+    // f_b fixed, the base accelerates by a_b = M_bb^-1 (f_b - bias_b - M_bj a),
+    // and tau = M_jb a_b + M_jj a + bias_j.
+    const double tj = t - joint_cmd_time_;
+    for (int j = 0; j < num_joints(); ++j) {
+      const auto k = static_cast<std::size_t>(j);
+      const double e = q_cmd_[j] + (qd_cmd_[j] + 0.5 * qdd_cmd_[j] * tj) * tj - d_->qpos[qadr_[k]];
+      const double ed = qd_cmd_[j] + qdd_cmd_[j] * tj - d_->qvel[dadr_[k]];
+      joint_acc_[j] = qdd_cmd_[j] + options_.joint_kp * e + options_.joint_kd * ed;
+    }
+    mj_fullM(m_.get(), full_m_.data(), d_->qM);
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+        full(full_m_.data(), nv, nv);
+    for (int r = 0; r < 6; ++r) {
+      for (int c = 0; c < 6; ++c) m_bb_(r, c) = full(free_dadr_ + r, free_dadr_ + c);
+      for (int j = 0; j < num_joints(); ++j) m_bj_(r, j) = full(free_dadr_ + r, dadr_[j]);
+      rhs_[r] = d_->qfrc_applied[free_dadr_ + r] - d_->qfrc_bias[free_dadr_ + r];
+    }
+    for (int a = 0; a < num_joints(); ++a)
+      for (int b = 0; b < num_joints(); ++b) m_jj_(a, b) = full(dadr_[a], dadr_[b]);
+    rhs_.noalias() -= m_bj_ * joint_acc_;
+    base_llt_.compute(m_bb_);
+    const Eigen::Matrix<double, 6, 1> base_acc = base_llt_.solve(rhs_);
+    joint_tau_.noalias() = m_bj_.transpose() * base_acc;
+    joint_tau_.noalias() += m_jj_ * joint_acc_;
+    for (int j = 0; j < num_joints(); ++j)
+      d_->qfrc_applied[dadr_[j]] = joint_tau_[j] + d_->qfrc_bias[dadr_[j]];
   }
 
   PlantOptions options_;
@@ -445,13 +496,21 @@ class MujocoSimulation {
   int free_body_ = -1, free_qadr_ = -1, free_dadr_ = -1;
   int sensor_body_ = -1, force_adr_ = -1, torque_adr_ = -1;
   std::vector<mjtNum> x_, mx_;  // platform servo accelerations and M times them
+  std::vector<mjtNum> full_m_;  // dense joint-space inertia, nv x nv row-major
+  Eigen::Matrix<double, 6, 6> m_bb_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> m_bj_;
+  Eigen::MatrixXd m_jj_;
+  Eigen::Matrix<double, 6, 1> rhs_;
+  Eigen::LLT<Eigen::Matrix<double, 6, 6>> base_llt_;
+  Eigen::VectorXd joint_acc_, joint_tau_;            // computed-torque servo workspace
   std::vector<mjtNum> qpos0_, qvel0_, dvel_, dacc_;  // RK4 workspace
   std::array<std::vector<mjtNum>, 4> stage_vel_, stage_acc_;
-  Eigen::VectorXd q_cmd_, qd_cmd_;
+  Eigen::VectorXd q_cmd_, qd_cmd_, qdd_cmd_;
   double joint_cmd_time_ = 0.0;
   Eigen::Vector3d platform_p_cmd_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d platform_r_cmd_ = Eigen::Matrix3d::Identity();
   Twist platform_twist_cmd_ = Twist::Zero();
+  Twist platform_acc_cmd_ = Twist::Zero();
   double platform_cmd_time_ = 0.0;
 };
 
@@ -478,14 +537,22 @@ PlatformPlant::PlatformPlant(PlatformPlant&&) noexcept = default;
 PlatformPlant& PlatformPlant::operator=(PlatformPlant&&) noexcept = default;
 
 void PlatformPlant::set_platform_command(const Eigen::Isometry3d& base_T_platform) {
-  sim_->set_platform_command(base_T_platform, nullptr);
+  sim_->set_platform_command(base_T_platform, nullptr, nullptr);
 }
 void PlatformPlant::set_platform_command(const Eigen::Isometry3d& base_T_platform,
                                          const Twist& twist) {
-  sim_->set_platform_command(base_T_platform, &twist);
+  sim_->set_platform_command(base_T_platform, &twist, nullptr);
+}
+void PlatformPlant::set_platform_command(const Eigen::Isometry3d& base_T_platform,
+                                         const Twist& twist, const Twist& acceleration) {
+  sim_->set_platform_command(base_T_platform, &twist, &acceleration);
 }
 void PlatformPlant::set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
-  sim_->set_joint_command(q, qd);
+  sim_->set_joint_command(q, qd, nullptr);
+}
+void PlatformPlant::set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                      const Eigen::VectorXd& qdd) {
+  sim_->set_joint_command(q, qd, &qdd);
 }
 void PlatformPlant::set_joints(const Eigen::VectorXd& q) { sim_->set_joints(q, false); }
 void PlatformPlant::advance(double dt) { sim_->advance(dt); }
@@ -523,11 +590,16 @@ FreeFloatingReference::FreeFloatingReference(FreeFloatingReference&&) noexcept =
 FreeFloatingReference& FreeFloatingReference::operator=(FreeFloatingReference&&) noexcept = default;
 
 void FreeFloatingReference::set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
-  sim_->set_joint_command(q, qd);
+  sim_->set_joint_command(q, qd, nullptr);
+}
+void FreeFloatingReference::set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                                              const Eigen::VectorXd& qdd) {
+  sim_->set_joint_command(q, qd, &qdd);
 }
 void FreeFloatingReference::set_joints(const Eigen::VectorXd& q) { sim_->set_joints(q, true); }
 void FreeFloatingReference::advance(double dt) { sim_->advance(dt); }
 Eigen::Isometry3d FreeFloatingReference::interface_pose() const { return sim_->sensor_pose(); }
+Wrench FreeFloatingReference::interface_wrench() const { return sim_->measured_wrench(); }
 Twist FreeFloatingReference::interface_twist() const { return sim_->sensor_twist(); }
 Eigen::VectorXd FreeFloatingReference::joint_positions() const { return sim_->joint_positions(); }
 Eigen::VectorXd FreeFloatingReference::joint_velocities() const { return sim_->joint_velocities(); }

@@ -1,5 +1,6 @@
 #include "massid/simulate.hpp"
 
+#include <algorithm>
 #include <random>
 
 #include "massid/kinematics.hpp"
@@ -12,16 +13,20 @@ Eigen::MatrixXd simulate_wrenches(const Model& model, const Samples& plan,
   const Eigen::VectorXd pi = nominal_standard_parameters(model);
   KinematicsData kin(model);
   Eigen::MatrixXd Y(6, pi.size());
-  Eigen::MatrixXd W(plan.size(), 6);
+  const int repeat = std::max(1, options.repeat);
+  Eigen::MatrixXd W(static_cast<Eigen::Index>(plan.size()) * repeat, 6);
   std::mt19937_64 rng(options.seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   for (int i = 0; i < plan.size(); ++i) {
     forward_kinematics(model, kin, plan.q.row(i).transpose());
     standard_regressor(model, kin, plan.gravity.row(i).transpose(), Y);
-    Wrench w = Y * pi + options.offset;
-    for (int k = 0; k < 6; ++k)
-      w[k] += (k < 3 ? options.noise_force : options.noise_moment) * normal(rng);
-    W.row(i) = w.transpose();
+    const Wrench exact = Y * pi + options.offset;
+    for (int r = 0; r < repeat; ++r) {
+      Wrench w = exact;
+      for (int k = 0; k < 6; ++k)
+        w[k] += (k < 3 ? options.noise_force : options.noise_moment) * normal(rng);
+      W.row(static_cast<Eigen::Index>(i) * repeat + r) = w.transpose();
+    }
   }
   return W;
 }

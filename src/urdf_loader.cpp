@@ -157,6 +157,11 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
       link.mass = cur.link->inertial->mass;
       const auto& p = cur.link->inertial->origin.position;
       link.com = Eigen::Vector3d(p.x, p.y, p.z);
+      const urdf::Inertial& in = *cur.link->inertial;
+      Eigen::Matrix3d inertia;
+      inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+      const Eigen::Matrix3d r = to_isometry(in.origin).linear();  // inertial frame -> link frame
+      link.inertia = r * inertia * r.transpose();
       if (!(link.mass >= 0.0))
         throw InputError(fmt::format("{}:{}: link '{}' has a negative mass", source,
                                      element_line(doc, "link", link.name), link.name));

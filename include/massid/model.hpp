@@ -23,6 +23,9 @@ struct Link {
   // Nominal inertial from the URDF (used by `simulate`, never by `predict`).
   double mass = 0.0;
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  // centre of mass in the link frame
+  // Rotational inertia about the com, link frame, kg m^2 (only the emulator's
+  // dynamic simulation uses it; static wrenches do not depend on it).
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
   bool has_inertial = false;
 };
 

@@ -16,9 +16,11 @@ struct SimulateOptions {
   double noise_moment = 0.0;  // N m
   Wrench offset = Wrench::Zero();
   std::uint64_t seed = 1;
+  int repeat = 1;  // samples per plan row (a logger recording while the pose is held)
 };
 
-// [N x 6] wrenches at the plan's joint positions and gravity vectors.
+// [N repeat x 6] wrenches at the plan's joint positions and gravity vectors:
+// row i * repeat + r is the r-th sample of plan row i.
 Eigen::MatrixXd simulate_wrenches(const Model& model, const Samples& plan,
                                   const SimulateOptions& options = {});
 

@@ -5,6 +5,7 @@
 //   w_c   = w_measured - w_g                 the robot's dynamic wrench on its base
 //   x    <- RK4 step of the spacecraft under w_c at the interface (= sensor frame)
 //   T_cmd = T_interface(x) * sensor_T_platform,   l = IK(T_cmd)
+//   with the command's twist and acceleration for the platform servo's feed-forward
 //
 // and a supervisor that brings the platform smoothly to rest before a leg,
 // workspace or tracking limit is violated.
@@ -54,13 +55,17 @@ struct EmulatorData {
   PredictorData predictor;                 // predictor workspace
   Eigen::Vector3d gravity_sensor;          // g in the current sensor frame, m/s^2
   Wrench gravity_wrench = Wrench::Zero();  // predicted w_g, sensor frame
-  Wrench compensated = Wrench::Zero();     // w_c = measured - w_g
+  Wrench tare = Wrench::Zero();            // w_0 from tare(): residual at rest, subtracted
+  Wrench compensated = Wrench::Zero();     // w_c = measured - w_g - w_0
   // admittance
   SpacecraftState spacecraft;  // emulated spacecraft
   // command
   Eigen::Isometry3d command;            // base_T_platform commanded
   LegVector legs;                       // leg lengths of the command, m
   Twist command_twist = Twist::Zero();  // [v of platform origin; w], base frame
+  // [a of platform origin; dw/dt], base frame: the spacecraft's acceleration at
+  // the command under the wrench just applied, for the servo's feed-forward.
+  Twist command_acceleration = Twist::Zero();
   // supervisor
   SupervisorState state = SupervisorState::Running;
   StopReason reason = StopReason::None;
@@ -69,6 +74,13 @@ struct EmulatorData {
 
 // Resets data to the start: platform at home, spacecraft at rest there.
 void reset(const EmulatorModel& model, EmulatorData& data);
+
+// Tares the compensated wrench: with the arm at rest, what the measured wrench
+// and the gravity model disagree by (the model's error at this pose, the
+// sensor's offset) is stored in data.tare and subtracted from then on, as a
+// lab zeroes its sensor before a run. Call it before the first control_step.
+void tare(const EmulatorModel& model, EmulatorData& data, const Wrench& measured,
+          const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Isometry3d& platform);
 
 // One control tick. measured: sensor wrench (massid convention); q: joint
 // positions; platform: measured base_T_platform (from the legs' forward

@@ -5,21 +5,12 @@
 // interface (sensor frame) poses is how well the platform emulates orbit.
 #pragma once
 
-#include <functional>
-
 #include "massid/emulator/controller.hpp"
+#include "massid/emulator/joint_trajectory.hpp"
 #include "massid/emulator/mujoco_plant.hpp"
 #include "massid/model.hpp"
 
 namespace massid::emulator {
-
-// Joint positions and velocities at time t (Model::joints order), written into q, qd.
-using JointTrajectory = std::function<void(double t, Eigen::VectorXd& q, Eigen::VectorXd& qd)>;
-
-// A smooth maneuver that starts and ends at rest: every joint swings from the
-// middle of its range by an amplitude (0.6 rad, or a fifth of a prismatic
-// range, alternating in sign) as sin^2(pi t / duration).
-JointTrajectory smooth_maneuver(const Model& model, double duration);
 
 struct EmulationOptions {
   double duration = 10.0;  // s
@@ -30,6 +21,7 @@ struct EmulationOptions {
   SupervisorOptions supervisor;
   PlantOptions plant;
   JointTrajectory trajectory;  // empty: smooth_maneuver(model, duration)
+  bool tare = true;            // tare() at the start, arm at rest (only when compensating)
 };
 
 struct EmulationSummary {

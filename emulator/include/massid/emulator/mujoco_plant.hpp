@@ -13,43 +13,40 @@
 //                          body, zero gravity; what the emulator must reproduce.
 //
 // Both build MJCF text from the Model with 17 significant digits (robot_mjcf):
-// link origins, joint axes, masses, centres of mass. massid::Model carries no
-// inertia tensors: PlantOptions::link_inertia gives them, else every link gets
-// an isotropic one (radius of gyration default_radius_of_gyration). No contacts,
-// no constraints, no joint limits, no geoms. Integrator RK4 (explicit Euler
-// drifts momentum, shared/notes/facts.md).
+// link origins, joint axes, masses, centres of mass and the URDF's inertia
+// tensors (a link without a usable one gets an isotropic inertia of radius of
+// gyration default_radius_of_gyration). No contacts, no constraints, no joint
+// limits, no geoms. Integrator RK4 (explicit Euler drifts momentum), in a
+// custom loop that mirrors mj_RungeKutta and evaluates both servos at every
+// Runge-Kutta stage (continuous-time servos).
 //
-// Servos, both in acceleration units scaled by MuJoCo's joint-space inertia
-// matrix M(q) and with the bias forces (gravity, Coriolis: qfrc_bias) fed
-// forward, so one pair of gains suits every joint and every platform axis and
-// the servo bandwidth does not depend on the load:
+// Servos, both in acceleration units with MuJoCo's joint-space inertia matrix
+// M(q) and the bias forces qfrc_bias (gravity, Coriolis) fed forward, so one
+// pair of gains suits every robot:
 //
-//   robot joint j:  tau_j = M_jj (joint_kp e_j + joint_kd e'_j) + bias_j
-//   platform:       F     = M_pp (platform_kp e + platform_kd e') + bias_p
+//   platform (free joint): F = M_pp (a_cmd + kp e + kd e') + bias_p
+//     M_pp the 6x6 block of the free joint (platform plus the arm as if
+//     locked): a stiff industrial servo. The arm's reaction is a disturbance
+//     it rejects. e = [p_target - p (world); log(R^T R_target) (platform
+//     frame)], e' likewise from the velocities.
+//   joints (computed torque): the joint accelerations are exactly
+//     a = qdd_cmd + kp e + kd e', whatever the base does: with the base's
+//     applied force fixed, a_b = M_bb^-1 (F_b - bias_b - M_bj a) and
+//     tau = M_jb a_b + M_jj a + bias_j. Plant and reference then move their
+//     joints identically: the only difference between the two is the base.
 //
-// M_jj is the diagonal entry of joint j (the composite inertia of the links
-// below it about its axis), M_pp the 6x6 block of the platform's free joint
-// (platform plus the arm as if locked, about the platform origin). The platform
-// error e = [p_cmd - p (world); log(R^T R_cmd) (platform frame)], e' likewise
-// from the velocities. Commands are extrapolated at their velocity between
-// updates (first-order hold): target(t) = cmd + cmd_velocity (t - t_cmd).
-//
-// Timing of the servos. The joint servo is a digital controller at the MuJoCo
-// rate: sampled at the start of each step, held over it. Its forces are
-// internal to the robot and constant over the step, so the free-floating
-// reference conserves momentum to RK4 accuracy (~1e-9 kg m/s over 5 s; with
-// the servo re-evaluated at every RK4 stage it was ~1e-6). The platform servo
-// is continuous (re-evaluated at every RK4 stage, a custom RK4 that mirrors
-// mj_RungeKutta): held over a step it went unstable against the arm on the
-// 23 kg ur_like, since M_pp (arm locked) far exceeds the platform's own inertia.
+// Commands are held to second order between updates: target(t) = cmd +
+// velocity tau + acceleration tau^2 / 2 (tau since the command), with the
+// acceleration fed forward. This matters: with first-order hold the servo's
+// acceleration jumps by kd * acceleration * period at every command and decays
+// in between, a sawtooth at the command rate; a force sensor read at the
+// command instants sees its peaks, a bias of about 10 % of the arm's dynamic
+// wrench that the admittance model integrates into a drift.
 //
 // Default gains: platform 40 Hz critically damped (kp = (2 pi 40)^2 = 63165
-// s^-2, kd = 2 (2 pi 40) = 503 s^-1; stable up to 80 Hz at least), joints 15 Hz
-// (kp = 8883 s^-2, kd = 188 s^-1). Measured (tests/test_mujoco_plant.cpp) with
-// the arm swinging 0.5 rad at 0.8 Hz on every joint: a 0.05 m / 5 deg, 0.5 Hz
-// sinusoid commanded at 1 kHz (finite-difference velocity) is tracked within
-// 2.2e-5 m and 1.5e-4 rad (ur_like, 23.4 kg), 1.4e-5 m and 3e-5 rad (puma260).
-// Cost: ~60-80 us per advance(1 ms) (2 steps) for ur_like on this machine.
+// s^-2, kd = 2 (2 pi 40) = 503 s^-1), joints 15 Hz (kp = 8883 s^-2, kd = 188
+// s^-1). Default step 1 ms (one step per control tick at 1 kHz).
+
 #pragma once
 
 #include <Eigen/Core>
@@ -65,7 +62,7 @@
 namespace massid::emulator {
 
 struct PlantOptions {
-  double timestep = 0.0005;                     // MuJoCo step (s), RK4
+  double timestep = 0.001;                      // MuJoCo step (s), RK4
   Eigen::Vector3d gravity{0.0, 0.0, -9.80665};  // world (PlatformPlant only)
   // The robot's sensor link frame on the platform top (PlatformPlant only).
   Eigen::Isometry3d platform_T_sensor = Eigen::Isometry3d::Identity();
@@ -75,9 +72,8 @@ struct PlantOptions {
   double platform_kd = 503.0;    // s^-1
   double joint_kp = 8883.0;      // s^-2
   double joint_kd = 188.0;       // s^-1
-  // Inertia tensors about each link's com, link frame, in Model::links order;
-  // empty: isotropic mass * default_radius_of_gyration^2.
-  std::vector<Eigen::Matrix3d> link_inertia;
+  // Links whose URDF inertia MuJoCo cannot take (missing, singular, or
+  // violating the triangle inequality) get mass * radius^2 about every axis.
   double default_radius_of_gyration = 0.05;  // m
 };
 
@@ -107,8 +103,15 @@ class PlatformPlant {
   void set_platform_command(const Eigen::Isometry3d& base_T_platform);
   // With an explicit twist [v; w] (base frame: origin velocity, angular velocity).
   void set_platform_command(const Eigen::Isometry3d& base_T_platform, const Twist& twist);
-  // Joint targets, Model::joints order.
+  // And an acceleration [a of the origin; dw/dt] (base frame), fed forward and
+  // used to hold the target to second order until the next command.
+  void set_platform_command(const Eigen::Isometry3d& base_T_platform, const Twist& twist,
+                            const Twist& acceleration);
+  // Joint targets, Model::joints order: position, velocity and (optional,
+  // else zero) acceleration, held to second order until the next command.
   void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
+  void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                         const Eigen::VectorXd& qdd);
   // Teleports the joints (initial condition): zero joint velocity, command = q.
   void set_joints(const Eigen::VectorXd& q);
   // MuJoCo steps until the time has advanced by dt (rounded to whole steps).
@@ -143,11 +146,16 @@ class FreeFloatingReference {
   FreeFloatingReference& operator=(FreeFloatingReference&&) noexcept;
 
   void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
+  void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                         const Eigen::VectorXd& qdd);
   void set_joints(const Eigen::VectorXd& q);  // body keeps its pose; everything at rest
   void advance(double dt);
 
   Eigen::Isometry3d interface_pose() const;  // world_T_interface (sensor frame)
-  Twist interface_twist() const;             // [v of its origin; w], world frame
+  // The robot's wrench on the spacecraft at the interface (massid convention,
+  // sensor frame): what an ideal emulator's sensor would read.
+  Wrench interface_wrench() const;
+  Twist interface_twist() const;  // [v of its origin; w], world frame
   Eigen::VectorXd joint_positions() const;
   Eigen::VectorXd joint_velocities() const;
   double time() const;
