@@ -39,6 +39,8 @@ void add_emulate_command(CLI::App& app, EmulateCommand& c) {
   e->add_option("--plant", c.plant,
                 "URDF of the robot as it really is (same joints, other inertials): the simulated "
                 "robot on the platform and in the reference (default: ROBOT)");
+  e->add_flag("--no-tare", c.no_tare,
+              "Do not tare the compensated wrench with the arm at rest before the run");
   e->add_option("--gravity", c.gravity,
                 "Gravity in the sensor frame when the platform is level (default 0,0,-9.80665): "
                 "sets how the sensor is mounted");
@@ -118,6 +120,7 @@ int run_emulate(const EmulateCommand& c) {
         Eigen::Quaterniond::FromTwoVectors(g.normalized(), -Eigen::Vector3d::UnitZ())
             .toRotationMatrix();
   }
+  o.tare = !c.no_tare;
   if (!c.trajectory.empty()) o.trajectory = trajectory_from_csv(model, c.trajectory);
 
   std::vector<TraceRow> trace;
@@ -167,13 +170,25 @@ int run_emulate(const EmulateCommand& c) {
                    {"attitude_error_rms_deg", s.attitude_error_rms_deg},
                    {"reference_excursion_m", s.reference_excursion_m},
                    {"reference_excursion_deg", s.reference_excursion_deg},
-                   {"supervisor_stops", s.supervisor_stops}};
+                   {"supervisor_stops", s.supervisor_stops},
+                   {"first_stop_s", s.first_stop_s >= 0 ? nlohmann::ordered_json(s.first_stop_s)
+                                                        : nlohmann::ordered_json()},
+                   {"stop_reason", to_string(s.stop_reason)}};
   }
-  std::cout << fmt::format(
-      "reference excursion: {:.4g} m, {:.4g} deg; identified error {:.3g} % and {:.3g} % of it\n",
-      runs[0].reference_excursion_m, runs[0].reference_excursion_deg,
-      100 * runs[0].position_error_max_m / runs[0].reference_excursion_m,
-      100 * runs[0].attitude_error_max_deg / runs[0].reference_excursion_deg);
+  const auto relative = [&](const EmulationSummary& s) {
+    return fmt::format("{:.3g} % and {:.3g} %",
+                       100 * s.position_error_max_m / s.reference_excursion_m,
+                       100 * s.attitude_error_max_deg / s.reference_excursion_deg);
+  };
+  std::cout << fmt::format("reference excursion: {:.4g} m, {:.4g} deg\n",
+                           runs[0].reference_excursion_m, runs[0].reference_excursion_deg);
+  for (int r = 0; r < 3; ++r) {
+    std::cout << fmt::format("  {:<11} error {} of it", names[r], relative(runs[r]));
+    if (runs[r].supervisor_stops > 0)
+      std::cout << fmt::format("; supervisor stopped at {:.3g} s ({})", runs[r].first_stop_s,
+                               to_string(runs[r].stop_reason));
+    std::cout << "\n";
+  }
   j["realtime_factor"] = realtime;
   j["control_step_ns"] = runs[0].control_step_ns;
   if (!c.summary.empty()) write_file_atomically(c.summary, j.dump(2) + "\n");

@@ -11,6 +11,7 @@ struct EmulateCommand {
   std::string urdf, params, output, summary, platform, inertia = "5,5,5", trajectory, gravity,
                                                        plant;
   double mass = 50.0, duration = 10.0, rate = 1000.0;
+  bool no_tare = false;
 };
 
 void add_emulate_command(CLI::App& app, EmulateCommand& cmd);

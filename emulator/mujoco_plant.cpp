@@ -146,9 +146,11 @@ std::string robot_mjcf(const Model& model, const PlantOptions& options,
   return x.str();
 }
 
-// The MuJoCo model and data, the servo laws and the stepping protocol:
-// invariant after every public call, mjData holds a complete forward pass of
-// the current state under the servo forces now applied (sensors included).
+// The MuJoCo model and data, the servo laws and the stepping protocol. mjData
+// is brought up to date lazily (Stage): a reader gets the current state under
+// the servo forces of the commands now in effect, and nothing is computed
+// twice or for nobody (per 1 ms control tick: the sensors once, four
+// Runge-Kutta stages, the kinematics for the poses).
 class MujocoSimulation {
  public:
   MujocoSimulation(const Model& model, const std::string& xml, const char* free_body,
@@ -214,7 +216,6 @@ class MujocoSimulation {
     qdd_cmd_ = Eigen::VectorXd::Zero(model.num_joints());
     platform_p_cmd_ = position();
     platform_r_cmd_ = rotation();
-    evaluate(true);
   }
 
   int num_joints() const { return static_cast<int>(qadr_.size()); }
@@ -232,7 +233,7 @@ class MujocoSimulation {
       qdd_cmd_.setZero();
     }
     joint_cmd_time_ = d_->time;
-    evaluate(true);
+    stage_ = Stage::Stale;
   }
 
   void set_joints(const Eigen::VectorXd& q, bool stop_everything) {
@@ -246,7 +247,7 @@ class MujocoSimulation {
     qd_cmd_.setZero();
     qdd_cmd_.setZero();
     joint_cmd_time_ = d_->time;
-    evaluate(true);
+    stage_ = Stage::Stale;
   }
 
   void set_platform_command(const Eigen::Isometry3d& pose, const Twist* twist,
@@ -268,7 +269,7 @@ class MujocoSimulation {
     platform_p_cmd_ = p;
     platform_r_cmd_ = r;
     platform_cmd_time_ = d_->time;
-    evaluate(true);
+    stage_ = Stage::Stale;
   }
 
   void advance(double dt) {
@@ -276,7 +277,8 @@ class MujocoSimulation {
     while (d_->time < end - 0.5 * m_->opt.timestep) rk4_step();
   }
 
-  Wrench measured_wrench() const {
+  Wrench measured_wrench() {
+    ensure(Stage::Sensors);
     Wrench w;
     for (int k = 0; k < 3; ++k) {
       w[k] = -d_->sensordata[force_adr_ + k];
@@ -285,7 +287,8 @@ class MujocoSimulation {
     return w;
   }
 
-  Eigen::Isometry3d body_pose(int body) const {
+  Eigen::Isometry3d body_pose(int body) {
+    ensure(Stage::Kinematics);
     Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
     for (int r = 0; r < 3; ++r) {
       t.translation()[r] = d_->xpos[3 * body + r];
@@ -294,17 +297,18 @@ class MujocoSimulation {
     return t;
   }
   // Twist of a body frame: [velocity of its origin; angular velocity], world.
-  Twist body_twist(int body) const {
+  Twist body_twist(int body) {
+    ensure(Stage::Forward);
     mjtNum v[6];
     mj_objectVelocity(m_.get(), d_.get(), mjOBJ_BODY, body, v, 0);
     Twist t;
     t << v[3], v[4], v[5], v[0], v[1], v[2];
     return t;
   }
-  Eigen::Isometry3d base_pose() const { return body_pose(free_body_); }
-  Twist base_twist() const { return body_twist(free_body_); }
-  Eigen::Isometry3d sensor_pose() const { return body_pose(sensor_body_); }
-  Twist sensor_twist() const { return body_twist(sensor_body_); }
+  Eigen::Isometry3d base_pose() { return body_pose(free_body_); }
+  Twist base_twist() { return body_twist(free_body_); }
+  Eigen::Isometry3d sensor_pose() { return body_pose(sensor_body_); }
+  Twist sensor_twist() { return body_twist(sensor_body_); }
 
   Eigen::VectorXd joint_positions() const {
     Eigen::VectorXd q(num_joints());
@@ -319,15 +323,18 @@ class MujocoSimulation {
   double time() const { return d_->time; }
 
   // Momenta of the subtree of the base body (the whole system).
-  Eigen::Vector3d linear_momentum() const {
+  Eigen::Vector3d linear_momentum() {
+    ensure(Stage::Forward);
     mj_subtreeVel(m_.get(), d_.get());
     return m_->body_subtreemass[free_body_] * Eigen::Vector3d(d_->subtree_linvel + 3 * free_body_);
   }
-  Eigen::Vector3d angular_momentum() const {
+  Eigen::Vector3d angular_momentum() {
+    ensure(Stage::Forward);
     mj_subtreeVel(m_.get(), d_.get());
     return Eigen::Vector3d(d_->subtree_angmom + 3 * free_body_);
   }
-  Eigen::Vector3d center_of_mass() const {
+  Eigen::Vector3d center_of_mass() {
+    ensure(Stage::Forward);
     return Eigen::Vector3d(d_->subtree_com + 3 * free_body_);
   }
   double total_mass() const { return m_->body_subtreemass[free_body_]; }
@@ -351,29 +358,47 @@ class MujocoSimulation {
         .toRotationMatrix();
   }
 
-  // mj_forward with the servo forces computed between the velocity and the
-  // acceleration stages; the sensors only when asked (new_sample: at the step
-  // boundaries, not the intermediate Runge-Kutta stages).
-  void evaluate(bool new_sample) {
+  // How much of mjData is up to date with the state and the commands.
+  // Commands and steps make it Stale; readers ask for what they need.
+  enum class Stage { Stale, Kinematics, Forward, Sensors };
+
+  void ensure(Stage need) {
+    if (stage_ >= need) return;
+    if (need == Stage::Kinematics) {
+      mj_kinematics(m_.get(), d_.get());
+      stage_ = Stage::Kinematics;
+      return;
+    }
+    if (stage_ < Stage::Forward) forward();
+    if (need == Stage::Sensors) {
+      mj_sensorAcc(m_.get(), d_.get());  // force/torque: cfrc_int from mj_rnePostConstraint
+      stage_ = Stage::Sensors;
+    }
+  }
+
+  // What mj_forward computes for this model (no contacts, constraints,
+  // tendons, actuators or passive forces), with the servo forces in between:
+  // kinematics, composite inertia M and its factor, bias forces, then
+  // qacc = M^-1 (qfrc_applied - qfrc_bias). A third cheaper than mj_forward.
+  void forward() {
     mjModel* m = m_.get();
     mjData* d = d_.get();
-    mj_fwdPosition(m, d);
-    mj_fwdVelocity(m, d);
+    mj_kinematics(m, d);
+    mj_comPos(m, d);
+    mj_crb(m, d);
+    mj_factorM(m, d);
+    mj_comVel(m, d);
+    mj_rne(m, d, 0, d->qfrc_bias);
     apply_controls();
-    mj_fwdActuation(m, d);
-    mj_fwdAcceleration(m, d);
-    mj_fwdConstraint(m, d);
-    if (new_sample) {
-      mj_sensorPos(m, d);
-      mj_sensorVel(m, d);
-      mj_sensorAcc(m, d);
-    }
+    mju_sub(d->qfrc_smooth, d->qfrc_applied, d->qfrc_bias, m->nv);
+    mj_solveM(m, d, d->qacc, d->qfrc_smooth, 1);
+    stage_ = Stage::Forward;
   }
 
   // One classical RK4 step as MuJoCo's mj_RungeKutta does it (positions on the
   // manifold with mj_integratePos), the servo forces evaluated at each stage.
-  // Expects mjData evaluated at the current state; leaves it so.
   void rk4_step() {
+    ensure(Stage::Forward);
     mjModel* m = m_.get();
     mjData* d = d_.get();
     const int nq = m->nq, nv = m->nv;
@@ -393,7 +418,7 @@ class MujocoSimulation {
       for (int k = 0; k < nv; ++k)
         d->qvel[k] = qvel0_[static_cast<std::size_t>(k)] + a * acc[static_cast<std::size_t>(k)];
       d->time = t0 + a;
-      evaluate(false);
+      forward();
       mju_copy(stage_vel_[static_cast<std::size_t>(i)].data(), d->qvel, nv);
       mju_copy(stage_acc_[static_cast<std::size_t>(i)].data(), d->qacc, nv);
     }
@@ -408,7 +433,7 @@ class MujocoSimulation {
     for (int k = 0; k < nv; ++k)
       d->qvel[k] = qvel0_[static_cast<std::size_t>(k)] + h * dacc_[static_cast<std::size_t>(k)];
     d->time = t0 + h;
-    evaluate(true);
+    stage_ = Stage::Stale;
   }
 
   // Servo forces into qfrc_applied from the state; needs the position and
@@ -490,6 +515,7 @@ class MujocoSimulation {
 
   PlantOptions options_;
   bool platform_servo_;
+  Stage stage_ = Stage::Stale;
   std::unique_ptr<mjModel, ModelDeleter> m_;
   std::unique_ptr<mjData, DataDeleter> d_;
   std::vector<int> qadr_, dadr_;

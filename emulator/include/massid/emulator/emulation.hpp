@@ -29,6 +29,8 @@ struct EmulationSummary {
   double attitude_error_max_deg = 0.0, attitude_error_rms_deg = 0.0;
   double reference_excursion_m = 0.0, reference_excursion_deg = 0.0;
   int supervisor_stops = 0;
+  double first_stop_s = -1.0;  // time the supervisor first stopped, -1: never
+  StopReason stop_reason = StopReason::None;
   double seconds = 0.0;          // wall-clock time of the run
   double control_step_ns = 0.0;  // mean wall-clock time of control_step
 };
