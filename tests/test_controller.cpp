@@ -49,6 +49,29 @@ TEST(Controller, StaticGravityIsCancelledAndThePlatformStaysHome) {
   EXPECT_LT((data.command.translation() - s.em.geometry.home.translation()).norm(), 1e-12);
 }
 
+// A sensor offset (or the gravity model's error at the starting pose) is
+// removed by taring at rest, and only that: gravity still follows the pose.
+TEST(Controller, TareRemovesAnOffsetAtRestAndGravityStillFollowsThePose) {
+  PumaOnPlatform s;
+  EmulatorData data(s.em);
+  Wrench offset;
+  offset << 0.8, -0.3, 1.5, 0.05, 0.02, -0.04;
+  const Eigen::VectorXd q0 = Eigen::Vector3d(0.3, -1.2, 0.8);
+  tare(s.em, data, s.gravity_wrench(q0, data.command) + offset, q0, data.command);
+  EXPECT_LT((data.tare - offset).norm(), 1e-12);
+  const Eigen::VectorXd q1 = Eigen::Vector3d(-1.0, -2.0, 2.5);
+  for (const Eigen::VectorXd& q : {q0, q1}) {
+    control_step(s.em, data, s.gravity_wrench(q, data.command) + offset, q, data.command);
+    EXPECT_LT(data.compensated.norm(), 1e-10);
+  }
+  // Without the tare the offset pushes the spacecraft.
+  EmulatorData untared(s.em);
+  control_step(s.em, untared, s.gravity_wrench(q1, untared.command) + offset, q1, untared.command);
+  EXPECT_LT((untared.compensated - offset).norm(), 1e-10);
+  reset(s.em, data);
+  EXPECT_EQ(data.tare, Wrench::Zero());
+}
+
 TEST(Controller, GravityIsRotatedIntoTheTiltedSensorFrame) {
   PumaOnPlatform s;
   EmulatorData data(s.em);
