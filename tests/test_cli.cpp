@@ -689,6 +689,63 @@ TEST_F(Cli, SimulateOffsetNoiseAndSeed) {
   EXPECT_GT(nj["base_parameters"][0]["std"].get<double>(), 0.0);
 }
 
+TEST_F(Cli, SimulateRepeatHoldsEachPoseForNSamples) {
+  const Table plan = read_plan(kPumaPlan);
+  ASSERT_EQ(plan.rows.size(), 30u);
+  auto sim = [&](const std::string& name, const std::vector<std::string>& extra) {
+    std::vector<std::string> args{"simulate", kPumaUrdf, kPumaPlan, "-o", path(name)};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 0) << r;
+    return read_table(path(name));
+  };
+  const char* const k6[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+  const Table once = sim("once.csv", {"--repeat", "1"});
+  EXPECT_EQ(read_file(path("once.csv")), read_file(puma_data()));  // --repeat 1 is the default
+  ASSERT_EQ(once.rows.size(), 30u);
+
+  // Noise-free: each plan row three times in order, the copies identical to --repeat 1's row.
+  const Table clean = sim("clean.csv", {"--repeat", "3"});
+  ASSERT_EQ(clean.header, once.header);
+  ASSERT_EQ(clean.rows.size(), 90u);
+  for (size_t r = 0; r < 90; ++r) EXPECT_EQ(clean.rows[r], once.rows[r / 3]) << "row " << r;
+
+  // Noisy: the plan's cells carried unchanged, the wrench noisy and different in every copy.
+  const double sigma[2] = {0.3, 0.02};
+  const Table noisy = sim("noisy.csv", {"--repeat", "3", "--noise-force", "0.3", "--noise-moment",
+                                        "0.02", "--seed", "5"});
+  ASSERT_EQ(noisy.header, once.header);
+  ASSERT_EQ(noisy.rows.size(), 90u);
+  double ss[2] = {0, 0};
+  for (size_t r = 0; r < 90; ++r) {
+    for (size_t c = 0; c < plan.header.size(); ++c) {
+      ASSERT_EQ(noisy.header[c], plan.header[c]);
+      EXPECT_EQ(noisy.rows[r][c], plan.rows[r / 3][c]) << "row " << r << " " << plan.header[c];
+    }
+    for (int k = 0; k < 6; ++k) {
+      const double d = noisy.num(r, k6[k]) - once.num(r / 3, k6[k]);
+      EXPECT_LT(std::abs(d), 6 * sigma[k / 3]) << "row " << r << " " << k6[k];
+      ss[k / 3] += d * d;
+      if (r % 3 > 0) {
+        EXPECT_NE(noisy.rows[r][noisy.col(k6[k])], noisy.rows[r - 1][noisy.col(k6[k])])
+            << "row " << r << " " << k6[k];
+      }
+    }
+  }
+  // Noise of the requested size in every copy.
+  for (int g = 0; g < 2; ++g) {
+    const double s = std::sqrt(ss[g] / (90 * 3));
+    EXPECT_GT(s, 0.8 * sigma[g]) << g;
+    EXPECT_LT(s, 1.2 * sigma[g]) << g;
+  }
+
+  // --repeat 0 is bad usage; nothing is written.
+  expect_input_error(
+      run({"simulate", kPumaUrdf, kPumaPlan, "-o", path("zero.csv"), "--repeat", "0"}),
+      {"--repeat"});
+  EXPECT_FALSE(fs::exists(path("zero.csv")));
+}
+
 TEST_F(Cli, GravityFromForceIsAnnounced) {
   Table t = read_table(puma_data());
   for (const char* g : {"gz", "gy", "gx"}) {

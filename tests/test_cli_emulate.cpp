@@ -1,4 +1,4 @@
-// `massid emulate`: trace and summary files, the three runs, bad input.
+// `massid emulate`: trace and summary files, the three runs, --plant, --no-tare, bad input.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -34,8 +34,28 @@ TEST_F(CliEmulate, WritesTraceAndSummaryOfTheThreeRuns) {
     for (const char* field :
          {"position_error_max_m", "position_error_rms_m", "attitude_error_max_deg",
           "attitude_error_rms_deg", "reference_excursion_m", "reference_excursion_deg",
-          "supervisor_stops"})
+          "supervisor_stops", "first_stop_s", "stop_reason"})
       EXPECT_TRUE(j[run].contains(field)) << run << " " << field;
+  // The compensated runs never stop: no stop time, reason "none", and the
+  // identified run's trace shows the supervisor running throughout.
+  for (const char* run : {"identified", "nominal"}) {
+    EXPECT_EQ(j[run]["supervisor_stops"].get<int>(), 0) << run;
+    EXPECT_TRUE(j[run]["first_stop_s"].is_null()) << run;
+    EXPECT_EQ(j[run]["stop_reason"], "none") << run;
+  }
+  const int sup = trace.col("supervisor");
+  for (const auto& row : trace.rows) EXPECT_EQ(row[sup], "running") << "t " << row[0];
+  // Uncompensated, the supervisor stops it, within the run, and says why.
+  EXPECT_GE(j["none"]["supervisor_stops"].get<int>(), 1);
+  ASSERT_TRUE(j["none"]["first_stop_s"].is_number());
+  EXPECT_GT(j["none"]["first_stop_s"].get<double>(), 0.0);
+  EXPECT_LT(j["none"]["first_stop_s"].get<double>(), 1.0);
+  ASSERT_TRUE(j["none"]["stop_reason"].is_string());
+  const std::string reason = j["none"]["stop_reason"];
+  EXPECT_TRUE(reason == "leg limit" || reason == "workspace" || reason == "tracking error")
+      << reason;
+  EXPECT_NE(r.out.find("supervisor stopped at"), std::string::npos) << r;
+  EXPECT_NE(r.out.find("(" + reason + ")"), std::string::npos) << r;
   EXPECT_GT(j["realtime_factor"].get<double>(), 1.0);
   EXPECT_GT(j["control_step_ns"].get<double>(), 0.0);
   // No compensation: the platform runs off, far worse than with it.
@@ -50,6 +70,77 @@ TEST_F(CliEmulate, FollowsATrajectoryFile) {
   const Result r = run({"emulate", kPumaUrdf, params, "-o", path("trace.csv"), "--duration", "0.5",
                         "--trajectory", traj, "--gravity", "0,0,9.80665"});
   EXPECT_EQ(r.code, 0) << r;
+}
+
+// Parameters identified from noise-free data of the as-built PUMA (0.45 kg
+// more than its CAD model, puma260.urdf, which the parameters are of).
+class CliEmulateAsBuilt : public CliEmulate {
+ protected:
+  const std::string as_built = example("puma260/puma260_as_built.urdf");
+  std::string as_built_params() {
+    Result r = run({"simulate", as_built, kPumaPlan, "-o", path("as_built.csv")});
+    EXPECT_EQ(r.code, 0) << r;
+    r = run({"identify", kPumaUrdf, path("as_built.csv"), "-o", path("as_built.json")});
+    EXPECT_EQ(r.code, 0) << r;
+    return path("as_built.json");
+  }
+  nlohmann::json emulate(const std::string& params, const std::string& duration,
+                         const std::vector<std::string>& extra) {
+    std::vector<std::string> args{"emulate",     kPumaUrdf,   params,         "-o",
+                                  path("t.csv"), "--summary", path("s.json"), "--duration",
+                                  duration,      "--gravity", "0,0,9.80665"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 0) << r;
+    return nlohmann::json::parse(read_file(path("s.json")));
+  }
+  static double pos_max(const nlohmann::json& j, const char* run) {
+    return j[run]["position_error_max_m"].get<double>();
+  }
+};
+
+TEST_F(CliEmulateAsBuilt, PlantIsTheRobotAsBuilt) {
+  const std::string params = as_built_params();
+  const auto j = emulate(params, "2", {"--plant", as_built});
+  // The identified parameters know the extra 0.45 kg; the CAD model does not.
+  EXPECT_GT(pos_max(j, "nominal"), 20 * pos_max(j, "identified"))
+      << pos_max(j, "nominal") << " vs " << pos_max(j, "identified");
+  // Without --plant the CAD model is the robot: now the nominal run is the
+  // good one, far better than with the as-built plant.
+  const auto cad = emulate(params, "2", {});
+  EXPECT_GT(pos_max(cad, "identified"), 10 * pos_max(cad, "nominal"));
+  EXPECT_GT(pos_max(j, "nominal"), 10 * pos_max(cad, "nominal"));
+}
+
+TEST_F(CliEmulateAsBuilt, NoTareKeepsTheOffsetAtRest) {
+  // The as-built parameters on the CAD robot: a mismatch, largely constant at
+  // rest, that the tare removes. The exact (nominal) model has nothing to tare,
+  // and the uncompensated run is not tared at all.
+  const std::string params = as_built_params();
+  const auto tared = emulate(params, "1", {});
+  const auto raw = emulate(params, "1", {"--no-tare"});
+  EXPECT_GT(pos_max(raw, "identified"), 5 * pos_max(tared, "identified"))
+      << pos_max(raw, "identified") << " vs " << pos_max(tared, "identified");
+  EXPECT_NEAR(pos_max(raw, "nominal"), pos_max(tared, "nominal"), 1e-3 * pos_max(tared, "nominal"));
+  EXPECT_EQ(pos_max(raw, "none"), pos_max(tared, "none"));
+}
+
+TEST_F(CliEmulate, PlantOfOtherKinematicsIsRejected) {
+  const std::string params = puma_params();
+  // The PUMA with a longer upper arm (joint3's origin moved).
+  std::string text = read_file(kPumaUrdf);
+  const std::string origin = "xyz=\"0.198 -0.019 0\"";
+  const size_t at = text.find(origin);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, origin.size(), "xyz=\"0.210 -0.019 0\"");
+  const std::string longer = file("puma_longer.urdf", text);
+  for (const std::string& plant : {longer, example("ur_like/ur_like.urdf")}) {
+    expect_input_error(run({"emulate", kPumaUrdf, params, "-o", path("t.csv"), "--duration", "0.5",
+                            "--summary", path("s.json"), "--plant", plant}),
+                       {plant, "--plant"});
+    EXPECT_FALSE(fs::exists(path("t.csv"))) << plant;
+    EXPECT_FALSE(fs::exists(path("s.json"))) << plant;
+  }
 }
 
 TEST_F(CliEmulate, BadInputExitsTwo) {
