@@ -44,9 +44,12 @@ void BM_Predict(benchmark::State& state) {
   const Predictor pred = compile_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns()));
   PredictorData data(pred);
   const Samples s = random_samples(model, 1024, 1);
+  // One contiguous column per sample (a row of s.q would be copied into the
+  // Ref<const VectorXd>, an allocation per call).
+  const Eigen::MatrixXd q = s.q.transpose(), g = s.gravity.transpose();
   int i = 0;
   for (auto _ : state) {
-    const Wrench w = predict(pred, data, s.q.row(i).transpose(), s.gravity.row(i).transpose());
+    const Wrench w = predict(pred, data, q.col(i), Eigen::Vector3d(g.col(i)));
     benchmark::DoNotOptimize(w);
     i = (i + 1) & 1023;
   }

@@ -64,6 +64,29 @@ TEST_P(PredictorTest, IdentifiedParametersPredictTheTruthAtNewPoses) {
   }
 }
 
+// The batch form computes row by row exactly what single calls compute.
+TEST_P(PredictorTest, BatchEqualsSingleCalls) {
+  const Model model = load_urdf(GetParam().urdf);
+  BaseParameterOptions bo;
+  bo.offset = true;
+  const BaseParameters base = find_base_parameters(model, bo);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n;
+  Eigen::VectorXd values(base.num_unknowns());
+  for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
+  const Predictor pred = compile_predictor(model, base, values);
+  PredictorData data(pred);
+  const int N = 37;
+  Eigen::MatrixXd Q(N, model.num_joints()), G(N, 3), W(N, 6);
+  for (Eigen::Index i = 0; i < Q.size(); ++i) Q.data()[i] = 3 * n(rng);
+  for (Eigen::Index i = 0; i < G.size(); ++i) G.data()[i] = 9.81 * n(rng);
+  predict(pred, data, Q, G, W);
+  for (int i = 0; i < N; ++i) {
+    const Eigen::VectorXd q = Q.row(i).transpose();
+    EXPECT_EQ(W.row(i).transpose(), predict(pred, data, q, G.row(i).transpose())) << "row " << i;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Examples, PredictorTest, ::testing::ValuesIn(test::examples()),
                          [](const auto& info) { return info.param.name; });
 

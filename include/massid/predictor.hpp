@@ -9,8 +9,19 @@
 // parameters mapped onto the bodies (the base parameters' representatives, all
 // other standard parameters zero, which gives the same Y_b pi_b).
 //
+// predict() evaluates H by a backward recursion over subtrees, each body's
+// frame turned at compile time so that its joint axis is z:
+//
+//   S_b = h_b + sum_{k child of b} ( M_k t_k + A_k (Rz(theta_k) S_k + M_k d_k e_z) )
+//   H   = S_0
+//
+// with M_k the sum of m over k's subtree, (A_k, t_k) the joint frame of k in
+// its parent's frame, theta_k = q_k for a revolute joint and d_k = q_k for a
+// prismatic one. A rotation about z touches two components; the sines and
+// cosines of all joints are computed together (vectorised); no allocation, no
+// branch on the joint type.
+//
 // Predictor is immutable and compiled once; PredictorData is the workspace.
-// predict() does not allocate.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,35 +35,44 @@ namespace massid {
 using Wrench = Eigen::Matrix<double, 6, 1>;  // fx fy fz mx my mz
 
 struct Predictor {
-  struct Body {
-    int parent = -1;                                         // body index, -1 for the sensor body
-    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // parent body -> joint frame
-    Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // joint axis in the joint frame
-    JointType type = JointType::Fixed;
-    int joint = -1;                                          // index into q
-    double mass = 0.0;                                       // m_b: moves with the body's origin
-    Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();  // h_b, body frame
-  };
-  std::vector<Body> bodies;  // bodies[0] is the sensor body; parents come first
-  double total_mass = 0.0;   // M_t
+  // Movable bodies 1..n in parent-first order (body 0, the sensor body, has
+  // only first_moment[0]). Arrays are indexed by body.
+  std::vector<int> parent;                    // parent body
+  std::vector<int> joint;                     // index into q
+  std::vector<double> revolute;               // 1 for a revolute joint, else 0 (theta = revolute q)
+  std::vector<double> prismatic;              // 1 for a prismatic joint, else 0 (d = prismatic q)
+  std::vector<Eigen::Matrix3d> rotation;      // A_k: parent frame <- body frame (joint axis = z)
+  std::vector<Eigen::Vector3d> translation;   // t_k: joint origin, parent frame
+  std::vector<double> subtree_mass;           // M_k
+  std::vector<Eigen::Vector3d> first_moment;  // h_b, body frame
+  double total_mass = 0.0;                    // M_t
   Wrench offset = Wrench::Zero();
   int num_joints = 0;
+  int num_bodies() const { return static_cast<int>(parent.size()); }
 };
 
 // values: [num_unknowns] base parameters, then the six offsets when base.offset.
 Predictor compile_predictor(const Model& model, const BaseParameters& base,
                             const Eigen::Ref<const Eigen::VectorXd>& values);
 
-// Workspace of predict(): sized once.
+// Workspace of predict(), sized once (per body).
 struct PredictorData {
   explicit PredictorData(const Predictor& predictor);
-  std::vector<Eigen::Matrix3d> rotation;  // [num_bodies] R_b, body -> sensor frame
-  std::vector<Eigen::Vector3d> position;  // [num_bodies] p_b, body origin in the sensor frame
+  // Joint stage: angles and their sines and cosines, per body.
+  std::vector<double> theta, sin, cos;
+  // Recursion: S_b, the first moment of body b's subtree in its frame.
+  std::vector<Eigen::Vector3d> subtree;
 };
 
 // Gravity wrench at joint positions q [num_joints] and gravity g (sensor frame).
 Wrench predict(const Predictor& predictor, PredictorData& data,
                const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Vector3d& g);
+
+// Batch form: row i of wrenches [N x 6] from row i of q [N x num_joints] and of
+// gravity [N x 3]. Does not allocate.
+void predict(const Predictor& predictor, PredictorData& data,
+             const Eigen::Ref<const Eigen::MatrixXd>& q,
+             const Eigen::Ref<const Eigen::MatrixXd>& gravity,
+             Eigen::Ref<Eigen::MatrixXd> wrenches);
 
 }  // namespace massid

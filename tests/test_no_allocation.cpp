@@ -1,0 +1,108 @@
+// The real-time paths never allocate: a counting allocator (malloc itself,
+// interposed, so that Eigen's aligned_malloc and operator new are both seen)
+// around predict() and the emulator's control_step().
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstddef>
+#include <random>
+
+#include "massid/base_parameters.hpp"
+#include "massid/emulator/controller.hpp"
+#include "massid/predictor.hpp"
+#include "massid/regressor.hpp"
+#include "test_support.hpp"
+
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void __libc_free(void*);
+}
+
+namespace {
+std::atomic<long> g_allocations{0};
+double* volatile g_sink = nullptr;  // keeps the compiler from eliding new/delete
+}  // namespace
+
+extern "C" {
+void* malloc(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t n, std::size_t size) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_calloc(n, size);
+}
+void* realloc(void* p, std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_realloc(p, n);
+}
+void free(void* p) { __libc_free(p); }
+}
+
+namespace massid {
+namespace {
+
+long allocations() { return g_allocations.load(std::memory_order_relaxed); }
+
+TEST(CountingAllocator, SeesEigenAndOperatorNew) {
+  const long before = allocations();
+  {
+    Eigen::VectorXd v(100);
+    v.setOnes();
+    EXPECT_GT(v.sum(), 0.0);
+  }
+  const long after_eigen = allocations();
+  EXPECT_GE(after_eigen - before, 1);
+  g_sink = new double[10];
+  delete[] g_sink;
+  EXPECT_GE(allocations() - after_eigen, 1);
+}
+
+class NoAllocation : public ::testing::TestWithParam<test::Example> {};
+
+TEST_P(NoAllocation, PredictSingleAndBatch) {
+  const Model model = load_urdf(GetParam().urdf);
+  BaseParameterOptions bo;
+  bo.offset = true;
+  const BaseParameters base = find_base_parameters(model, bo);
+  const Predictor pred = compile_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns()));
+  PredictorData data(pred);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  Eigen::MatrixXd Q(64, model.num_joints()), G(64, 3), W(64, 6);
+  for (Eigen::Index i = 0; i < Q.size(); ++i) Q.data()[i] = u(rng);
+  for (Eigen::Index i = 0; i < G.size(); ++i) G.data()[i] = u(rng);
+  const Eigen::VectorXd q = Q.row(0).transpose();
+  const Eigen::Vector3d g = G.row(0).transpose();
+  const long before = allocations();
+  Wrench sum = Wrench::Zero();
+  for (int k = 0; k < 100; ++k) sum += predict(pred, data, q, g);
+  predict(pred, data, Q, G, W);
+  EXPECT_EQ(allocations() - before, 0);
+  EXPECT_TRUE(sum.allFinite());
+  EXPECT_TRUE(W.allFinite());
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::examples()),
+                         [](const auto& info) { return info.param.name; });
+
+TEST(NoAllocation, EmulatorControlStep) {
+  const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");
+  const BaseParameters base = find_base_parameters(model);
+  emulator::EmulatorModel em;
+  em.predictor = compile_predictor(model, base, base.K * nominal_standard_parameters(model));
+  em.spacecraft.mass = 50.0;
+  em.spacecraft.inertia = Eigen::Vector3d(5.0, 5.0, 5.0).asDiagonal();
+  emulator::EmulatorData data(em);
+  const Eigen::VectorXd q = Eigen::Vector3d(0.1, -1.2, 0.9);
+  Wrench measured;
+  measured << 0.01, 0.02, -103.9, 0.3, -0.2, 0.0;
+  const long before = allocations();
+  for (int k = 0; k < 100; ++k) control_step(em, data, measured, q, data.command);
+  EXPECT_EQ(allocations() - before, 0);
+}
+
+}  // namespace
+}  // namespace massid
