@@ -84,10 +84,15 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
   return pred;
 }
 
+namespace {
+// Movable bodies, rounded up to even for the two-lane sincos.
+std::size_t lanes_for(const Predictor& p) { return (p.parent.size() - 1 + 1) / 2 * 2; }
+}  // namespace
+
 PredictorData::PredictorData(const Predictor& predictor)
-    : theta(predictor.parent.size(), 0.0),
-      sin(predictor.parent.size(), 0.0),
-      cos(predictor.parent.size(), 1.0),
+    : theta(lanes_for(predictor), 0.0),
+      sin(lanes_for(predictor), 0.0),
+      cos(lanes_for(predictor), 1.0),
       subtree(predictor.parent.size(), Eigen::Vector3d::Zero()) {}
 
 namespace {
@@ -96,12 +101,13 @@ namespace {
 Eigen::Vector3d first_moment(const Predictor& pred, PredictorData& data, const double* q,
                              Eigen::Index q_stride) {
   const int nb = pred.num_bodies();
-  for (int b = 1; b < nb; ++b) data.theta[b] = pred.revolute[b] * q[pred.joint[b] * q_stride];
-  detail::sincos_many(data.theta.data() + 1, data.sin.data() + 1, data.cos.data() + 1, nb - 1);
+  for (int b = 1; b < nb; ++b) data.theta[b - 1] = pred.revolute[b] * q[pred.joint[b] * q_stride];
+  detail::sincos_many(data.theta.data(), data.sin.data(), data.cos.data(),
+                      static_cast<int>(data.theta.size()));
   for (int b = 0; b < nb; ++b) data.subtree[b] = pred.first_moment[b];
   for (int b = nb - 1; b > 0; --b) {
     const Eigen::Vector3d& S = data.subtree[b];
-    const double c = data.cos[b], s = data.sin[b], m = pred.subtree_mass[b];
+    const double c = data.cos[b - 1], s = data.sin[b - 1], m = pred.subtree_mass[b];
     const Eigen::Vector3d v(c * S.x() - s * S.y(), s * S.x() + c * S.y(),
                             S.z() + m * pred.prismatic[b] * q[pred.joint[b] * q_stride]);
     data.subtree[pred.parent[b]] += m * pred.translation[b] + pred.rotation[b] * v;

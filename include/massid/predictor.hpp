@@ -58,7 +58,8 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
 // Workspace of predict(), sized once (per body).
 struct PredictorData {
   explicit PredictorData(const Predictor& predictor);
-  // Joint stage: angles and their sines and cosines, per body.
+  // Joint stage: angles and their sines and cosines of bodies 1.. (index b - 1),
+  // padded to an even length.
   std::vector<double> theta, sin, cos;
   // Recursion: S_b, the first moment of body b's subtree in its frame.
   std::vector<Eigen::Vector3d> subtree;
