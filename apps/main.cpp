@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "design_command.hpp"
+#include "bench_command.hpp"
 #include "emulate_command.hpp"
 #include "massid/atomic_file.hpp"
 #include "massid/base_parameters.hpp"
@@ -20,6 +21,7 @@
 #include "massid/report.hpp"
 #include "massid/samples.hpp"
 #include "massid/simulate.hpp"
+#include "massid/streaming.hpp"
 #include "options.hpp"
 
 namespace {
@@ -90,13 +92,18 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   BaseParameterOptions bopts;
   bopts.offset = offset;
   const BaseParameters base = find_base_parameters(model, bopts);
-  const Samples samples = read_samples(model, read_csv(data_path), WrenchColumns::Required);
-  if (samples.gravity_from_force)
+  // Streamed from the memory-mapped file in constant memory (streaming.hpp):
+  // the same results as identify() on read_samples of the whole file.
+  const StreamOptions stream;
+  const IdentifyAccumulator acc = accumulate_csv(model, base, data_path, stream);
+  if (acc.gravity_from_force())
     std::cerr << fmt::format(
         "massid: note: {} has no gx,gy,gz columns: gravity is taken along the measured force "
         "(paper eq. 37), |g| = {} m/s^2\n",
         data_path, kStandardGravity);
-  const IdentifySummary summary = identify(model, base, samples, opts);
+  IdentifySummary summary = acc.finish(opts);
+  if (summary.residual_max.hasNaN())  // not proven in the first pass: a second one
+    summary.residual_max = residual_max_csv(model, base, data_path, summary.value, stream);
   write_file_atomically(out, params_json(model, base, &summary));
   std::cout << identify_report(model, base, summary, data_path);
   std::cout << "wrote " << out << "\n";
@@ -208,6 +215,8 @@ int main(int argc, char** argv) {
   add_design_command(app, design);
   EmulateCommand emulate;
   add_emulate_command(app, emulate);
+  BenchCommand bench;
+  add_bench_command(app, bench);
 
   try {
     app.parse(argc, argv);
@@ -235,6 +244,7 @@ int main(int argc, char** argv) {
     if (*pred) return run_predict(common.urdf, params, data, out);
     if (*design.app) return run_design(design);
     if (*emulate.app) return run_emulate(emulate);
+    if (*bench.app) return run_bench(bench);
   } catch (const InputError& e) {
     std::cerr << "massid: error: " << e.what() << "\n";
     return 2;

@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "chain_robot.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/csv.hpp"
@@ -32,7 +33,8 @@ Samples random_samples(const Model& model, int n, unsigned seed) {
   s.q.resize(n, model.num_joints());
   s.gravity.resize(n, 3);
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < model.num_joints(); ++j) s.q(i, j) = model.joints[j].generic_position(u(rng));
+    for (int j = 0; j < model.num_joints(); ++j)
+      s.q(i, j) = model.joints[j].generic_position(u(rng));
     s.gravity.row(i) = 9.81 * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
   }
   return s;
@@ -56,6 +58,27 @@ void BM_Predict(benchmark::State& state) {
   state.SetLabel(kNames[state.range(0)]);
 }
 BENCHMARK(BM_Predict)->DenseRange(0, 2);
+
+// How the predictor's cost grows with the number of joints (serial chains).
+void BM_PredictChain(benchmark::State& state) {
+  const Model model = bench::chain_robot(static_cast<int>(state.range(0)));
+  const BaseParameters base = find_base_parameters(model);
+  const Predictor pred = compile_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns()));
+  PredictorData data(pred);
+  const Samples s = random_samples(model, 1024, 1);
+  const Eigen::MatrixXd q = s.q.transpose(), g = s.gravity.transpose();
+  int i = 0;
+  for (auto _ : state) {
+    const Wrench w = predict(pred, data, q.col(i), Eigen::Vector3d(g.col(i)));
+    benchmark::DoNotOptimize(w);
+    i = (i + 1) & 1023;
+  }
+  state.counters["joints"] = static_cast<double>(model.num_joints());
+  state.counters["ns_per_joint"] = benchmark::Counter(
+      static_cast<double>(model.num_joints()),
+      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_PredictChain)->Arg(3)->Arg(6)->Arg(12)->Arg(24);
 
 void BM_StandardRegressor(benchmark::State& state) {
   const Model model = load_urdf(kRobots[state.range(0)]);

@@ -764,4 +764,19 @@ TEST_F(Cli, GravityFromForceIsAnnounced) {
   EXPECT_NEAR(p["total_mass"].get<double>(), 10.6, 1e-9);
 }
 
+// massid bench: the figures users size their loop with, as JSON.
+TEST_F(Cli, BenchPrintsItsFiguresAsJson) {
+  const Result r = run({"bench", kPumaUrdf, "--json", "--rows", "2000"});
+  ASSERT_EQ(r.code, 0) << r;
+  const json j = json::parse(r.out);
+  for (const char* key :
+       {"predict_ns", "regressor_ns", "identify_rows_per_s", "identify_csv_rows_per_s"}) {
+    ASSERT_TRUE(j.contains(key)) << key;
+    EXPECT_GT(j[key].get<double>(), 0.0) << key;
+  }
+  EXPECT_EQ(j["joints"], 3);
+  EXPECT_EQ(j["base_parameters"], 10);
+  expect_input_error(run({"bench", kPumaUrdf, "--rows", "5"}), {"--rows"});
+}
+
 }  // namespace

@@ -1,0 +1,150 @@
+// Streaming identification: the same weighted least squares as identify()
+// (estimation.hpp) from any number of samples in constant memory, from memory
+// or from a memory-mapped CSV file parsed on several threads.
+//
+// What is kept. For each wrench axis a (fx ... mz) the triangular factor R_a of
+// the unweighted, unscaled rows [A_a | y_a] of that axis (the TSQR idea: rows
+// are buffered in chunks and folded into R_a by Householder reflections that
+// touch only R_a's diagonal row and the chunk). The force axes' rows involve
+// only M (and the axis' offset), the moment axes' rows only the moment
+// unknowns (and the axis' offset), so R_a is over those columns only. Since
+// R_a^T R_a = [A_a y_a]^T [A_a y_a] for any split of the rows, everything the
+// dense solve needs follows from the six R_a:
+//   - column norms (column scaling) and |y_a|^2: column norms of R_a;
+//   - the weighted problem for any per-axis sigma: the QR of the stacked
+//     [R_a S / sigma_a, R_a's y column / sigma_a] (a few dozen rows), so the
+//     sigma re-estimation needs no second pass over the data;
+//   - the residual sum of squares per axis: |R_a [x; -1]|^2;
+//   - eq. 36: the singular values of the stacked moment axes' R_a;
+//   - the identifiability rank: the stacked R_a have the same singular values
+//     as the stacked regressor.
+// Normal equations (A^T A) would square the condition number; this does not.
+//
+// The largest residual per axis needs the final estimate. accumulate_csv
+// estimates the parameters from the first 2 MB of the file (a pilot), keeps the
+// rows whose residual at that estimate is among the 64 largest per axis, and
+// finish() recomputes those exactly: the maximum is proven when no other row
+// can exceed it (its residual at the pilot estimate plus |a| |x - x_pilot|).
+// Only when that fails (or StreamOptions::residual_max is set and the data
+// came from elsewhere) is a second pass over the data made (residual_max_csv);
+// without StreamOptions::residual_max the value is NaN.
+//
+// Determinism. Rows are cut into fixed blocks (a fixed number of rows in
+// memory, a fixed number of bytes in a file, cut at line starts), each block is
+// reduced on its own from an empty accumulator and the blocks are merged in
+// file order, so results are bit-identical whatever the number of threads.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "massid/base_parameters.hpp"
+#include "massid/estimation.hpp"
+#include "massid/model.hpp"
+#include "massid/samples.hpp"
+
+namespace massid {
+
+struct StreamOptions {
+  int threads = 0;                     // 0: std::thread::hardware_concurrency()
+  std::size_t block_bytes = 4u << 20;  // CSV bytes per block (results depend on it, not on threads)
+  int block_rows = 16384;              // rows per block when identifying from memory
+  bool residual_max = true;            // second pass for IdentifySummary::residual_max
+};
+
+namespace detail {
+struct AccumulatorState;
+struct FastRegressor;
+}  // namespace detail
+
+// Folds samples into the six per-axis triangular factors. Not thread-safe:
+// give each thread its own and merge them in the order of their rows.
+class IdentifyAccumulator {
+ public:
+  // model and base must outlive the accumulator.
+  IdentifyAccumulator(const Model& model, const BaseParameters& base);
+  ~IdentifyAccumulator();
+  IdentifyAccumulator(IdentifyAccumulator&&) noexcept;
+  IdentifyAccumulator& operator=(IdentifyAccumulator&&) noexcept;
+
+  // One sample: q [num_joints], gravity in the sensor frame, wrench fx..mz.
+  // `line` is only kept for the identifiability diagnosis (0 if none).
+  void add(const double* q, const double* gravity, const double* wrench, int line = 0);
+  // Every row of samples (which must have a wrench).
+  void add(const Samples& samples);
+  // Appends `later`'s rows after this one's (merging is exact in exact
+  // arithmetic; in floating point the result depends on the order of merges).
+  void merge(IdentifyAccumulator&& later);
+
+  // Keep, from now on, the rows that could hold the largest residual, judged
+  // against a provisional estimate (e.g. rough_estimate() of a prefix of the
+  // data): finish() then reports residual_max without a second pass when the
+  // kept rows prove it (the other rows' residuals at the estimate, plus how far
+  // the final estimate moved, stay below it), else NaN. Every accumulator
+  // merged into this one must track the same estimate.
+  void track_residuals(const Eigen::VectorXd& estimate);
+  // An unweighted least-squares estimate of the rows so far (minimum norm when
+  // they do not determine every unknown).
+  Eigen::VectorXd rough_estimate() const;
+
+  long long samples() const;
+  // Where the samples came from, for messages, and whether their gravity was
+  // taken from the measured force (eq. 37).
+  void set_source(const std::string& source, bool gravity_from_force);
+  bool gravity_from_force() const;
+  const std::string& source() const;
+
+  // The weighted least-squares solve of identify(), with the same checks and
+  // errors (IdentifiabilityError). residual_max needs the final estimate: it
+  // is NaN unless track_residuals proved it, and then a second pass over the
+  // data (ResidualMax, residual_max_csv) finds it.
+  IdentifySummary finish(const IdentifyOptions& options = {}) const;
+
+ private:
+  std::unique_ptr<detail::AccumulatorState> state_;
+};
+
+// The largest |measured - Y_b x| per axis over samples added to it.
+class ResidualMax {
+ public:
+  ResidualMax(const Model& model, const BaseParameters& base, const Eigen::VectorXd& value);
+  ~ResidualMax();
+  ResidualMax(ResidualMax&&) noexcept;
+  void add(const double* q, const double* gravity, const double* wrench);
+  void merge(const ResidualMax& other);
+  Eigen::Matrix<double, 6, 1> max() const;
+
+ private:
+  std::unique_ptr<detail::FastRegressor> reg_;
+  Eigen::VectorXd value_;
+  Eigen::Matrix<double, 6, 1> max_;
+  int total_mass_ = 0;
+  int offset_ = -1;  // first offset unknown, -1 without offsets
+};
+
+// identify(), streamed over samples already in memory (blocks on threads).
+IdentifySummary identify_streaming(const Model& model, const BaseParameters& base,
+                                   const Samples& samples, const IdentifyOptions& options = {},
+                                   const StreamOptions& stream = {});
+
+// Pass 1 over a CSV data file (same columns and rules as read_samples with
+// WrenchColumns::Required; InputError naming file:line:column): the
+// accumulated factors. Constant memory: the file is memory-mapped and pages
+// already parsed are released.
+IdentifyAccumulator accumulate_csv(const Model& model, const BaseParameters& base,
+                                   const std::string& path, const StreamOptions& stream = {},
+                                   double g0 = kStandardGravity);
+// Pass 2: the largest residual per axis of the estimate `value`.
+Eigen::Matrix<double, 6, 1> residual_max_csv(const Model& model, const BaseParameters& base,
+                                             const std::string& path, const Eigen::VectorXd& value,
+                                             const StreamOptions& stream = {},
+                                             double g0 = kStandardGravity);
+// Both passes: the IdentifySummary of identify(model, base, read_samples(...)).
+IdentifySummary identify_csv(const Model& model, const BaseParameters& base,
+                             const std::string& path, const IdentifyOptions& options = {},
+                             const StreamOptions& stream = {});
+
+}  // namespace massid

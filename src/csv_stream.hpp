@@ -1,0 +1,160 @@
+// Private: a data CSV read in place from a memory-mapped file, for streaming
+// identification. The same rules and messages as read_csv + read_samples
+// (csv.hpp, samples.hpp): a UTF-8 BOM, CRLF, blank and `#` lines, quoted
+// fields, joints by name or JOINT_deg, gx,gy,gz optional (else gravity along
+// the force, eq. 37), errors as file:line:column.
+//
+// Rows are parsed straight into doubles with fast_float; a line the fast path
+// does not understand (quotes, stray characters, a bad cell, a wrong field
+// count) is re-read by the slow path that mirrors read_csv exactly, which
+// either accepts it or throws read_csv's message for it.
+#pragma once
+
+#include <fast_float/fast_float.h>
+
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "massid/model.hpp"
+
+namespace massid::detail {
+
+// A read-only private mapping of a whole file (an empty file maps nothing).
+class MappedFile {
+ public:
+  explicit MappedFile(const std::string& path);  // InputError "PATH: cannot open file"
+  ~MappedFile();
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  std::string_view text() const { return {data_, size_}; }
+  // Drops the whole pages inside [begin, end) from the process (they stay in the
+  // page cache and fault back in if read again): keeps the resident set small.
+  void release(std::size_t begin, std::size_t end) const;
+
+ private:
+  const char* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+// The header of a data file bound to a model. Row values are laid out as
+// [joints (Model::joints order), fx..mz, gx gy gz].
+struct SampleColumns {
+  std::string source;
+  int header_line = 0;
+  std::vector<std::string> header;
+  std::vector<int> target;     // [columns] index into the row values, -1 unused
+  std::vector<double> scale;   // [columns] 1, or pi/180 for JOINT_deg
+  std::vector<int> column_of;  // [values] the CSV column of each value
+  int num_joints = 0;
+  int num_values = 0;  // num_joints + 9
+  bool gravity_from_force = false;
+  double g0 = 0.0;
+  std::size_t data_begin = 0;  // byte offset of the line after the header
+  int wrench_value() const { return num_joints; }
+  int gravity_value() const { return num_joints + 6; }
+};
+
+// Reads the header and binds it (InputError as read_csv/read_samples with
+// WrenchColumns::Required, incl. "header but no data rows").
+SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
+                           double g0);
+
+// 1-based line number of byte `pos`.
+int line_number(std::string_view text, std::size_t pos);
+
+// Byte range [begin, end) of block k of the data area: the lines that start in
+// [data_begin + k * block_bytes, data_begin + (k + 1) * block_bytes).
+std::size_t num_blocks(std::string_view text, const SampleColumns& c, std::size_t block_bytes);
+std::pair<std::size_t, std::size_t> block_range(std::string_view text, const SampleColumns& c,
+                                                std::size_t block_bytes, std::size_t k);
+
+// Slow path for one line [line_begin, line_end) ('\r' already removed): false
+// for a blank or comment line, true with vals filled, or InputError.
+bool parse_line_slow(std::string_view text, std::size_t line_begin, std::size_t line_end,
+                     const SampleColumns& c, double* vals);
+
+// Throws the zero-force error of read_samples for the line at `line_begin`.
+[[noreturn]] void throw_zero_force(std::string_view text, std::size_t line_begin,
+                                   const SampleColumns& c);
+
+namespace csv_fast {
+
+inline bool blank(char ch) { return ch == ' ' || ch == '\t'; }
+
+// 1: a sample, 0: blank or comment, -1: let the slow path decide.
+inline int parse_line(const char* p, const char* le, const SampleColumns& c, double* vals) {
+  while (p < le && blank(*p)) ++p;
+  if (p == le || *p == '#') return 0;
+  const int nc = static_cast<int>(c.target.size());
+  for (int col = 0; col < nc; ++col) {
+    while (p < le && blank(*p)) ++p;
+    const int t = c.target[col];
+    if (t >= 0) {
+      const char* f = p;
+      if (f < le && *f == '+') ++f;
+      double x;
+      const auto r = fast_float::from_chars(f, le, x);
+      if (r.ec != std::errc() || !std::isfinite(x)) return -1;
+      vals[t] = c.scale[col] == 1.0 ? x : c.scale[col] * x;
+      p = r.ptr;
+      while (p < le && blank(*p)) ++p;
+    } else {
+      if (p < le && *p == '"') return -1;
+      const void* comma = std::memchr(p, ',', static_cast<std::size_t>(le - p));
+      p = comma ? static_cast<const char*>(comma) : le;
+    }
+    if (col + 1 < nc) {
+      if (p >= le || *p != ',') return -1;
+      ++p;
+    } else if (p != le) {
+      return -1;
+    }
+  }
+  return 1;
+}
+
+}  // namespace csv_fast
+
+// Calls sink(const double* vals) for every sample whose line starts in
+// [begin, end); gravity from the force (eq. 37) when the file has no gx,gy,gz.
+template <class Sink>
+void parse_block(std::string_view text, const SampleColumns& c, std::size_t begin, std::size_t end,
+                 Sink&& sink) {
+  std::vector<double> vals(c.num_values);
+  const char* const base = text.data();
+  const char* const eof = base + text.size();
+  const char* p = base + begin;
+  const char* const stop = base + end;
+  const int w = c.wrench_value(), g = c.gravity_value();
+  while (p < stop) {
+    const void* found = std::memchr(p, '\n', static_cast<std::size_t>(eof - p));
+    const char* nl = found ? static_cast<const char*>(found) : eof;
+    const char* le = nl;
+    if (le > p && le[-1] == '\r') --le;
+    int kind = csv_fast::parse_line(p, le, c, vals.data());
+    if (kind < 0)
+      kind = parse_line_slow(text, static_cast<std::size_t>(p - base),
+                             static_cast<std::size_t>(le - base), c, vals.data())
+                 ? 1
+                 : 0;
+    if (kind == 1) {
+      if (c.gravity_from_force) {
+        const double f0 = vals[w], f1 = vals[w + 1], f2 = vals[w + 2];
+        const double n = std::sqrt(f0 * f0 + f1 * f1 + f2 * f2);
+        if (!(n > 0.0)) throw_zero_force(text, static_cast<std::size_t>(p - base), c);
+        vals[g] = c.g0 * f0 / n;  // paper eq. 37
+        vals[g + 1] = c.g0 * f1 / n;
+        vals[g + 2] = c.g0 * f2 / n;
+      }
+      sink(static_cast<const double*>(vals.data()), static_cast<std::size_t>(p - base));
+    }
+    if (nl == eof) break;
+    p = nl + 1;
+  }
+}
+
+}  // namespace massid::detail
