@@ -40,8 +40,8 @@ Samples random_samples(const Model& model, int n, unsigned seed) {
   return s;
 }
 
-void BM_Predict(benchmark::State& state) {
-  const Model model = load_urdf(kRobots[state.range(0)]);
+// predict() on 1024 random samples of a model, in turn.
+void time_predict(benchmark::State& state, const Model& model) {
   const BaseParameters base = find_base_parameters(model);
   const Predictor pred = compile_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns()));
   PredictorData data(pred);
@@ -55,6 +55,10 @@ void BM_Predict(benchmark::State& state) {
     benchmark::DoNotOptimize(w);
     i = (i + 1) & 1023;
   }
+}
+
+void BM_Predict(benchmark::State& state) {
+  time_predict(state, load_urdf(kRobots[state.range(0)]));
   state.SetLabel(kNames[state.range(0)]);
 }
 BENCHMARK(BM_Predict)->DenseRange(0, 2);
@@ -62,17 +66,7 @@ BENCHMARK(BM_Predict)->DenseRange(0, 2);
 // How the predictor's cost grows with the number of joints (serial chains).
 void BM_PredictChain(benchmark::State& state) {
   const Model model = bench::chain_robot(static_cast<int>(state.range(0)));
-  const BaseParameters base = find_base_parameters(model);
-  const Predictor pred = compile_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns()));
-  PredictorData data(pred);
-  const Samples s = random_samples(model, 1024, 1);
-  const Eigen::MatrixXd q = s.q.transpose(), g = s.gravity.transpose();
-  int i = 0;
-  for (auto _ : state) {
-    const Wrench w = predict(pred, data, q.col(i), Eigen::Vector3d(g.col(i)));
-    benchmark::DoNotOptimize(w);
-    i = (i + 1) & 1023;
-  }
+  time_predict(state, model);
   state.counters["joints"] = static_cast<double>(model.num_joints());
   state.counters["ns_per_joint"] = benchmark::Counter(
       static_cast<double>(model.num_joints()),

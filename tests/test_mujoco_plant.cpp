@@ -288,7 +288,7 @@ TEST(PlantTiming, AdvanceOneMillisecond) {
   }
   const double ref_us =
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / n;
-  std::cout << "[ plant    ] ur_like: set_joint_command + advance(1 ms) = 2 RK4 steps: plant "
+  std::cout << "[ plant    ] ur_like: set_joint_command + advance(1 ms) = 1 RK4 step: plant "
             << plant_us << " us, free-floating reference " << ref_us << " us\n";
   RecordProperty("plant_advance_1ms_us", std::to_string(plant_us));
   RecordProperty("reference_advance_1ms_us", std::to_string(ref_us));
