@@ -1,9 +1,15 @@
 #include "massid/predictor.hpp"
 
 #include <Eigen/Geometry>
+#include <cstring>
 
 #include "massid/regressor.hpp"
 #include "sincos.hpp"
+
+// The four-lane helpers below pass 32-byte vectors by value; they are always
+// inlined into the AVX2 function, so GCC's note that such a call's ABI depends
+// on -mavx concerns no real call.
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace massid {
 
@@ -16,6 +22,30 @@ Eigen::Matrix3d axis_to_z(const Eigen::Vector3d& axis) {
       .toRotationMatrix();
 }
 
+// A rigid body of the recursion before depth-first numbering.
+struct Body {
+  int parent = -1, joint = 0;
+  JointType type = JointType::Fixed;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // A_k
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();   // t_k
+  double mass = 0.0, subtree_mass = 0.0;                   // m_b, M_b
+  Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();  // h_b
+  std::vector<int> children;
+};
+
+// Bodies in depth-first order from body 0 (children in their original order).
+std::vector<int> depth_first(const std::vector<Body>& bodies) {
+  std::vector<int> order, stack{0};
+  while (!stack.empty()) {
+    const int b = stack.back();
+    stack.pop_back();
+    order.push_back(b);
+    for (auto c = bodies[b].children.rbegin(); c != bodies[b].children.rend(); ++c)
+      stack.push_back(*c);
+  }
+  return order;
+}
+
 }  // namespace
 
 Predictor compile_predictor(const Model& model, const BaseParameters& base,
@@ -24,27 +54,11 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
   pred.num_joints = model.num_joints();
   // Rigid bodies: a link joined by a fixed joint belongs to its parent's body.
   // in_body[l]: link l's frame in its body's frame (axis-aligned, see header).
-  std::vector<int> body_of(model.num_links());
-  std::vector<Eigen::Isometry3d> in_body(model.num_links());
-  const auto add_body = [&pred](int parent, int joint, JointType type, const Eigen::Matrix3d& A,
-                                const Eigen::Vector3d& t) {
-    pred.parent.push_back(parent);
-    pred.joint.push_back(joint);
-    pred.revolute.push_back(type == JointType::Revolute ? 1.0 : 0.0);
-    pred.prismatic.push_back(type == JointType::Prismatic ? 1.0 : 0.0);
-    pred.rotation.push_back(A);
-    pred.translation.push_back(t);
-    pred.subtree_mass.push_back(0.0);
-    pred.first_moment.push_back(Eigen::Vector3d::Zero());
-  };
-  for (int l = 0; l < model.num_links(); ++l) {
+  std::vector<Body> bodies(1);
+  std::vector<int> body_of(model.num_links(), 0);
+  std::vector<Eigen::Isometry3d> in_body(model.num_links(), Eigen::Isometry3d::Identity());
+  for (int l = 1; l < model.num_links(); ++l) {
     const Link& link = model.links[l];
-    if (l == 0) {
-      body_of[l] = 0;
-      in_body[l].setIdentity();
-      add_body(-1, 0, JointType::Fixed, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero());
-      continue;
-    }
     const Eigen::Isometry3d to_joint = in_body[link.parent] * link.origin;
     if (link.type == JointType::Fixed) {
       body_of[l] = body_of[link.parent];
@@ -52,67 +66,221 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
       continue;
     }
     const Eigen::Matrix3d C = axis_to_z(link.axis);
-    body_of[l] = pred.num_bodies();
-    add_body(body_of[link.parent], link.joint_index, link.type, to_joint.linear() * C,
-             to_joint.translation());
-    in_body[l].setIdentity();
+    Body b;
+    b.parent = body_of[link.parent];
+    b.joint = link.joint_index;
+    b.type = link.type;
+    b.rotation = to_joint.linear() * C;
+    b.translation = to_joint.translation();
+    body_of[l] = static_cast<int>(bodies.size());
+    bodies[b.parent].children.push_back(body_of[l]);
+    bodies.push_back(b);
     in_body[l].linear() = C.transpose();  // link frame in the axis-aligned body frame
   }
   // Base parameter i stands for column base.column[i] of Y' (base_parameters.hpp).
-  std::vector<double> mass(pred.parent.size(), 0.0);
   for (int i = 0; i < base.num_mass(); ++i) {
     const int c = base.column[i];
     const int l = c / kParamsPerLink, k = c % kParamsPerLink;
     const double v = values[i];
-    const int b = body_of[l];
+    Body& b = bodies[body_of[l]];
     const Eigen::Isometry3d& T = in_body[l];
     if (c == kMass) {
       pred.total_mass = v;
     } else if (k == kMass) {
-      mass[b] += v;  // Y'(m_l) = [0; p_l x g]
-      pred.first_moment[b] += v * T.translation();
+      b.mass += v;  // Y'(m_l) = [0; p_l x g]
+      b.first_moment += v * T.translation();
     } else {
-      pred.first_moment[b] += v * T.linear().col(k - kMx);
+      b.first_moment += v * T.linear().col(k - kMx);
     }
   }
   // Subtree masses, children after parents: accumulate backwards.
-  for (int b = pred.num_bodies() - 1; b >= 0; --b) {
-    pred.subtree_mass[b] += mass[b];
-    if (b > 0) pred.subtree_mass[pred.parent[b]] += pred.subtree_mass[b];
+  for (int b = static_cast<int>(bodies.size()) - 1; b >= 0; --b) {
+    bodies[b].subtree_mass += bodies[b].mass;
+    if (b > 0) bodies[bodies[b].parent].subtree_mass += bodies[b].subtree_mass;
+  }
+  // Depth-first numbering, then the steps.
+  const std::vector<int> order = depth_first(bodies);
+  std::vector<int> number(bodies.size());
+  for (std::size_t k = 0; k < order.size(); ++k) number[order[k]] = static_cast<int>(k);
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const Body& b = bodies[order[k]];
+    pred.first_moment.push_back(b.first_moment);
+    if (k == 0) continue;
+    PredictorStep s;
+    s.joint = b.joint;
+    s.parent = number[b.parent];
+    s.carry = s.parent == static_cast<int>(k) - 1;
+    s.gathers = s.carry && bodies[b.parent].children.size() > 1;
+    const Eigen::Vector3d constant =
+        b.subtree_mass * b.translation +
+        (s.carry ? bodies[b.parent].first_moment : Eigen::Vector3d::Zero());
+    Eigen::Map<Eigen::Vector3d>(s.constant) = constant;
+    if (!s.carry) Eigen::Map<Eigen::Vector3d>(s.resume) = bodies[order[k - 1]].first_moment;
+    const Eigen::Matrix3d& A = b.rotation;
+    for (int j = 0; j < 3; ++j) Eigen::Map<Eigen::Vector3d>(s.axes[j]) = A.col(j);
+    s.row2[0] = A(2, 0), s.row2[1] = A(2, 1), s.row2[2] = A(2, 1), s.row2[3] = -A(2, 0);
+    s.revolute = b.type == JointType::Revolute ? 1.0 : 0.0;
+    s.slide = b.type == JointType::Prismatic ? b.subtree_mass : 0.0;
+    pred.steps.push_back(s);
   }
   if (base.offset) pred.offset = values.tail<6>();
+  pred.four_lanes = __builtin_cpu_supports("avx2");
+  // The joint stage's lanes, padded to a multiple of four with theta = 0.
+  const std::size_t lanes = (pred.steps.size() + 3) / 4 * 4;
+  pred.lane_joint.assign(lanes, 0);
+  pred.lane_revolute.assign(lanes, 0.0);
+  for (std::size_t k = 0; k < pred.steps.size(); ++k)
+    pred.lane_joint[k] = pred.steps[k].joint, pred.lane_revolute[k] = pred.steps[k].revolute;
   return pred;
 }
 
 namespace {
-// Movable bodies, rounded up to even for the two-lane sincos.
-std::size_t lanes_for(const Predictor& p) { return (p.parent.size() - 1 + 1) / 2 * 2; }
+// Movable bodies, rounded up to a multiple of four for the four-lane sincos.
+std::size_t lanes_for(const Predictor& p) { return (p.steps.size() + 3) / 4 * 4; }
 }  // namespace
 
 PredictorData::PredictorData(const Predictor& predictor)
-    : theta(lanes_for(predictor), 0.0),
-      sin(lanes_for(predictor), 0.0),
+    : sin(lanes_for(predictor), 0.0),
       cos(lanes_for(predictor), 1.0),
-      subtree(predictor.parent.size(), Eigen::Vector3d::Zero()) {}
+      gathered(4 * predictor.first_moment.size(), 0.0) {}
 
 namespace {
 
-// H(q) by the backward recursion of the header.
+using detail::Lanes;
+using detail::Lanes4;
+
+template <class V>
+[[gnu::always_inline]] inline V load(const double* p) {
+  V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+// v in every lane (written lane by lane: V{} + v would add 0, not free).
+template <class V>
+[[gnu::always_inline]] inline V splat(double v) {
+  V r;
+  for (int l = 0; l < static_cast<int>(sizeof(V) / sizeof(double)); ++l) r[l] = v;
+  return r;
+}
+
+// Joint stage: theta_k built in registers (no store-to-load round trip), then
+// their sines and cosines, V's lanes at a time. Lanes past n compute sin 0.
+template <class V>
+[[gnu::always_inline]] inline void joint_stage(const Predictor& pred, PredictorData& data,
+                                               const double* q, Eigen::Index q_stride) {
+  constexpr int kLanes = sizeof(V) / sizeof(double);
+  const int lanes = static_cast<int>(data.sin.size());
+  const int* joint = pred.lane_joint.data();
+  const double* revolute = pred.lane_revolute.data();
+  for (int i = 0; i < lanes; i += kLanes) {
+    V theta, s, c;
+    for (int l = 0; l < kLanes; ++l) theta[l] = revolute[i + l] * q[joint[i + l] * q_stride];
+    detail::sincos_lanes(theta, s, c);
+    std::memcpy(data.sin.data() + i, &s, sizeof s);
+    std::memcpy(data.cos.data() + i, &c, sizeof c);
+  }
+}
+
+// H(q) by the backward recursion of the header, two lanes: rows 0 and 1 of a
+// 3-vector share one register, row 2 is a scalar.
+[[gnu::always_inline]] inline Eigen::Vector3d recursion2(const Predictor& pred, PredictorData& data,
+                                                         const double* q, Eigen::Index q_stride) {
+  const int n = static_cast<int>(pred.steps.size());
+  const PredictorStep* steps = pred.steps.data();
+  const double* sines = data.sin.data();
+  const double* cosines = data.cos.data();
+  double* gathered = data.gathered.data();
+  // S = (xy, z): the partial sum carried along a serial run, from the last body (a leaf).
+  const Eigen::Vector3d& last = pred.first_moment.back();
+  Lanes xy{last.x(), last.y()};
+  double z = last.z();
+  for (int k = n; k >= 1; --k) {
+    const PredictorStep& s = steps[k - 1];
+    const Lanes c = splat<Lanes>(cosines[k - 1]), sn = splat<Lanes>(sines[k - 1]);
+    const double d = s.slide * q[s.joint * q_stride];
+    // Off the chain: B_k's columns b0, b1 (A_k's z column a2) and p = c_k (+ h_p).
+    const Lanes a0 = load<Lanes>(s.axes[0]), a1 = load<Lanes>(s.axes[1]);
+    const Lanes a2 = load<Lanes>(s.axes[2]);
+    const Lanes b0 = a0 * c + a1 * sn, b1 = a1 * c - a0 * sn;
+    const Lanes b_row2 = load<Lanes>(s.row2) * c + load<Lanes>(s.row2 + 2) * sn;
+    const double a22 = s.axes[2][2];
+    Lanes p01 = load<Lanes>(s.constant) + splat<Lanes>(d) * a2;
+    double p2 = s.constant[2] + d * a22;
+    double* g = gathered + 4 * s.parent;
+    if (s.gathers) {  // p's other children, summed earlier; leave zero for the next call
+      p01 += load<Lanes>(g);
+      p2 += g[2];
+      g[0] = g[1] = g[2] = 0.0;
+    }
+    // The chain: (B0 x + B1 y) + (B2 z + p), two additions deep.
+    const Lanes t01 =
+        (b0 * splat<Lanes>(xy[0]) + b1 * splat<Lanes>(xy[1])) + (a2 * splat<Lanes>(z) + p01);
+    const Lanes r2 = b_row2 * xy;
+    const double t2 = (r2[0] + r2[1]) + (a22 * z + p2);
+    if (s.carry) {
+      xy = t01, z = t2;
+    } else {  // a branch joins its parent: gather, and restart at leaf k - 1
+      g[0] += t01[0], g[1] += t01[1], g[2] += t2;
+      xy = load<Lanes>(s.resume), z = s.resume[2];
+    }
+  }
+  return {xy[0], xy[1], z};  // body 1's parent is body 0: the last step carries H
+}
+
+// The same recursion, four lanes: a 3-vector (and a zero) in one register.
+// Every lane computes what recursion2 computes, in the same order.
+[[gnu::always_inline]] inline Eigen::Vector3d recursion4(const Predictor& pred, PredictorData& data,
+                                                         const double* q, Eigen::Index q_stride) {
+  const int n = static_cast<int>(pred.steps.size());
+  const PredictorStep* steps = pred.steps.data();
+  const double* sines = data.sin.data();
+  const double* cosines = data.cos.data();
+  double* gathered = data.gathered.data();
+  const Eigen::Vector3d& last = pred.first_moment.back();
+  Lanes4 S{last.x(), last.y(), last.z(), 0.0};
+  for (int k = n; k >= 1; --k) {
+    const PredictorStep& s = steps[k - 1];
+    const Lanes4 c = splat<Lanes4>(cosines[k - 1]), sn = splat<Lanes4>(sines[k - 1]);
+    const double d = s.slide * q[s.joint * q_stride];
+    const Lanes4 a0 = load<Lanes4>(s.axes[0]), a1 = load<Lanes4>(s.axes[1]);
+    const Lanes4 a2 = load<Lanes4>(s.axes[2]);
+    const Lanes4 b0 = a0 * c + a1 * sn, b1 = a1 * c - a0 * sn;
+    Lanes4 p = load<Lanes4>(s.constant) + splat<Lanes4>(d) * a2;
+    double* g = gathered + 4 * s.parent;
+    if (s.gathers) {
+      p += load<Lanes4>(g);
+      std::memset(g, 0, 4 * sizeof(double));
+    }
+    const Lanes4 t =
+        (b0 * splat<Lanes4>(S[0]) + b1 * splat<Lanes4>(S[1])) + (a2 * splat<Lanes4>(S[2]) + p);
+    if (s.carry) {
+      S = t;
+    } else {
+      const Lanes4 sum = load<Lanes4>(g) + t;
+      std::memcpy(g, &sum, sizeof sum);
+      S = load<Lanes4>(s.resume);
+    }
+  }
+  return {S[0], S[1], S[2]};
+}
+
+Eigen::Vector3d first_moment_sse2(const Predictor& pred, PredictorData& data, const double* q,
+                                  Eigen::Index q_stride) {
+  joint_stage<Lanes>(pred, data, q, q_stride);
+  return recursion2(pred, data, q, q_stride);
+}
+
+[[gnu::target("avx2")]] Eigen::Vector3d first_moment_avx2(const Predictor& pred,
+                                                          PredictorData& data, const double* q,
+                                                          Eigen::Index q_stride) {
+  joint_stage<Lanes4>(pred, data, q, q_stride);
+  return recursion4(pred, data, q, q_stride);
+}
+
 Eigen::Vector3d first_moment(const Predictor& pred, PredictorData& data, const double* q,
                              Eigen::Index q_stride) {
-  const int nb = pred.num_bodies();
-  for (int b = 1; b < nb; ++b) data.theta[b - 1] = pred.revolute[b] * q[pred.joint[b] * q_stride];
-  detail::sincos_many(data.theta.data(), data.sin.data(), data.cos.data(),
-                      static_cast<int>(data.theta.size()));
-  for (int b = 0; b < nb; ++b) data.subtree[b] = pred.first_moment[b];
-  for (int b = nb - 1; b > 0; --b) {
-    const Eigen::Vector3d& S = data.subtree[b];
-    const double c = data.cos[b - 1], s = data.sin[b - 1], m = pred.subtree_mass[b];
-    const Eigen::Vector3d v(c * S.x() - s * S.y(), s * S.x() + c * S.y(),
-                            S.z() + m * pred.prismatic[b] * q[pred.joint[b] * q_stride]);
-    data.subtree[pred.parent[b]] += m * pred.translation[b] + pred.rotation[b] * v;
-  }
-  return data.subtree[0];
+  return pred.four_lanes ? first_moment_avx2(pred, data, q, q_stride)
+                         : first_moment_sse2(pred, data, q, q_stride);
 }
 
 }  // namespace

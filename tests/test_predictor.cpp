@@ -87,6 +87,28 @@ TEST_P(PredictorTest, BatchEqualsSingleCalls) {
   }
 }
 
+// The four-lane (AVX2) path, chosen when the CPU has it, computes every lane
+// as the two-lane (SSE2) path does: the same bits.
+TEST_P(PredictorTest, FourLanesGiveTheSameBitsAsTwo) {
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "this CPU has no AVX2";
+  const Model model = load_urdf(GetParam().urdf);
+  const BaseParameters base = find_base_parameters(model);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n;
+  Eigen::VectorXd values(base.num_unknowns());
+  for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
+  Predictor four = compile_predictor(model, base, values), two = four;
+  four.four_lanes = true;
+  two.four_lanes = false;
+  PredictorData data4(four), data2(two);
+  for (int i = 0; i < 200; ++i) {
+    Eigen::VectorXd q(model.num_joints());
+    for (int j = 0; j < q.size(); ++j) q[j] = 3 * n(rng);
+    const Eigen::Vector3d g(n(rng), n(rng), -9.81);
+    EXPECT_EQ(predict(four, data4, q, g), predict(two, data2, q, g)) << "sample " << i;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Examples, PredictorTest, ::testing::ValuesIn(test::examples()),
                          [](const auto& info) { return info.param.name; });
 

@@ -12,14 +12,18 @@
 // predict() evaluates H by a backward recursion over subtrees, each body's
 // frame turned at compile time so that its joint axis is z:
 //
-//   S_b = h_b + sum_{k child of b} ( M_k t_k + A_k (Rz(theta_k) S_k + M_k d_k e_z) )
-//   H   = S_0
+//   S_b = h_b + sum_{k child of b} ( c_k(q) + B_k(q) S_k ),   H = S_0
+//   B_k = A_k Rz(theta_k) = [A_k,x cos + A_k,y sin,  A_k,y cos - A_k,x sin,  A_k,z]
+//   c_k = M_k t_k + M_k d_k A_k,z
 //
 // with M_k the sum of m over k's subtree, (A_k, t_k) the joint frame of k in
 // its parent's frame, theta_k = q_k for a revolute joint and d_k = q_k for a
-// prismatic one. A rotation about z touches two components; the sines and
-// cosines of all joints are computed together (vectorised); no allocation, no
-// branch on the joint type.
+// prismatic one. B_k and c_k depend on q_k alone, so they are computed off the
+// dependent chain; each step of the chain is one 3x3 product and an addition
+// (12 cycles of latency). Bodies are numbered depth first, so along a serial
+// run the partial sum S stays in registers; it goes through memory only where
+// a branch joins its parent. The sines and cosines of all joints are computed
+// together (two lanes at a time); no allocation, no branch on the joint type.
 //
 // Predictor is immutable and compiled once; PredictorData is the workspace.
 #pragma once
@@ -34,35 +38,48 @@ namespace massid {
 
 using Wrench = Eigen::Matrix<double, 6, 1>;  // fx fy fz mx my mz
 
+// One movable body k of the recursion (bodies numbered depth first, 0 the
+// sensor body; steps are stored for k = 1..n and run from n down to 1).
+struct PredictorStep {
+  int joint = 0;          // index into q
+  int parent = 0;         // parent body p
+  bool carry = false;     // p == k - 1: S_p continues in registers
+  bool gathers = false;   // carry, and p has other children: add their sum, gathered[p]
+  double revolute = 0.0;  // theta = revolute q (1 for a revolute joint, else 0)
+  double slide = 0.0;     // M_k for a prismatic joint, else 0 (c_k's q term)
+  // A_k (parent frame <- body frame, joint axis = z): axes[j] = column j, then 0.
+  double axes[3][4] = {};
+  // Row 2 of A_k as two lane pairs, (A_2x, A_2y) and (A_2y, -A_2x): B_k's row 2.
+  double row2[4] = {};
+  double constant[4] = {};  // M_k t_k, plus h_p when carry (added once, by p's first child)
+  double resume[4] = {};    // not carry: h_{k-1} (body k - 1 is a leaf), where S restarts
+};
+
 struct Predictor {
-  // Movable bodies 1..n in parent-first order (body 0, the sensor body, has
-  // only first_moment[0]). Arrays are indexed by body.
-  std::vector<int> parent;                    // parent body
-  std::vector<int> joint;                     // index into q
-  std::vector<double> revolute;               // 1 for a revolute joint, else 0 (theta = revolute q)
-  std::vector<double> prismatic;              // 1 for a prismatic joint, else 0 (d = prismatic q)
-  std::vector<Eigen::Matrix3d> rotation;      // A_k: parent frame <- body frame (joint axis = z)
-  std::vector<Eigen::Vector3d> translation;   // t_k: joint origin, parent frame
-  std::vector<double> subtree_mass;           // M_k
-  std::vector<Eigen::Vector3d> first_moment;  // h_b, body frame
+  std::vector<PredictorStep> steps;           // [n], steps[k - 1] is body k
+  std::vector<Eigen::Vector3d> first_moment;  // [n + 1] h_b, body frame
+  std::vector<int> lane_joint;                // [n, padded to 4] joint of body k (index k - 1)
+  std::vector<double> lane_revolute;          // [n, padded to 4] revolute of body k, 0 past n
   double total_mass = 0.0;                    // M_t
-  Wrench offset = Wrench::Zero();
+  Wrench offset = Wrench::Zero();             // f_0, m_0 (zero without offsets)
   int num_joints = 0;
-  int num_bodies() const { return static_cast<int>(parent.size()); }
+  bool four_lanes = false;  // AVX2 path (set when the CPU has it); same bits as the SSE2 path
+  int num_bodies() const { return static_cast<int>(first_moment.size()); }
 };
 
 // values: [num_unknowns] base parameters, then the six offsets when base.offset.
 Predictor compile_predictor(const Model& model, const BaseParameters& base,
                             const Eigen::Ref<const Eigen::VectorXd>& values);
 
-// Workspace of predict(), sized once (per body).
+// Workspace of predict(), sized once.
 struct PredictorData {
   explicit PredictorData(const Predictor& predictor);
-  // Joint stage: angles and their sines and cosines of bodies 1.. (index b - 1),
-  // padded to an even length.
-  std::vector<double> theta, sin, cos;
-  // Recursion: S_b, the first moment of body b's subtree in its frame.
-  std::vector<Eigen::Vector3d> subtree;
+  // Joint stage, per movable body k (index k - 1), padded to a multiple of 4:
+  std::vector<double> sin;  // sin theta_k
+  std::vector<double> cos;  // cos theta_k
+  // Recursion stage: [4 (n + 1)] sum of c_k + B_k S_k over the children k of
+  // body b that are not its first child (zero between calls), padded to 4.
+  std::vector<double> gathered;
 };
 
 // Gravity wrench at joint positions q [num_joints] and gravity g (sensor frame).
