@@ -5,11 +5,12 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 
-#include "design_command.hpp"
 #include "bench_command.hpp"
+#include "design_command.hpp"
 #include "emulate_command.hpp"
 #include "massid/atomic_file.hpp"
 #include "massid/base_parameters.hpp"
@@ -20,6 +21,7 @@
 #include "massid/predictor.hpp"
 #include "massid/report.hpp"
 #include "massid/samples.hpp"
+#include "massid/setup_checks.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
 #include "options.hpp"
@@ -86,24 +88,62 @@ int run_simulate(const Common& c, const std::string& plan_path, const std::strin
   return 0;
 }
 
+// A streamed log whose largest residuals are implausible is re-read whole to
+// name its samples when it is at most 64 MB (about 250 000 rows; the dense fit
+// then needs a few hundred MB, and only then).
+bool small_enough_to_name_samples(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  return !ec && size <= (64u << 20);
+}
+
+// The set-up checks' findings (setup_checks.hpp): with an error, every error
+// on its own line and false (exit 2); else the warnings.
+bool report_setup(const std::vector<SetupFinding>& findings) {
+  const bool error = has_error(findings);
+  for (const SetupFinding& f : findings)
+    if (error == (f.severity == SetupFinding::Severity::Error))
+      std::cerr << (error ? "massid: error: " : "massid: warning: ") << f.message << "\n";
+  return !error;
+}
+
 int run_identify(const Common& c, const std::string& data_path, const std::string& out, bool offset,
-                 const IdentifyOptions& opts) {
+                 const IdentifyOptions& opts, bool checks = true) {
   const Model model = c.load();
+  // Before any work: wrong signs, units, frames or columns (the first 100 000
+  // rows of a big file). A joint that never moves is left to the
+  // identifiability diagnosis below, which names it with the fix.
+  SetupCheckOptions sopts;
+  sopts.constant_joints = false;
+  if (checks && !report_setup(check_setup_file(model, data_path, sopts))) return 2;
   BaseParameterOptions bopts;
-  bopts.offset = offset;
+  bopts.offset = offset || opts.drift != Drift::None;  // a drifting offset is an offset
   const BaseParameters base = find_base_parameters(model, bopts);
-  // Streamed from the memory-mapped file in constant memory (streaming.hpp):
-  // the same results as identify() on read_samples of the whole file.
-  const StreamOptions stream;
-  const IdentifyAccumulator acc = accumulate_csv(model, base, data_path, stream);
-  if (acc.gravity_from_force())
+  IdentifySummary summary;
+  const auto in_memory = [&] {
+    const Samples samples = read_samples(model, read_csv(data_path), WrenchColumns::Required);
+    return identify(model, base, samples, opts);
+  };
+  if (opts.robust || opts.drift != Drift::None) {
+    summary = in_memory();  // iterated fits over the loaded samples
+  } else {
+    // Streamed from the memory-mapped file in constant memory (streaming.hpp):
+    // the same results as identify() on read_samples of the whole file.
+    const StreamOptions stream;
+    const IdentifyAccumulator acc = accumulate_csv(model, base, data_path, stream);
+    summary = acc.finish(opts);
+    if (summary.residual_max.hasNaN())  // not proven in the first pass: a second one
+      summary.residual_max = residual_max_csv(model, base, data_path, summary.value, stream);
+    // Implausible residuals: the in-memory fit (the same estimate) names the samples.
+    if (largest_residuals_implausible(summary) && small_enough_to_name_samples(data_path))
+      summary = in_memory();
+  }
+  if (summary.gravity_from_force)
     std::cerr << fmt::format(
         "massid: note: {} has no gx,gy,gz columns: gravity is taken along the measured force "
         "(paper eq. 37), |g| = {} m/s^2\n",
         data_path, kStandardGravity);
-  IdentifySummary summary = acc.finish(opts);
-  if (summary.residual_max.hasNaN())  // not proven in the first pass: a second one
-    summary.residual_max = residual_max_csv(model, base, data_path, summary.value, stream);
+  for (const std::string& w : identify_warnings(summary, data_path)) std::cerr << w;
   write_file_atomically(out, params_json(model, base, &summary));
   std::cout << identify_report(model, base, summary, data_path);
   std::cout << "wrote " << out << "\n";
@@ -158,6 +198,8 @@ int main(int argc, char** argv) {
   std::string plan, data, out, params, offset_text;
   SimulateOptions sim;
   IdentifyOptions idopts;
+  std::string drift_text;
+  bool no_checks = false;
   double sigma_force = 0, sigma_moment = 0;
 
   auto add_sensor = [&](CLI::App* sub) {
@@ -198,6 +240,16 @@ int main(int argc, char** argv) {
   ident->add_flag("--offset", offset, "Estimate the six sensor offsets too");
   ident->add_option("--fixed", common.fixed,
                     "Joint held still in the experiment: JOINT=VALUE (rad or m); repeatable");
+  ident->add_flag("--robust", idopts.robust,
+                  "Find samples with implausible residuals (a bump, a cable), reject them and "
+                  "say which");
+  ident
+      ->add_option("--drift", drift_text,
+                   "Sensor offset drifting: 'linear' in time (column t) or 'per-block' "
+                   "(column block: re-zeroed between blocks); implies --offset")
+      ->check(CLI::IsMember({"linear", "per-block"}));
+  ident->add_flag("--no-checks", no_checks,
+                  "Skip the set-up checks (wrench sign, frame, units, gravity, columns)");
   ident->add_option("--sigma-force", sigma_force, "Force noise sigma, N (default: from residuals)")
       ->check(sign_check(true));
   ident
@@ -239,7 +291,8 @@ int main(int argc, char** argv) {
     if (*ident) {
       if (ident->count("--sigma-force")) idopts.sigma_force = sigma_force;
       if (ident->count("--sigma-moment")) idopts.sigma_moment = sigma_moment;
-      return run_identify(common, data, out, offset, idopts);
+      if (!drift_text.empty()) idopts.drift = parse_drift(drift_text);
+      return run_identify(common, data, out, offset, idopts, !no_checks);
     }
     if (*pred) return run_predict(common.urdf, params, data, out);
     if (*design.app) return run_design(design);

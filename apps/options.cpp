@@ -73,4 +73,10 @@ CLI::Validator sign_check(bool positive) {
       positive ? "POSITIVE" : "NONNEGATIVE");
 }
 
+Drift parse_drift(const std::string& text) {
+  if (text == "linear") return Drift::Linear;
+  if (text == "per-block") return Drift::PerBlock;
+  throw InputError("--drift: '" + text + "' is not linear or per-block");
+}
+
 }  // namespace massid::cli

@@ -3,6 +3,9 @@
 # KDL and MuJoCo anchors in the same binary, and prints one table of figures
 # and ratios (bench/summarize.py). Extra arguments go to massid_bench, e.g.
 # --benchmark_filter=Predict. The raw JSON is kept in $BUILD/bench.json.
+# Last, `massid identify` against the numpy pipeline (bench/numpy_identify.py)
+# on one 300 000-row log (86 MB, about 30 s for numpy), skipped when no python3
+# has numpy.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh
@@ -14,3 +17,29 @@ cmake --build "$BUILD" -j "$(nproc)" --target massid_bench massid >/dev/null
 python3 bench/summarize.py "$BUILD/bench.json"
 echo
 "$BUILD/massid" bench examples/ur_like/ur_like.urdf
+
+echo
+PY=""
+for p in python3 /usr/bin/python3; do
+  if "$p" -c "import numpy" 2>/dev/null; then
+    PY=$p
+    break
+  fi
+done
+if [ -z "$PY" ]; then
+  echo "numpy pipeline: skipped (no python3 with numpy; Debian python3-numpy)"
+  exit 0
+fi
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+URDF=examples/ur_like/ur_like.urdf
+ROWS=300000  # long enough that `massid identify` streams it rather than load it whole
+"$PY" bench/make_log.py "$URDF" examples/ur_like/plan.csv "$ROWS" "$TMP/log.csv" \
+  --massid "$BUILD/massid"
+t0=$(date +%s.%N)
+"$BUILD/massid" identify "$URDF" "$TMP/log.csv" -o "$TMP/params.json" >/dev/null
+t1=$(date +%s.%N)
+echo "identify from CSV, $ROWS rows of ur_like, end to end:"
+awk -v n="$ROWS" -v a="$t0" -v b="$t1" \
+  'BEGIN { printf "  massid identify  %10.3g rows/s\n", n / (b - a) }'
+"$PY" bench/numpy_identify.py "$URDF" "$TMP/log.csv" --params "$TMP/params.json" | sed 's/^/  /'

@@ -4,7 +4,8 @@
 set -euo pipefail
 pkgs=(build-essential cmake libeigen3-dev liburdfdom-dev libtinyxml2-dev nlohmann-json3-dev
       libcli11-dev libfast-float-dev libfmt-dev libgtest-dev libbenchmark-dev
-      libmujoco-dev libqhull-dev libgl-dev liborocos-kdl-dev python3-numpy)
+      libmujoco-dev libqhull-dev libgl-dev liborocos-kdl-dev python3-numpy
+      clang libclang-rt-14-dev)  # clang + its sanitizer and libFuzzer runtimes: scripts/test.sh
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,9 +1,101 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds massid with warnings on, and runs every test.
+# Installs what is missing, builds massid with warnings as errors and runs every
+# test; then builds everything again with clang under AddressSanitizer and
+# UndefinedBehaviorSanitizer, runs the whole suite there, and runs each libFuzzer
+# target for a bounded time. Any test failure, sanitizer report or fuzzer
+# finding fails the script.
+#
+#   BUILD_DIR      the normal build tree             (default build/test)
+#   SANITIZE_DIR   the ASan+UBSan + libFuzzer tree   (default build/sanitize)
+#   FUZZ_SECONDS   run time of each fuzz target, s   (default 30; 0 skips fuzzing)
+#   SANITIZE_CTEST_EXCLUDE  ctest -E regex for the sanitizer stage (default: two volume tests)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/deps.sh
 BUILD=${BUILD_DIR:-build/test}
+SANITIZE=${SANITIZE_DIR:-build/sanitize}
+FUZZ_SECONDS=${FUZZ_SECONDS:-30}
+JOBS=$(nproc)
+
+# Each stage prints its wall time when it ends, and all of them at the end.
+TIMES=()
+stage_name=""
+stage_start=$SECONDS
+stage() {
+  if [ -n "$stage_name" ]; then
+    TIMES+=("$(printf '%5d s  %s' $((SECONDS - stage_start)) "$stage_name")")
+    echo "== $stage_name: $((SECONDS - stage_start)) s"
+  fi
+  stage_name=$1
+  stage_start=$SECONDS
+  [ -z "$stage_name" ] || echo "== $stage_name"
+}
+
+# 1. Debian packages (apt-get only for what is missing).
+stage "dependencies"
+scripts/deps.sh
+
+# 2. The normal build: RelWithDebInfo, warnings as errors.
+stage "build ($BUILD)"
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMASSID_WERROR=ON >/dev/null
-cmake --build "$BUILD" -j "$(nproc)"
-ctest --test-dir "$BUILD" --output-on-failure -j "$(nproc)"
+cmake --build "$BUILD" -j "$JOBS"
+
+# 3. Every test.
+stage "tests ($BUILD)"
+ctest --test-dir "$BUILD" --output-on-failure -j "$JOBS"
+
+# 4. Everything again with clang, ASan + UBSan (-O1, assertions on, UB aborts),
+#    plus the fuzz targets (MASSID_FUZZ also adds libFuzzer's coverage
+#    instrumentation). Without the benchmarks; without massid_alloc_tests,
+#    which interposes malloc (tests/CMakeLists.txt).
+stage "sanitizer build ($SANITIZE)"
+cmake -S . -B "$SANITIZE" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
+  -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DMASSID_FUZZ=ON -DMASSID_BENCH=OFF >/dev/null
+cmake --build "$SANITIZE" -j "$JOBS"
+
+# 5. The whole suite under the sanitizers (leaks included: LeakSanitizer), but
+#    for two volume tests that take 2-3 minutes each there (a 10^5-row CSV
+#    round trip, an exhaustive D-optimal design search): smaller tests run the
+#    same code. SANITIZE_CTEST_EXCLUDE="" runs them too.
+stage "tests under ASan+UBSan ($SANITIZE)"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:check_initialization_order=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+exclude=${SANITIZE_CTEST_EXCLUDE-^(StreamingTest.HundredThousandRowCsvRoundTrip|Design.DOptimalityMaximisesTheLogDeterminant)$}
+ctest --test-dir "$SANITIZE" --output-on-failure -j "$JOBS" ${exclude:+-E "$exclude"}
+
+# 6. Each fuzz target on its seed corpus (fuzz/corpus/NAME) for FUZZ_SECONDS,
+#    all three at once; a crash, sanitizer report, leak, hang (-timeout) or
+#    runaway memory (-rss_limit_mb) fails. New inputs go to a scratch corpus,
+#    the repo's seeds are only read; a finding is saved under
+#    $SANITIZE/fuzz/findings/ to replay with `$SANITIZE/fuzz/fuzz_NAME FILE`.
+if [ "$FUZZ_SECONDS" -gt 0 ]; then
+  stage "fuzzing, ${FUZZ_SECONDS} s per target"
+  findings="$SANITIZE/fuzz/findings"
+  rm -rf "$SANITIZE/fuzz/work"
+  mkdir -p "$findings"
+  pids=()
+  for name in csv params urdf; do
+    mkdir -p "$SANITIZE/fuzz/work/$name"
+    "$SANITIZE/fuzz/fuzz_$name" "$SANITIZE/fuzz/work/$name" "fuzz/corpus/$name" \
+      -max_total_time="$FUZZ_SECONDS" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+      -artifact_prefix="$findings/$name-" >"$SANITIZE/fuzz/$name.log" 2>&1 &
+    pids+=($!)
+  done
+  failed=()
+  for i in 0 1 2; do
+    name=$(echo csv params urdf | cut -d' ' -f$((i + 1)))
+    if wait "${pids[$i]}"; then
+      echo "fuzz_$name: $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' \
+        "$SANITIZE/fuzz/$name.log" | grep -o '[0-9]*$') runs, no finding"
+    else
+      failed+=("$name")
+      echo "fuzz_$name FAILED; the end of its log ($SANITIZE/fuzz/$name.log):"
+      grep -v '^#[0-9]' "$SANITIZE/fuzz/$name.log" | tail -40
+    fi
+  done
+  [ ${#failed[@]} -eq 0 ] || { echo "fuzz targets with findings: ${failed[*]}"; exit 1; }
+fi
+
+stage ""
+echo "== wall time of each stage:"
+printf '%s\n' "${TIMES[@]}"
+echo "== total: ${SECONDS} s"

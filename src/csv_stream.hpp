@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <string_view>
@@ -84,23 +85,68 @@ bool parse_line_slow(std::string_view text, std::size_t line_begin, std::size_t 
 namespace csv_fast {
 
 inline bool blank(char ch) { return ch == ' ' || ch == '\t'; }
+inline bool digit(char ch) { return static_cast<unsigned char>(ch - '0') < 10; }
+
+// A plain decimal "[-]digits[.digits]" of at most 19 digits (how massid and
+// most loggers write numbers) to the double fast_float::from_chars gives: the
+// same steps (Clinger's exact fast path, else Eisel-Lemire) without its
+// general scanning. nullptr for anything else (an exponent, more digits, no
+// digit, the rare inputs Eisel-Lemire cannot round), which from_chars reads.
+inline const char* plain_decimal(const char* p, const char* end, double& out) {
+  using Format = fast_float::binary_format<double>;
+  const bool negative = p < end && *p == '-';
+  p += negative;
+  const char* const first = p;
+  std::uint64_t mantissa = 0;  // wraps past 19 digits, then unused
+  while (p < end && digit(*p)) mantissa = 10 * mantissa + static_cast<unsigned>(*p++ - '0');
+  const int whole = static_cast<int>(p - first);
+  int fraction = 0;
+  if (p < end && *p == '.') {
+    const char* const f = ++p;
+    while (end - p >= 8 && fast_float::is_made_of_eight_digits_fast(p)) {
+      mantissa = mantissa * 100000000 + fast_float::parse_eight_digits_unrolled(p);
+      p += 8;
+    }
+    while (p < end && digit(*p)) mantissa = 10 * mantissa + static_cast<unsigned>(*p++ - '0');
+    fraction = static_cast<int>(p - f);
+  }
+  const int digits = whole + fraction;
+  if (digits == 0 || digits > 19 || (p < end && (*p == 'e' || *p == 'E'))) return nullptr;
+  if (fraction <= -Format::min_exponent_fast_path() &&
+      mantissa <= Format::max_mantissa_fast_path()) {
+    double value = static_cast<double>(mantissa);
+    if (fraction > 0) value = value / Format::exact_power_of_ten(fraction);
+    out = negative ? -value : value;
+    return p;
+  }
+  const fast_float::adjusted_mantissa am = fast_float::compute_float<Format>(-fraction, mantissa);
+  if (am.power2 < 0) return nullptr;
+  fast_float::to_float(negative, am, out);
+  return p;
+}
 
 // 1: a sample, 0: blank or comment, -1: let the slow path decide.
 inline int parse_line(const char* p, const char* le, const SampleColumns& c, double* vals) {
   while (p < le && blank(*p)) ++p;
   if (p == le || *p == '#') return 0;
   const int nc = static_cast<int>(c.target.size());
+  const int* const target = c.target.data();  // (held in registers across the calls)
+  const double* const scale = c.scale.data();
   for (int col = 0; col < nc; ++col) {
     while (p < le && blank(*p)) ++p;
-    const int t = c.target[col];
+    const int t = target[col];
     if (t >= 0) {
       const char* f = p;
       if (f < le && *f == '+') ++f;
       double x;
-      const auto r = fast_float::from_chars(f, le, x);
-      if (r.ec != std::errc() || !std::isfinite(x)) return -1;
-      vals[t] = c.scale[col] == 1.0 ? x : c.scale[col] * x;
-      p = r.ptr;
+      const char* next = plain_decimal(f, le, x);
+      if (!next) {
+        const auto r = fast_float::from_chars(f, le, x);
+        if (r.ec != std::errc() || !std::isfinite(x)) return -1;
+        next = r.ptr;
+      }
+      vals[t] = scale[col] == 1.0 ? x : scale[col] * x;
+      p = next;
       while (p < le && blank(*p)) ++p;
     } else {
       if (p < le && *p == '"') return -1;

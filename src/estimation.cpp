@@ -1,8 +1,11 @@
 #include "massid/estimation.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "massid/base_regressor.hpp"
@@ -43,6 +46,164 @@ double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd
   return s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
 }
 
+namespace {
+
+// Chi-square with 6 degrees of freedom (a sample's six standardised
+// residuals): P(X > x) = exp(-x/2) (1 + x/2 + x^2/8).
+double chi2_6_survival(double x) { return std::exp(-x / 2) * (1 + x / 2 + x * x / 8); }
+
+// The score d = sqrt(X) that a clean sample exceeds with probability p.
+double chi6_quantile(double p) {
+  double lo = 0.0, hi = 2000.0;  // survival(2000) underflows to 0
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (chi2_6_survival(mid) > p ? lo : hi) = mid;
+  }
+  return std::sqrt(0.5 * (lo + hi));
+}
+
+// Drift unknowns: [6N x e] columns beside the base regressor, and their names.
+struct DriftColumns {
+  Eigen::MatrixXd E;
+  std::vector<std::string> names;
+};
+
+DriftColumns drift_columns(const Samples& s, Drift drift) {
+  const int N = s.size();
+  DriftColumns out;
+  if (drift == Drift::Linear) {
+    if (s.time.size() != N)
+      throw InputError(s.source + ": --drift linear needs a t column (time of each sample, s)");
+    const double t_end = s.time.maxCoeff();
+    if (!(t_end > s.time.minCoeff()))
+      throw IdentifiabilityError(s.source +
+                                 ": every sample has the same time t: a drift rate cannot be "
+                                 "estimated; record over time, or identify without --drift");
+    out.E = Eigen::MatrixXd::Zero(6 * N, 6);
+    for (int i = 0; i < N; ++i)
+      for (int k = 0; k < 6; ++k) out.E(6 * i + k, k) = s.time[i] - t_end;  // offset at t_end
+    for (int k = 0; k < 6; ++k)
+      out.names.push_back(std::string("drift_") + kWrenchColumns[k] +
+                          (k < 3 ? " [N/s]" : " [N m/s]"));
+  } else if (drift == Drift::PerBlock) {
+    if (static_cast<int>(s.block.size()) != N)
+      throw InputError(s.source +
+                       ": --drift per-block needs a block column (an integer per sample; the "
+                       "sensor was re-zeroed between blocks)");
+    // Offsets of the other blocks relative to the last sample's block.
+    const int last = s.block.back();
+    std::vector<int> others;
+    for (int b : s.block)
+      if (b != last && std::find(others.begin(), others.end(), b) == others.end())
+        others.push_back(b);
+    out.E = Eigen::MatrixXd::Zero(6 * N, 6 * others.size());
+    for (int i = 0; i < N; ++i) {
+      const auto it = std::find(others.begin(), others.end(), s.block[i]);
+      if (it == others.end()) continue;
+      const int j = static_cast<int>(it - others.begin());
+      for (int k = 0; k < 6; ++k) out.E(6 * i + k, 6 * j + k) = 1.0;
+    }
+    for (int b : others)
+      for (int k = 0; k < 6; ++k)
+        out.names.push_back(fmt::format("{}[block {}] - {}[block {}] [{}]", kWrenchColumns[k], b,
+                                        kWrenchColumns[k], last, k < 3 ? "N" : "N m"));
+  }
+  return out;
+}
+
+// One weighted least-squares solve of M x = y: rows of sample i weighted by
+// sqrt(w_i) / sigma_k (paper eq. 34), columns scaled to unit norm, Householder QR.
+struct Solution {
+  Eigen::VectorXd x, residual;  // residual = y - M x, unweighted
+  Eigen::MatrixXd covariance;   // (M' W M)^-1
+};
+
+Solution weighted_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
+                        const Eigen::Matrix<double, 6, 1>& sigma, const Eigen::VectorXd& w) {
+  const Eigen::Index n = M.cols(), N = w.size();
+  Eigen::VectorXd scale(n);
+  for (Eigen::Index c = 0; c < n; ++c) scale[c] = 1.0 / M.col(c).norm();
+  Eigen::MatrixXd Mw = M * scale.asDiagonal();
+  Eigen::VectorXd yw = y;
+  for (Eigen::Index i = 0; i < N; ++i)
+    for (int k = 0; k < 6; ++k) {
+      const double f = std::sqrt(w[i]) / sigma[k];
+      Mw.row(6 * i + k) *= f;
+      yw[6 * i + k] *= f;
+    }
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(Mw);
+  const Eigen::MatrixXd R = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
+  const Eigen::VectorXd qty = (qr.householderQ().transpose() * yw).head(n);
+  Solution out;
+  out.x = scale.asDiagonal() * R.triangularView<Eigen::Upper>().solve(qty);
+  const Eigen::MatrixXd Rinv =
+      R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(n, n));
+  out.covariance = scale.asDiagonal() * (Rinv * Rinv.transpose()) * scale.asDiagonal();
+  out.residual = y - M * out.x;
+  return out;
+}
+
+// Mean square of the force and of the moment measurements over used samples.
+std::array<double, 2> signal_power(const Eigen::VectorXd& y, const Eigen::VectorXd& w) {
+  std::array<double, 2> p{0.0, 0.0};
+  double used = 0.0;
+  for (Eigen::Index i = 0; i < w.size(); ++i) {
+    if (w[i] <= 0) continue;
+    used += 1;
+    for (int k = 0; k < 6; ++k) p[k / 3] += y[6 * i + k] * y[6 * i + k] / 3.0;
+  }
+  for (double& v : p) v /= std::max(used, 1.0);
+  return p;
+}
+
+// Robust per-axis noise scale: 1.4826 MAD of the residuals of used samples
+// (corrected for the n fitted unknowns), floored at 1e-9 of the signal so that
+// round-off in noise-free data never looks like an outlier.
+Eigen::Matrix<double, 6, 1> robust_sigma(const Eigen::VectorXd& r, const Eigen::VectorXd& w,
+                                         const Eigen::VectorXd& y, Eigen::Index n) {
+  const auto power = signal_power(y, w);
+  Eigen::Matrix<double, 6, 1> sigma;
+  std::vector<double> a;
+  for (int k = 0; k < 6; ++k) {
+    a.clear();
+    for (Eigen::Index i = 0; i < w.size(); ++i)
+      if (w[i] > 0) a.push_back(std::abs(r[6 * i + k]));
+    std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
+    const double rows = 6.0 * static_cast<double>(a.size());
+    const double dof = std::sqrt(rows / std::max(rows - static_cast<double>(n), 1.0));
+    sigma[k] = std::max(1.4826 * a[a.size() / 2] * dof, 1e-9 * std::sqrt(power[k / 3]) + 1e-150);
+  }
+  return sigma;
+}
+
+// Each sample's standardised residual norm d_i.
+Eigen::VectorXd scores(const Eigen::VectorXd& r, const Eigen::Matrix<double, 6, 1>& sigma) {
+  Eigen::VectorXd d(r.size() / 6);
+  for (Eigen::Index i = 0; i < d.size(); ++i)
+    d[i] = (r.segment<6>(6 * i).array() / sigma.array()).matrix().norm();
+  return d;
+}
+
+}  // namespace
+
+double largest_residual_bound(int samples) {
+  const double p = 0.01 / (6.0 * std::max(samples, 1));
+  double lo = 0.0, hi = 40.0;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+bool largest_residuals_implausible(const IdentifySummary& s) {
+  if (!s.sigma_estimated || s.samples == 0) return false;
+  const double bound = largest_residual_bound(s.samples);
+  for (int k = 0; k < 6; ++k)
+    if (s.residual_max[k] > bound * s.sigma[k]) return true;
+  return false;
+}
+
 IdentifySummary identify(const Model& model, const BaseParameters& base, const Samples& samples,
                          const IdentifyOptions& options) {
   if (!samples.has_wrench())
@@ -53,6 +214,8 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
         ": the sensor offsets cannot be estimated when gravity is taken from the measured force "
         "(no gx,gy,gz columns): a force offset would bend the gravity direction. Add gx,gy,gz "
         "columns, or identify without --offset.");
+  if (options.drift != Drift::None && !base.offset)
+    throw InputError(samples.source + ": a drifting offset needs the offsets estimated (--offset)");
 
   const int N = samples.size();
   const int p = base.num_unknowns();
@@ -65,78 +228,125 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
                                " samples give fewer equations than the " + std::to_string(p) +
                                " unknowns; record more poses");
   }
+  // M = [A E]: the base regressor (eq. 33) and the drift columns.
+  const DriftColumns drift = drift_columns(samples, options.drift);
   const IdentifiabilityReport report =
       check_identifiability(model, base, samples, A, options.rank_tolerance);
   if (!report.ok()) throw IdentifiabilityError(report.message);
+
+  const int e = static_cast<int>(drift.E.cols());
+  Eigen::MatrixXd M(6 * N, p + e);
+  M << A, drift.E;
+  if (6 * N < p + e)
+    throw IdentifiabilityError(samples.source + ": too few samples for the drift unknowns");
 
   IdentifySummary out;
   out.samples = N;
   out.gravity_from_force = samples.gravity_from_force;
   out.sigma_estimated = !options.sigma_force || !options.sigma_moment;
+  out.robust = options.robust;
+  out.drift = options.drift;
+  out.outlier_threshold = chi6_quantile(options.outlier_probability / N);
 
-  // Column scaling for a well-conditioned QR; x = S x_s.
-  Eigen::VectorXd scale(p);
-  for (int c = 0; c < p; ++c) scale[c] = 1.0 / A.col(c).norm();
-
-  // Initial per-axis sigma: the user's, else the RMS of the measurement per
-  // axis group (only the ratio matters for the first solve).
+  // Weighted least squares over the samples with w_i = 1, the per-axis noise
+  // re-estimated from the residuals (given by the user, else iterated).
   Eigen::Matrix<double, 6, 1> sigma;
-  for (int k = 0; k < 6; ++k) {
-    const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
-    sigma[k] = user ? *user : 1.0;
-  }
-  const int iterations = out.sigma_estimated ? std::max(1, options.weight_iterations) : 1;
-  Eigen::VectorXd x(p), residual(6 * N);
-  Eigen::MatrixXd Rinv;
-  for (int it = 0; it < iterations; ++it) {
-    Eigen::MatrixXd Aw = A * scale.asDiagonal();
-    Eigen::VectorXd yw = y;
-    for (int i = 0; i < N; ++i)
-      for (int k = 0; k < 6; ++k) {
-        Aw.row(6 * i + k) /= sigma[k];
-        yw[6 * i + k] /= sigma[k];
-      }
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr(Aw);
-    const Eigen::MatrixXd R = qr.matrixQR().topRows(p).triangularView<Eigen::Upper>();
-    const Eigen::VectorXd qty = (qr.householderQ().transpose() * yw).head(p);
-    const Eigen::VectorXd xs = R.triangularView<Eigen::Upper>().solve(qty);
-    x = scale.asDiagonal() * xs;
-    Rinv = R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p));
-    residual = y - A * x;
-    if (!out.sigma_estimated) break;
-    // sigma_k^2 = SSR_k / (N - p/6): the 6N - p degrees of freedom shared over the axes.
-    const double dof = std::max(1.0, N - p / 6.0);
-    double signal[2] = {0.0, 0.0};  // mean square of the force and moment measurements
-    for (int i = 0; i < 6 * N; ++i) signal[(i % 6) / 3] += y[i] * y[i] / (3.0 * N);
+  const auto fit = [&](const Eigen::VectorXd& w) {
     for (int k = 0; k < 6; ++k) {
       const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
-      if (user) continue;
-      double ssr = 0.0;
-      for (int i = 0; i < N; ++i) ssr += residual[6 * i + k] * residual[6 * i + k];
-      // Floor for noise-free data: round-off relative to the group's signal.
-      const double floor = 1e-13 * std::sqrt(signal[k / 3]) + 1e-150;
-      sigma[k] = std::max(std::sqrt(ssr / dof), floor);
+      sigma[k] = user ? *user : 1.0;  // only the ratio matters for the first solve
     }
+    const int iterations = out.sigma_estimated ? std::max(1, options.weight_iterations) : 1;
+    const double used = w.sum();
+    const auto power = signal_power(y, w);
+    Solution sol;
+    for (int it = 0; it < iterations; ++it) {
+      sol = weighted_solve(M, y, sigma, w);
+      if (!out.sigma_estimated) break;
+      // sigma_k^2 = SSR_k / (N - n/6): the 6N - n degrees of freedom shared over the axes.
+      const double dof = std::max(1.0, used - (p + e) / 6.0);
+      for (int k = 0; k < 6; ++k) {
+        const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
+        if (user) continue;
+        double ssr = 0.0;
+        for (int i = 0; i < N; ++i) ssr += w[i] * sol.residual[6 * i + k] * sol.residual[6 * i + k];
+        // Floor for noise-free data: round-off relative to the group's signal.
+        const double floor = 1e-13 * std::sqrt(power[k / 3]) + 1e-150;
+        sigma[k] = std::max(std::sqrt(ssr / dof), floor);
+      }
+    }
+    return sol;
+  };
+
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(N);
+  Solution sol = fit(w);
+  if (options.robust) {
+    // Robust fit from the least-squares start: Huber weights (a convex
+    // problem, 10 steps) then Tukey's biweight with its cut-off at the outlier
+    // threshold (redescending: gross errors get weight 0), MAD scales.
+    const double huber = chi6_quantile(0.1), tukey = out.outlier_threshold;
+    Eigen::VectorXd x_prev = sol.x;
+    for (int it = 0; it < 40; ++it) {
+      const Eigen::Matrix<double, 6, 1> s = robust_sigma(sol.residual, w, y, p + e);
+      const Eigen::VectorXd d = scores(sol.residual, s);
+      for (int i = 0; i < N; ++i) {
+        if (it < 10) {
+          w[i] = d[i] <= huber ? 1.0 : huber / d[i];
+        } else {
+          const double u = d[i] / tukey;
+          w[i] = u < 1.0 ? (1 - u * u) * (1 - u * u) : 0.0;
+        }
+      }
+      sol = weighted_solve(M, y, s, w);
+      if (it >= 10 && (sol.x - x_prev).cwiseAbs().maxCoeff() <=
+                          1e-12 * std::max(1.0, sol.x.cwiseAbs().maxCoeff()))
+        break;
+      x_prev = sol.x;
+    }
+  }
+  // The outlier test on the (robust, or plain) fit's residuals.
+  {
+    const Eigen::VectorXd all = Eigen::VectorXd::Ones(N);
+    const Eigen::Matrix<double, 6, 1> s =
+        robust_sigma(sol.residual, options.robust ? w : all, y, p + e);
+    const Eigen::VectorXd d = scores(sol.residual, s);
+    for (int i = 0; i < N; ++i)
+      if (d[i] > out.outlier_threshold)
+        out.outliers.push_back(
+            {i, i < static_cast<int>(samples.line.size()) ? samples.line[i] : 0, d[i]});
+  }
+  if (options.robust) {
+    // Rejected samples out, every other in with weight 1: plain weighted
+    // least squares, so the covariance and sigma below keep their meaning.
+    w.setOnes();
+    for (const Outlier& o : out.outliers) w[o.sample] = 0.0;
+    if (6 * (N - static_cast<int>(out.outliers.size())) < p + e)
+      throw IdentifiabilityError(samples.source + ": too many samples rejected as outliers");
+    sol = fit(w);
   }
 
-  out.value = x;
+  out.value = sol.x.head(p);
   out.sigma = sigma;
-  out.covariance = scale.asDiagonal() * (Rinv * Rinv.transpose()) * scale.asDiagonal();
+  out.covariance = sol.covariance.topLeftCorner(p, p);
   out.stddev = out.covariance.diagonal().cwiseSqrt();
-  double chi2 = 0.0;
+  out.drift_names = drift.names;
+  out.drift_value = sol.x.tail(e);
+  out.drift_stddev = sol.covariance.diagonal().tail(e).cwiseSqrt();
+  double chi2 = 0.0, used = 0.0;
   out.residual_max.setZero();
-  for (int i = 0; i < N; ++i)
+  out.residual_rms.setZero();
+  for (int i = 0; i < N; ++i) {
+    if (w[i] <= 0) continue;
+    used += 1;
     for (int k = 0; k < 6; ++k) {
-      const double r = residual[6 * i + k];
+      const double r = sol.residual[6 * i + k];
       chi2 += (r / sigma[k]) * (r / sigma[k]);
       out.residual_max[k] = std::max(out.residual_max[k], std::abs(r));
+      out.residual_rms[k] += r * r;
     }
-  for (int k = 0; k < 6; ++k) {
-    double ssr = 0.0;
-    for (int i = 0; i < N; ++i) ssr += residual[6 * i + k] * residual[6 * i + k];
-    out.residual_rms[k] = std::sqrt(ssr / N);
   }
-  out.chi2_per_dof = 6 * N > p ? chi2 / (6 * N - p) : 0.0;
+  out.residual_rms = (out.residual_rms / std::max(used, 1.0)).cwiseSqrt();
+  out.chi2_per_dof = 6 * used > p + e ? chi2 / (6 * used - p - e) : 0.0;
   out.condition_number = moment_condition_number(base, A);
   return out;
 }

@@ -120,7 +120,7 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
     std::string tilt =
         "tilt the platform: record poses with gravity in more directions of the sensor frame";
     if (base.offset)
-      tilt += " (with the offsets estimated, at least three directions not in one plane)";
+      tilt += " (with the offsets estimated, at least three different directions)";
     fix = fix.empty() ? tilt : fix + ", or " + tilt;
   }
   if (fix.empty()) fix = "both move the joints and tilt the platform to more directions";

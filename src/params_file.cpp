@@ -4,6 +4,7 @@
 
 #include <Eigen/QR>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -89,6 +90,24 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     j["noise_sigma"] = sigma;
     j["noise_sigma_from"] = s->sigma_estimated ? "residuals" : "user";
     j["chi2_per_dof"] = s->chi2_per_dof;
+    // Outlier test: rejected samples (robust) or suspect ones, by file line.
+    json lines = json::array();
+    for (const Outlier& o : s->outliers) lines.push_back(o.line);
+    j["outliers"] = {{"method", s->robust ? "rejected" : "reported"},
+                     {"threshold", s->outlier_threshold},
+                     {"count", s->outliers.size()},
+                     {"fraction", s->samples ? double(s->outliers.size()) / s->samples : 0.0},
+                     {"lines", lines}};
+    if (s->drift != Drift::None) {
+      json terms = json::array();
+      for (Eigen::Index i = 0; i < s->drift_value.size(); ++i)
+        terms.push_back({{"name", s->drift_names[i]},
+                         {"value", s->drift_value[i]},
+                         {"std", s->drift_stddev[i]}});
+      j["drift"] = {{"model", s->drift == Drift::Linear ? "linear" : "per-block"},
+                    {"offsets_at", s->drift == Drift::Linear ? "end of the log" : "last block"},
+                    {"terms", terms}};
+    }
     json names = json::array();
     for (int i = 0; i < base.num_unknowns(); ++i) names.push_back(base.unknown_name(i));
     json cov = json::array();
@@ -122,7 +141,14 @@ ParamsFile read_params(const std::string& path) {
       for (const auto& [name, value] : j["held_joints"].items())
         p.held.emplace_back(name, value.get<double>());
     p.gravity_from = j.value("gravity_from", "columns");
-    p.samples = j.value("samples", 0);
+    if (j.contains("samples")) {
+      // Any JSON number converts to int, and a double beyond int's range is UB.
+      const json& n = j["samples"];
+      if (!n.is_number_integer() || n.get<long long>() < 0 ||
+          n.get<long long>() > std::numeric_limits<int>::max())
+        fail(fmt::format("\"samples\" must be a non-negative integer, not {}", n.dump()));
+      p.samples = n.get<int>();
+    }
     p.total_mass = j.at("total_mass").get<double>();
     for (const auto& e : j.at("base_parameters")) {
       ParamsFile::Entry entry;

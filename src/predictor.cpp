@@ -299,7 +299,8 @@ void predict(const Predictor& pred, PredictorData& data, const Eigen::Ref<const 
              Eigen::Ref<Eigen::MatrixXd> wrenches) {
   for (Eigen::Index i = 0; i < q.rows(); ++i) {
     const Eigen::Vector3d g = gravity.row(i).transpose();
-    const Eigen::Vector3d H = first_moment(pred, data, q.data() + i, q.outerStride());
+    const Eigen::Vector3d H =
+        first_moment(pred, data, q.cols() > 0 ? q.data() + i : nullptr, q.outerStride());
     wrenches.row(i).head<3>() = (pred.total_mass * g + pred.offset.head<3>()).transpose();
     wrenches.row(i).tail<3>() = (H.cross(g) + pred.offset.tail<3>()).transpose();
   }

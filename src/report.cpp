@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "massid/samples.hpp"
@@ -61,6 +62,66 @@ std::string model_report(const Model& model, const BaseParameters& base) {
   return out;
 }
 
+namespace {
+
+// "12, 57, 88 and 4 more" (file lines of the worst samples first).
+std::string line_list(std::vector<Outlier> o, std::size_t shown = 10) {
+  std::sort(o.begin(), o.end(),
+            [](const Outlier& a, const Outlier& b) { return a.score > b.score; });
+  std::string out;
+  for (std::size_t i = 0; i < std::min(shown, o.size()); ++i)
+    out += fmt::format("{}{} (d = {:.3g})", i ? ", " : "", o[i].line, o[i].score);
+  if (o.size() > shown) out += fmt::format(" and {} more", o.size() - shown);
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::string& source) {
+  std::vector<std::string> out;
+  if (s.condition_number > 1e6)
+    out.push_back(fmt::format(
+        "massid: warning: {}: the plan hardly determines some parameters (condition number "
+        "{:.3g}, eq. 36): their standard deviations are large and any error in the data is "
+        "magnified; record more varied poses and tilts (massid design)\n",
+        source, s.condition_number));
+  if (s.outliers.empty() && !s.robust && largest_residuals_implausible(s)) {
+    // A long streamed log: no per-sample residuals, only the largest per axis.
+    const double bound = largest_residual_bound(s.samples);
+    for (int k = 0; k < 6; ++k)
+      if (s.residual_max[k] > bound * s.sigma[k])
+        out.push_back(fmt::format(
+            "massid: warning: {}: the largest {} residual is {:.3g} sigma (above {:.3g}, expected "
+            "with probability 1 %): some samples are implausible for the fitted noise; run "
+            "identify with --robust to find them by line and reject them\n",
+            source, kWrenchColumns[k], s.residual_max[k] / s.sigma[k], bound));
+    return out;
+  }
+  if (s.outliers.empty()) return out;
+  const double fraction = static_cast<double>(s.outliers.size()) / std::max(s.samples, 1);
+  if (s.robust) {
+    out.push_back(fmt::format(
+        "massid: warning: {}: rejected {} of {} samples ({:.2g} %) as outliers (standardised "
+        "residual d above {:.3g}), at lines {}\n",
+        source, s.outliers.size(), s.samples, 100 * fraction, s.outlier_threshold,
+        line_list(s.outliers)));
+    if (fraction > 0.2)
+      out.push_back(fmt::format(
+          "massid: warning: {}: more than 20 % of the samples rejected: the model or the set-up "
+          "is likely wrong (sign, frame, units, sensor link, a drifting offset: see --drift), "
+          "not the samples\n",
+          source));
+  } else {
+    out.push_back(fmt::format(
+        "massid: warning: {}: {} sample(s) have residuals implausible for the fitted noise "
+        "(standardised residual d above {:.3g}, expected with probability 1 %): lines {}. They "
+        "bias the estimate: check them (a bump, a cable, a transient), or run identify with "
+        "--robust to reject them\n",
+        source, s.outliers.size(), s.outlier_threshold, line_list(s.outliers)));
+  }
+  return out;
+}
+
 std::string identify_report(const Model& model, const BaseParameters& base,
                             const IdentifySummary& s, const std::string& data_source) {
   std::string out = fmt::format(
@@ -86,6 +147,12 @@ std::string identify_report(const Model& model, const BaseParameters& base,
          "):";
   for (int k = 0; k < 6; ++k) out += fmt::format("  {} {:.3g}", kWrenchColumns[k], s.sigma[k]);
   out += fmt::format("\nchi2 per degree of freedom: {:.3g}\n", s.chi2_per_dof);
+  for (Eigen::Index i = 0; i < s.drift_value.size(); ++i)
+    out += fmt::format("  {:<34} {:>14.6g} +- {:.2g}\n", s.drift_names[i], s.drift_value[i],
+                       s.drift_stddev[i]);
+  if (s.robust)
+    out += fmt::format("robust: {} of {} samples rejected (d > {:.3g})\n", s.outliers.size(),
+                       s.samples, s.outlier_threshold);
   return out;
 }
 

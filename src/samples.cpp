@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 
 #include "massid/errors.hpp"
@@ -72,6 +73,22 @@ Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wr
     s.wrench.resize(N, 6);
     for (int r = 0; r < N; ++r)
       for (int k = 0; k < 6; ++k) s.wrench(r, k) = table.number(r, w[k]);
+  }
+
+  if (const int c = table.find("t"); c >= 0) {
+    s.time.resize(N);
+    for (int r = 0; r < N; ++r) s.time[r] = table.number(r, c);
+  }
+  if (const int c = table.find("block"); c >= 0) {
+    s.block.resize(N);
+    for (int r = 0; r < N; ++r) {
+      const double b = table.number(r, c);
+      if (b != std::round(b) || std::abs(b) > 1e9)
+        throw InputError(fmt::format("{}:{}:{}: column 'block': '{}' is not an integer",
+                                     table.source, table.line[r], table.column_offset[r][c],
+                                     table.rows[r][c]));
+      s.block[r] = static_cast<int>(b);
+    }
   }
 
   const std::vector<int> g = column_group(table, {"gx", "gy", "gz"});

@@ -14,10 +14,12 @@
 #include <thread>
 
 #include "csv_stream.hpp"
+#include "householder_fold.hpp"
 #include "massid/errors.hpp"
 #include "massid/identifiability.hpp"
 #include "massid/regressor.hpp"
 #include "massid/streaming.hpp"
+#include "stream_regressor.hpp"
 
 namespace massid {
 namespace detail {
@@ -26,155 +28,6 @@ namespace detail {
 // 16 KB per moment axis: the chunk stays in L1/L2 while it is reduced, and the
 // per-chunk overhead (the n x n triangle's rows) is small against 2 m n^2.
 constexpr int kChunk = 128;
-
-// --------------------------------------------------------------- the kernel
-
-// Dot product with four partial sums (fixed order: deterministic, and
-// vectorisable without -ffast-math).
-inline double dot(const double* a, const double* b, int m) {
-  double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-  int i = 0;
-  for (; i + 4 <= m; i += 4) {
-    s0 += a[i] * b[i];
-    s1 += a[i + 1] * b[i + 1];
-    s2 += a[i + 2] * b[i + 2];
-    s3 += a[i + 3] * b[i + 3];
-  }
-  for (; i < m; ++i) s0 += a[i] * b[i];
-  return (s0 + s1) + (s2 + s3);
-}
-
-// R <- the triangular factor of the QR of [R; B]: R n x n upper triangular,
-// column-major; B m x n column-major with leading dimension ldb (destroyed).
-// Householder reflections as LAPACK's dlarfg; the reflector of column k is
-// [e_k; v], so it touches row k of R and the m rows of B only: 2 m n^2 flops.
-void fold_rows(double* R, int n, double* B, int m, int ldb) {
-  if (m == 0) return;
-  for (int k = 0; k < n; ++k) {
-    double* v = B + static_cast<std::ptrdiff_t>(k) * ldb;
-    const double s = dot(v, v, m);
-    if (s == 0.0) continue;  // nothing below the diagonal: H = I
-    const double x0 = R[k + k * n];
-    const double norm = std::sqrt(x0 * x0 + s);
-    const double beta = x0 >= 0 ? -norm : norm;
-    const double tau = (beta - x0) / beta;
-    const double inv = 1.0 / (x0 - beta);
-    for (int i = 0; i < m; ++i) v[i] *= inv;
-    R[k + k * n] = beta;
-    for (int j = k + 1; j < n; ++j) {
-      double* b = B + static_cast<std::ptrdiff_t>(j) * ldb;
-      const double tw = tau * (R[k + j * n] + dot(v, b, m));
-      R[k + j * n] -= tw;
-      for (int i = 0; i < m; ++i) b[i] -= tw * v[i];
-    }
-  }
-}
-
-// --------------------------------------------------------------- regressor
-
-// The moment rows of the base regressor for the mass unknowns other than M
-// (the only nonzero entries besides M's force rows g, see base_regressor.cpp:
-// Y'(m_l) = [0; p_l x g], Y'(h_l)_k = [0; (R_l e_k) x g]), from forward
-// kinematics with rotations about coordinate axes done on two columns. Equal
-// to base_regressor to round-off (tests compare the identification results).
-struct FastRegressor {
-  struct Step {
-    int parent = 0;
-    Eigen::Matrix3d Ro;
-    Eigen::Vector3d to;
-    JointType type = JointType::Fixed;
-    Eigen::Vector3d axis;
-    int joint = -1;
-    int axis_kind = 0;  // 0 general, 1 + i: +-unit axis i
-    double axis_sign = 1.0;
-  };
-  struct Col {
-    int link = 0;
-    int kind = 0;  // 0: mass (p_l x g); 1..3: first moment (R_l e_{kind-1} x g)
-  };
-  std::vector<Step> steps;  // links 1.. in order (parents first)
-  std::vector<Eigen::Matrix3d> R;
-  std::vector<Eigen::Vector3d> p;
-  std::vector<Col> cols;     // [K] the moment mass unknowns in unknown order
-  std::vector<int> unknown;  // [K] their unknown indices
-  int num_joints = 0;
-  std::vector<double> scratch;  // [3 K] for users of compute()
-
-  FastRegressor(const Model& model, const BaseParameters& base)
-      : R(model.links.size(), Eigen::Matrix3d::Identity()),
-        p(model.links.size(), Eigen::Vector3d::Zero()),
-        num_joints(model.num_joints()) {
-    for (int l = 1; l < model.num_links(); ++l) {
-      const Link& link = model.links[l];
-      Step s;
-      s.parent = link.parent;
-      s.Ro = link.origin.linear();
-      s.to = link.origin.translation();
-      s.type = link.type;
-      s.axis = link.axis;
-      s.joint = link.joint_index;
-      for (int i = 0; i < 3; ++i)
-        if (std::abs(link.axis[i]) == 1.0 && link.axis.squaredNorm() == 1.0) {
-          s.axis_kind = 1 + i;
-          s.axis_sign = link.axis[i];
-        }
-      steps.push_back(s);
-    }
-    for (int i = 0; i < base.num_mass(); ++i) {
-      if (i == base.total_mass) continue;
-      const int c = base.column[i];
-      cols.push_back({c / kParamsPerLink, c % kParamsPerLink});
-      unknown.push_back(i);
-    }
-    scratch.resize(3 * cols.size());
-  }
-
-  int size() const { return static_cast<int>(cols.size()); }
-
-  // out[a * K + i]: moment row a (mx, my, mz) of moment mass unknown i.
-  void compute(const double* q, const double* gp, double* out) {
-    for (size_t si = 0; si < steps.size(); ++si) {
-      const Step& s = steps[si];
-      const int l = static_cast<int>(si) + 1;
-      const Eigen::Matrix3d& Rp = R[s.parent];
-      Eigen::Matrix3d M = Rp * s.Ro;
-      Eigen::Vector3d pos = p[s.parent] + Rp * s.to;
-      if (s.type == JointType::Revolute) {
-        const double angle = s.axis_sign * q[s.joint];
-        const double sn = std::sin(angle), cs = std::cos(angle);
-        if (s.axis_kind == 3) {
-          const Eigen::Vector3d c0 = M.col(0), c1 = M.col(1);
-          M.col(0) = cs * c0 + sn * c1;
-          M.col(1) = cs * c1 - sn * c0;
-        } else if (s.axis_kind == 1) {
-          const Eigen::Vector3d c1 = M.col(1), c2 = M.col(2);
-          M.col(1) = cs * c1 + sn * c2;
-          M.col(2) = cs * c2 - sn * c1;
-        } else if (s.axis_kind == 2) {
-          const Eigen::Vector3d c0 = M.col(0), c2 = M.col(2);
-          M.col(0) = cs * c0 - sn * c2;
-          M.col(2) = cs * c2 + sn * c0;
-        } else {
-          M = M * Eigen::AngleAxisd(q[s.joint], s.axis).toRotationMatrix();
-        }
-      } else if (s.type == JointType::Prismatic) {
-        pos += M * (q[s.joint] * s.axis);
-      }
-      R[l] = M;
-      p[l] = pos;
-    }
-    const Eigen::Vector3d g(gp[0], gp[1], gp[2]);
-    const int K = size();
-    for (int i = 0; i < K; ++i) {
-      const Col& c = cols[i];
-      const Eigen::Vector3d m =
-          c.kind == kMass ? p[c.link].cross(g) : R[c.link].col(c.kind - 1).cross(g);
-      out[i] = m[0];
-      out[K + i] = m[1];
-      out[2 * K + i] = m[2];
-    }
-  }
-};
 
 // --------------------------------------------------------------- accumulator
 
@@ -188,11 +41,13 @@ struct Axis {
 struct AccumulatorState {
   const Model* model;
   const BaseParameters* base;
-  FastRegressor reg;
+  StreamRegressor reg;
   std::array<Axis, 6> axes;
   int pending = 0;
   long long count = 0;
-  std::vector<double> moment;  // [3 K] scratch
+  // The pending rows' samples, a column of kChunk per value: q (joint j at
+  // j * kChunk), g, w. Their regressor rows are computed a chunk at a time.
+  std::vector<double> qbuf, gbuf, wbuf;
   // The first `keep` samples and the joint ranges, for the identifiability
   // diagnosis (check_identifiability re-tests the data's first max(3p, 30)
   // samples with perturbed poses, and names joints that never move).
@@ -217,16 +72,22 @@ struct AccumulatorState {
   Eigen::VectorXd xhat;
   std::array<std::vector<Candidate>, 6> candidates;
   std::array<double, 6> dropped{}, anorm2{}, admit{};
+  std::vector<double> pred, norm2;  // [kChunk] scratch of track_rows
 
   AccumulatorState(const Model& m, const BaseParameters& b)
-      : model(&m), base(&b), reg(m, b), moment(3 * reg.size()) {
+      : model(&m),
+        base(&b),
+        reg(m, b, kChunk),
+        qbuf(static_cast<size_t>(m.num_joints()) * kChunk),
+        gbuf(3 * kChunk),
+        wbuf(6 * kChunk) {
     const int off = b.offset ? 1 : 0;
     for (int a = 0; a < 6; ++a) {
       Axis& ax = axes[a];
       if (a < 3) {
         ax.unknown.push_back(b.total_mass);
       } else {
-        ax.unknown = reg.unknown;
+        ax.unknown = reg.unknown();
       }
       if (off) ax.unknown.push_back(b.num_mass() + a);
       ax.n = static_cast<int>(ax.unknown.size()) + 1;
@@ -240,34 +101,37 @@ struct AccumulatorState {
     qmax.assign(m.num_joints(), -std::numeric_limits<double>::infinity());
   }
 
+  // Folds the pending rows: their regressor rows (force axes: g, 1, w; moment
+  // axes: the moment rows, 1, w) into the axes' B, then B into R.
   void flush() {
-    for (Axis& ax : axes) fold_rows(ax.R.data(), ax.n, ax.B.data(), pending, kChunk);
+    if (pending == 0) return;
+    const int m = pending, K = reg.size();
+    const bool off = base->offset;
+    for (int a = 0; a < 6; ++a) {
+      Axis& ax = axes[a];
+      double* B = ax.B.data();
+      const double* src = a < 3 ? gbuf.data() + a * kChunk : nullptr;
+      const int first = a < 3 ? 1 : K;  // columns before the offset's
+      for (int r = 0; r < m; ++r) {
+        if (src) B[r] = src[r];
+        if (off) B[first * kChunk + r] = 1.0;
+        B[(ax.n - 1) * kChunk + r] = wbuf[a * kChunk + r];
+      }
+    }
+    double* const out[3] = {axes[3].B.data(), axes[4].B.data(), axes[5].B.data()};
+    reg.compute(m, qbuf.data(), gbuf.data(), kChunk, out, kChunk);
+    if (track) track_rows(m);
+    for (Axis& ax : axes) fold_rows(ax.R.data(), ax.n, ax.B.data(), m, kChunk);
     pending = 0;
   }
 
   void add(const double* q, const double* g, const double* w, int line) {
-    const int K = reg.size();
-    reg.compute(q, g, moment.data());
     const int r = pending;
-    const bool off = base->offset;
-    for (int a = 0; a < 3; ++a) {
-      Axis& ax = axes[a];
-      double* B = ax.B.data();
-      B[r] = g[a];
-      if (off) B[kChunk + r] = 1.0;
-      B[(ax.n - 1) * kChunk + r] = w[a];
-    }
-    for (int a = 0; a < 3; ++a) {
-      Axis& ax = axes[3 + a];
-      double* B = ax.B.data();
-      const double* m = moment.data() + a * K;
-      for (int i = 0; i < K; ++i) B[i * kChunk + r] = m[i];
-      if (off) B[K * kChunk + r] = 1.0;
-      B[(ax.n - 1) * kChunk + r] = w[3 + a];
-    }
-    if (track) track_row(q, g, w);
+    const int nj = reg.num_joints();
+    for (int j = 0; j < nj; ++j) qbuf[j * kChunk + r] = q[j];
+    for (int k = 0; k < 3; ++k) gbuf[k * kChunk + r] = g[k];
+    for (int k = 0; k < 6; ++k) wbuf[k * kChunk + r] = w[k];
     if (++pending == kChunk) flush();
-    const int nj = reg.num_joints;
     if (count < keep) {
       kept_q.insert(kept_q.end(), q, q + nj);
       kept_g.insert(kept_g.end(), g, g + 3);
@@ -278,17 +142,6 @@ struct AccumulatorState {
       qmax[j] = std::max(qmax[j], q[j]);
     }
     ++count;
-  }
-
-  // The six factors with the pending rows folded in (copies).
-  std::array<Eigen::MatrixXd, 6> folded() const {
-    std::array<Eigen::MatrixXd, 6> R;
-    for (int a = 0; a < 6; ++a) {
-      R[a] = axes[a].R;
-      Eigen::MatrixXd B = axes[a].B;
-      fold_rows(R[a].data(), axes[a].n, B.data(), pending, kChunk);
-    }
-    return R;
   }
 
   void track_residuals(const Eigen::VectorXd& estimate) {
@@ -309,40 +162,41 @@ struct AccumulatorState {
     admit[a] = static_cast<int>(c.size()) == kCandidates ? c.back().value : -1.0;
   }
 
-  void track_row(const double* q, const double* g, const double* w) {
-    const int K = reg.size();
+  // The residuals at xhat of the m pending rows, whose regressor rows are in
+  // the axes' B (before folding), in row order.
+  void track_rows(int m) {
+    pred.resize(kChunk);
+    norm2.resize(kChunk);
     const double* x = xhat.data();
-    const int off = base->offset ? base->num_mass() : -1;
+    const int nj = reg.num_joints();
     for (int a = 0; a < 6; ++a) {
-      double pred = 0.0, n2 = 0.0;
-      if (a < 3) {
-        pred = g[a] * x[base->total_mass];
-        n2 = g[a] * g[a];
-      } else {
-        const double* m = moment.data() + (a - 3) * K;
-        for (int i = 0; i < K; ++i) {
-          pred += m[i] * x[reg.unknown[i]];
-          n2 += m[i] * m[i];
+      // pred = A_a xhat, norm2 = |row of A_a|^2, column by column (over rows r).
+      const Axis& ax = axes[a];
+      for (int r = 0; r < m; ++r) pred[r] = norm2[r] = 0.0;
+      for (int c = 0; c + 1 < ax.n; ++c) {
+        const double* col = ax.B.data() + c * kChunk;
+        const double xc = x[ax.unknown[c]];
+        for (int r = 0; r < m; ++r) {
+          pred[r] += col[r] * xc;
+          norm2[r] += col[r] * col[r];
         }
       }
-      if (off >= 0) {
-        pred += x[off + a];
-        n2 += 1.0;
+      const double* y = ax.B.data() + (ax.n - 1) * kChunk;
+      for (int r = 0; r < m; ++r) {
+        anorm2[a] = std::max(anorm2[a], norm2[r]);
+        const double value = std::abs(y[r] - pred[r]);
+        if (value <= admit[a]) {
+          dropped[a] = std::max(dropped[a], value);
+          continue;
+        }
+        Candidate c{value, {}};
+        c.row.resize(nj + 9);
+        for (int j = 0; j < nj; ++j) c.row[j] = qbuf[j * kChunk + r];
+        for (int k = 0; k < 3; ++k) c.row[nj + k] = gbuf[k * kChunk + r];
+        for (int k = 0; k < 6; ++k) c.row[nj + 3 + k] = wbuf[k * kChunk + r];
+        candidates[a].push_back(std::move(c));
+        if (static_cast<int>(candidates[a].size()) >= 2 * kCandidates) prune(a);
       }
-      anorm2[a] = std::max(anorm2[a], n2);
-      const double value = std::abs(w[a] - pred);
-      if (value <= admit[a]) {
-        dropped[a] = std::max(dropped[a], value);
-        continue;
-      }
-      Candidate c{value, {}};
-      const int nj = reg.num_joints;
-      c.row.reserve(nj + 9);
-      c.row.insert(c.row.end(), q, q + nj);
-      c.row.insert(c.row.end(), g, g + 3);
-      c.row.insert(c.row.end(), w, w + 6);
-      candidates[a].push_back(std::move(c));
-      if (static_cast<int>(candidates[a].size()) >= 2 * kCandidates) prune(a);
     }
   }
 
@@ -360,7 +214,7 @@ struct AccumulatorState {
         fold_rows(ax.R.data(), ax.n, B.data(), ax.n, ax.n);
       }
     }
-    const int nj = reg.num_joints;
+    const int nj = reg.num_joints();
     for (size_t i = 0; i < later.kept_line.size() && static_cast<int>(kept_line.size()) < keep;
          ++i) {
       kept_q.insert(kept_q.end(), later.kept_q.begin() + i * nj,
@@ -513,9 +367,11 @@ void IdentifyAccumulator::track_residuals(const Eigen::VectorXd& estimate) {
 }
 
 Eigen::VectorXd IdentifyAccumulator::rough_estimate() const {
-  const AccumulatorState& st = *state_;
+  AccumulatorState st = *state_;  // the pending rows folded in (a copy: this is const)
+  st.flush();
   const int p = st.base->num_unknowns();
-  const std::array<Eigen::MatrixXd, 6> R = st.folded();
+  std::array<Eigen::MatrixXd, 6> R;
+  for (int a = 0; a < 6; ++a) R[a] = st.axes[a].R;
   int rows = 0;
   for (const auto& ax : st.axes) rows += ax.n;
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, p);
@@ -547,7 +403,10 @@ bool IdentifyAccumulator::gravity_from_force() const { return state_->gravity_fr
 const std::string& IdentifyAccumulator::source() const { return state_->source; }
 
 IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) const {
-  const AccumulatorState& st = *state_;
+  // The pending rows folded in (and tracked), on a copy: finish is const.
+  AccumulatorState flushed = *state_;
+  flushed.flush();
+  const AccumulatorState& st = flushed;
   const BaseParameters& base = *st.base;
   const Model& model = *st.model;
   const long long N = st.count;
@@ -565,8 +424,8 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
                                " samples give fewer equations than the " + std::to_string(p) +
                                " unknowns; record more poses");
 
-  // The factors with the rows still pending folded in (on copies: finish is const).
-  const std::array<Eigen::MatrixXd, 6> R = st.folded();
+  std::array<Eigen::MatrixXd, 6> R;
+  for (int a = 0; a < 6; ++a) R[a] = st.axes[a].R;
 
   // G: the six R_a over the unknowns, stacked; G^T G = A^T A.
   int rows = 0;
@@ -738,39 +597,82 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
 
 // --------------------------------------------------------------- ResidualMax
 
+namespace detail {
+
+// ResidualMax's samples are buffered like the accumulator's and evaluated a
+// chunk at a time (StreamRegressor is a batch kernel).
+struct ResidualMaxState {
+  StreamRegressor reg;
+  Eigen::VectorXd value;
+  Vector6d max = Vector6d::Zero();
+  int total_mass = 0;
+  int offset = -1;  // first offset unknown, -1 without offsets
+  int pending = 0;
+  std::vector<double> qbuf, gbuf, wbuf, moment;  // [values x kChunk], moment [3 K x kChunk]
+
+  ResidualMaxState(const Model& model, const BaseParameters& base, const Eigen::VectorXd& x)
+      : reg(model, base, kChunk),
+        value(x),
+        total_mass(base.total_mass),
+        offset(base.offset ? base.num_mass() : -1),
+        qbuf(static_cast<size_t>(model.num_joints()) * kChunk),
+        gbuf(3 * kChunk),
+        wbuf(6 * kChunk),
+        moment(3 * static_cast<size_t>(reg.size()) * kChunk) {}
+
+  void flush() {
+    if (pending == 0) return;
+    const int m = pending, K = reg.size();
+    double* const out[3] = {moment.data(), moment.data() + static_cast<size_t>(K) * kChunk,
+                            moment.data() + 2 * static_cast<size_t>(K) * kChunk};
+    reg.compute(m, qbuf.data(), gbuf.data(), kChunk, out, kChunk);
+    const double* x = value.data();
+    for (int r = 0; r < m; ++r) {
+      for (int a = 0; a < 3; ++a) {
+        double pred = gbuf[a * kChunk + r] * x[total_mass];
+        if (offset >= 0) pred += x[offset + a];
+        max[a] = std::max(max[a], std::abs(wbuf[a * kChunk + r] - pred));
+      }
+      for (int a = 0; a < 3; ++a) {
+        const double* mr = out[a] + r;
+        double pred = 0.0;
+        for (int i = 0; i < K; ++i) pred += mr[i * kChunk] * x[reg.unknown()[i]];
+        if (offset >= 0) pred += x[offset + 3 + a];
+        max[3 + a] = std::max(max[3 + a], std::abs(wbuf[(3 + a) * kChunk + r] - pred));
+      }
+    }
+    pending = 0;
+  }
+};
+
+}  // namespace detail
+
 ResidualMax::ResidualMax(const Model& model, const BaseParameters& base,
                          const Eigen::VectorXd& value)
-    : reg_(std::make_unique<detail::FastRegressor>(model, base)), value_(value) {
-  max_.setZero();
-  // M and the offsets, found by position.
-  total_mass_ = base.total_mass;
-  offset_ = base.offset ? base.num_mass() : -1;
-}
+    : state_(std::make_unique<detail::ResidualMaxState>(model, base, value)) {}
 ResidualMax::~ResidualMax() = default;
 ResidualMax::ResidualMax(ResidualMax&&) noexcept = default;
 
 void ResidualMax::add(const double* q, const double* gravity, const double* wrench) {
-  detail::FastRegressor& reg = *reg_;
-  const int K = reg.size();
-  reg.compute(q, gravity, reg.scratch.data());
-  const double* x = value_.data();
-  for (int a = 0; a < 3; ++a) {
-    double pred = gravity[a] * x[total_mass_];
-    if (offset_ >= 0) pred += x[offset_ + a];
-    max_[a] = std::max(max_[a], std::abs(wrench[a] - pred));
-  }
-  for (int a = 0; a < 3; ++a) {
-    const double* m = reg.scratch.data() + a * K;
-    double pred = 0.0;
-    for (int i = 0; i < K; ++i) pred += m[i] * x[reg.unknown[i]];
-    if (offset_ >= 0) pred += x[offset_ + 3 + a];
-    max_[3 + a] = std::max(max_[3 + a], std::abs(wrench[3 + a] - pred));
-  }
+  detail::ResidualMaxState& st = *state_;
+  const int r = st.pending, nj = st.reg.num_joints();
+  for (int j = 0; j < nj; ++j) st.qbuf[j * detail::kChunk + r] = q[j];
+  for (int k = 0; k < 3; ++k) st.gbuf[k * detail::kChunk + r] = gravity[k];
+  for (int k = 0; k < 6; ++k) st.wbuf[k * detail::kChunk + r] = wrench[k];
+  if (++st.pending == detail::kChunk) st.flush();
 }
 
-void ResidualMax::merge(const ResidualMax& other) { max_ = max_.cwiseMax(other.max_); }
+void ResidualMax::merge(const ResidualMax& other) {
+  other.state_->flush();
+  state_->flush();
+  state_->max = state_->max.cwiseMax(other.state_->max);
+}
 
-Eigen::Matrix<double, 6, 1> ResidualMax::max() const { return max_; }
+// (Evaluates the samples still buffered: logically const.)
+Eigen::Matrix<double, 6, 1> ResidualMax::max() const {
+  state_->flush();
+  return state_->max;
+}
 
 // --------------------------------------------------------------- drivers
 

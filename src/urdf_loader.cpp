@@ -10,7 +10,9 @@
 #include <cmath>
 #include <fstream>
 #include <locale>
+#include <map>
 #include <sstream>
+#include <string_view>
 
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
@@ -85,6 +87,103 @@ void check_inertial(const tinyxml2::XMLDocument& doc, const std::string& source,
   }
 }
 
+// urdfdom accepts a link that is the child of two joints (its subtree would be
+// measured twice) and a joint whose child is its own ancestor (a loop cut off
+// from the root: its links silently vanish from the model, and urdfdom leaks
+// them through the cycle of shared pointers). A URDF is a tree: checked here,
+// before urdfdom sees the file.
+void check_tree(const tinyxml2::XMLDocument& doc, const std::string& source) {
+  struct Edge {
+    std::string parent, joint;
+    int line;
+  };
+  std::map<std::string, Edge> parent_of;  // child link -> its joint
+  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  auto link_of = [](const tinyxml2::XMLElement* joint, const char* tag) -> const char* {
+    const tinyxml2::XMLElement* e = joint->FirstChildElement(tag);
+    return e ? e->Attribute("link") : nullptr;
+  };
+  for (auto* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const char* name = j->Attribute("name");
+    const char* parent = link_of(j, "parent");
+    const char* child = link_of(j, "child");
+    if (!name || !parent || !child) continue;  // urdfdom names what is missing
+    const auto [it, inserted] = parent_of.emplace(child, Edge{parent, name, j->GetLineNum()});
+    if (!inserted)
+      throw InputError(fmt::format(
+          "{}:{}: link '{}' is the child of two joints, '{}' (line {}) and '{}'; a URDF is a tree",
+          source, j->GetLineNum(), child, it->second.joint, it->second.line, name));
+  }
+  // Walk up from every link; meeting a link this same walk already passed is a loop.
+  std::map<std::string, int> walk_of;  // link -> the walk that reached it first
+  int walk = 0;
+  for (const auto& entry : parent_of) {
+    ++walk;
+    std::string at = entry.first;
+    while (true) {
+      const auto [seen, fresh] = walk_of.emplace(at, walk);
+      if (!fresh) {
+        if (seen->second != walk) break;  // joins a path already checked
+        const Edge& edge = parent_of.at(at);
+        throw InputError(
+            fmt::format("{}:{}: joint '{}' closes a loop: link '{}' is its own ancestor; a URDF "
+                        "is a tree",
+                        source, edge.line, edge.joint, at));
+      }
+      const auto up = parent_of.find(at);
+      if (up == parent_of.end()) break;
+      at = up->second.parent;
+    }
+  }
+}
+
+// True when s is well-formed UTF-8 (no overlong forms, surrogates or code
+// points above U+10FFFF).
+bool valid_utf8(std::string_view s) {
+  size_t i = 0;
+  while (i < s.size()) {
+    const auto b = static_cast<unsigned char>(s[i]);
+    int more = 0;
+    unsigned lo = 0x80, hi = 0xBF;  // range of the first continuation byte
+    if (b < 0x80) {
+      ++i;
+      continue;
+    } else if (b >= 0xC2 && b <= 0xDF) {
+      more = 1;
+    } else if (b >= 0xE0 && b <= 0xEF) {
+      more = 2;
+      if (b == 0xE0) lo = 0xA0;
+      if (b == 0xED) hi = 0x9F;
+    } else if (b >= 0xF0 && b <= 0xF4) {
+      more = 3;
+      if (b == 0xF0) lo = 0x90;
+      if (b == 0xF4) hi = 0x8F;
+    } else {
+      return false;
+    }
+    if (i + more >= s.size()) return false;  // truncated sequence
+    for (int k = 1; k <= more; ++k) {
+      const auto c = static_cast<unsigned char>(s[i + k]);
+      if (c < (k == 1 ? lo : 0x80) || c > (k == 1 ? hi : 0xBF)) return false;
+    }
+    i += more + 1;
+  }
+  return true;
+}
+
+// Names reach JSON output (params files), which must be UTF-8.
+void check_name(const tinyxml2::XMLDocument& doc, const std::string& source, const char* tag,
+                const std::string& name) {
+  if (valid_utf8(name)) return;
+  std::string shown;
+  for (const char ch : name) {
+    const auto b = static_cast<unsigned char>(ch);
+    shown += b < 0x80 ? std::string(1, ch) : fmt::format("\\x{:02X}", b);
+  }
+  throw InputError(fmt::format("{}:{}: {} name '{}' is not UTF-8 text", source,
+                               element_line(doc, tag, name), tag, shown));
+}
+
 Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() =
@@ -110,6 +209,7 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   }
   if (!doc.FirstChildElement("robot"))
     throw InputError(fmt::format("{}:1: not a URDF: no <robot> element", source));
+  check_tree(doc, source);
 
   CaptureLog capture;
   console_bridge::useOutputHandler(&capture);
@@ -148,6 +248,7 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   while (!stack.empty()) {
     Pending cur = stack.back();
     stack.pop_back();
+    check_name(doc, source, "link", cur.link->name);
     Link link;
     link.name = cur.link->name;
     link.parent = cur.parent;
@@ -169,6 +270,7 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
     if (cur.parent >= 0) {
       const urdf::JointConstSharedPtr j = cur.link->parent_joint;
       const int line = element_line(doc, "joint", j->name);
+      check_name(doc, source, "joint", j->name);
       link.joint = j->name;
       link.origin = to_isometry(j->parent_to_joint_origin_transform);
       if (j->mimic)

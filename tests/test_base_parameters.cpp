@@ -161,5 +161,15 @@ TEST(Expression, FormatsSignsAndCoefficients) {
   EXPECT_EQ(format_expression(model, {}), "0");
 }
 
+TEST(BaseParameters, OneLinkRobot) {
+  // No dependent parameters: the QR solve has an empty right-hand side.
+  const Model model = load_urdf_string(
+      "<robot name=\"r\"><link name=\"sensor\"><inertial><mass value=\"1\"/>"
+      "<origin xyz=\"0 0 0.1\"/></inertial></link></robot>");
+  const BaseParameters base = find_base_parameters(model);
+  EXPECT_EQ(base.num_mass(), 4);  // m, mx, my, mz of the one link
+  EXPECT_EQ(base.params.back().name, "M");
+}
+
 }  // namespace
 }  // namespace massid

@@ -205,5 +205,18 @@ TEST(Estimation, LevelOnlyDataNeedsATilt) {
   EXPECT_NE(msg.find("tilt the platform"), std::string::npos) << msg;
 }
 
+TEST(Estimation, UndeterminedParametersOfARobotWithoutJoints) {
+  // The diagnosis of a robot without joints (N x 0 joint matrix; fuzz_csv
+  // reached it first).
+  const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/wrist_tool/wrist_tool.urdf");
+  ASSERT_EQ(model.num_joints(), 0);
+  const BaseParameters base = find_base_parameters(model);
+  Samples s = test::load_plan(model, MASSID_SOURCE_DIR "/examples/wrist_tool/plan.csv");
+  for (int i = 0; i < s.size(); ++i) s.gravity.row(i) << 0, 0, kStandardGravity;
+  s.wrench = simulate_wrenches(model, s);
+  const std::string msg = identifiability_message(model, base, s);
+  EXPECT_NE(msg.find("tilt the platform"), std::string::npos) << msg;
+}
+
 }  // namespace
 }  // namespace massid

@@ -117,5 +117,43 @@ TEST(ParamsFile, RoundTripsThroughJson) {
   }
 }
 
+std::string params_error(const std::string& text) {
+  const fs::path path = fs::temp_directory_path() / "massid_params_error.json";
+  write_file_atomically(path.string(), text);
+  std::string what = "no error";
+  try {
+    read_params(path.string());
+  } catch (const InputError& e) {
+    what = e.what();
+    what.replace(0, path.string().size(), "f.json");
+  }
+  fs::remove(path);
+  return what;
+}
+
+TEST(ParamsFile, NumberTooLargeForADoubleIsMalformedJsonWithItsPosition) {
+  // Regression (found by fuzz_params): nlohmann reports the overflow as
+  // out_of_range, which escaped as an internal error without a position.
+  EXPECT_EQ(params_error("{\"format\": \"massid-params-1\",\n \"total_mass\": 1e400}"),
+            "f.json:2:20: malformed JSON: number overflow parsing '1e400'");
+  EXPECT_EQ(params_error("{\"format\": \"massid-params-1\",\n \"total_mass\": 1e400"),
+            "f.json:2:20: malformed JSON: number overflow parsing '1e400'");
+}
+
+TEST(ParamsFile, SampleCountMustBeANonNegativeInt) {
+  // Regression (found by fuzz_params): a double out of int's range was cast to
+  // int (UB); a fraction was silently truncated.
+  const std::string head =
+      "{\"format\": \"massid-params-1\", \"sensor_link\": \"s\", \"joints\": [], "
+      "\"total_mass\": 1, \"base_parameters\": [], \"samples\": ";
+  EXPECT_EQ(params_error(head + "1e300}"),
+            "f.json: \"samples\" must be a non-negative integer, not 1e+300");
+  EXPECT_EQ(params_error(head + "2.5}"),
+            "f.json: \"samples\" must be a non-negative integer, not 2.5");
+  EXPECT_EQ(params_error(head + "-1}"),
+            "f.json: \"samples\" must be a non-negative integer, not -1");
+  EXPECT_EQ(params_error(head + "30}"), "no error");
+}
+
 }  // namespace
 }  // namespace massid

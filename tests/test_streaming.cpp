@@ -10,6 +10,7 @@
 #include <numbers>
 #include <random>
 
+#include "../src/csv_stream.hpp"  // private: the fast number scanner
 #include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
@@ -219,6 +220,46 @@ TEST_F(StreamingTest, RandomLogOfTenThousandRowsAgreesWithDense) {
   }
 }
 
+// ResidualMax evaluates its samples in batches of the streaming regressor
+// (vectorised across samples, all joint types): the largest residual per axis
+// is the dense one, whatever the batch boundaries, the order of the samples,
+// or when max() is asked.
+TEST_F(StreamingTest, ResidualMaxAgreesWithDenseInAnyBatching) {
+  for (const auto& ex : test::examples()) {
+    SCOPED_TRACE(ex.name);
+    const Model model = load_urdf(ex.urdf);
+    const BaseParameters base = find_base_parameters(model);
+    const Samples s = random_data(model, 1000, 21);  // 7 full batches and a partial one
+    const IdentifySummary dense = identify(model, base, s);
+    const int nj = model.num_joints();
+    auto add_row = [&](ResidualMax& r, int i) {
+      const Eigen::VectorXd q = s.q.row(i).transpose();
+      const Eigen::Vector3d g = s.gravity.row(i).transpose();
+      const Eigen::Matrix<double, 6, 1> w = s.wrench.row(i).transpose();
+      ASSERT_EQ(q.size(), nj);
+      r.add(q.data(), g.data(), w.data());
+    };
+    ResidualMax forward(model, base, dense.value);
+    for (int i = 0; i < 300; ++i) add_row(forward, i);
+    const Eigen::Matrix<double, 6, 1> part = forward.max();  // evaluates a partial batch
+    for (int i = 300; i < s.size(); ++i) add_row(forward, i);
+    const Eigen::Matrix<double, 6, 1> all = forward.max();
+    EXPECT_TRUE((part.array() <= all.array()).all());
+    expect_close(dense.residual_max, all, 1e-10, "residual_max");
+    // Every sample gets the same operations wherever it sits in a batch: the
+    // samples in reverse order, and split over two merged halves, give the
+    // same bits.
+    ResidualMax backward(model, base, dense.value);
+    for (int i = s.size() - 1; i >= 0; --i) add_row(backward, i);
+    EXPECT_EQ(all, backward.max());
+    ResidualMax first(model, base, dense.value), second(model, base, dense.value);
+    for (int i = 0; i < 517; ++i) add_row(first, i);
+    for (int i = 517; i < s.size(); ++i) add_row(second, i);
+    first.merge(second);
+    EXPECT_EQ(all, first.max());
+  }
+}
+
 // ---------------------------------------------------------------- determinism
 
 TEST_F(StreamingTest, ThreadCountDoesNotChangeTheResult) {
@@ -292,6 +333,60 @@ TEST_F(StreamingTest, HundredThousandRowCsvRoundTrip) {
   ASSERT_FALSE(proven.residual_max.hasNaN());
   EXPECT_EQ(proven.residual_max, residual_max_csv(model, no_offset, plain, proven.value));
   expect_same_summary(identify(model, no_offset, s0), proven, 1e-10);
+}
+
+// The CSV fast path reads plain decimals itself (csv_fast::plain_decimal):
+// either it declines, or it gives fast_float's double and end, bit for bit.
+TEST(PlainDecimal, SameDoubleAsFastFloat) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> e10(-30, 30);
+  std::vector<std::string> texts = {"0",
+                                    "-0",
+                                    "0.0",
+                                    "-0.0",
+                                    "1.",
+                                    ".5",
+                                    "-.5",
+                                    "12",
+                                    "007.5",
+                                    "1e5",
+                                    "1.5E-3",
+                                    ".",
+                                    "-",
+                                    "",
+                                    "abc",
+                                    "9007199254740993",
+                                    "0.1000000000000000055511151231257827",
+                                    "12345678901234567890",
+                                    "1234567890123456789",
+                                    "0.000000000000000000000001",
+                                    "4.9406564584124654e-324"};
+  char buf[64];
+  for (int i = 0; i < 200000; ++i) {
+    const double x = u(rng) * std::pow(10.0, e10(rng));
+    texts.push_back(format_number(x));
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    texts.emplace_back(buf);
+    std::snprintf(buf, sizeof buf, "%.*f", i % 24, x);
+    texts.emplace_back(buf);
+  }
+  int taken = 0;
+  for (const std::string& t : texts) {
+    const char* first = t.data();
+    const char* last = first + t.size();
+    double mine = 0.0;
+    const char* end = detail::csv_fast::plain_decimal(first, last, mine);
+    if (!end) continue;
+    ++taken;
+    double theirs = 0.0;
+    const auto r = fast_float::from_chars(first, last, theirs);
+    ASSERT_EQ(r.ec, std::errc()) << t;
+    EXPECT_EQ(end, r.ptr) << t;
+    EXPECT_EQ(std::signbit(mine), std::signbit(theirs)) << t;
+    EXPECT_EQ(mine, theirs) << t;
+  }
+  EXPECT_GT(taken, 150000);  // most plain forms are read by the fast scanner
 }
 
 TEST_F(StreamingTest, CsvSyntaxAsReadCsv) {

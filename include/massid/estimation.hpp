@@ -15,6 +15,13 @@
 
 namespace massid {
 
+// Sensor drift (needs the offsets, BaseParameters::offset): the offset moves
+// linearly in time (column t), or is separate per block of samples (column
+// block: the sensor was re-zeroed between blocks). The offsets reported are
+// those at the end of the log (Linear) or of the last block (PerBlock), the
+// ones a prediction made afterwards should use.
+enum class Drift { None, Linear, PerBlock };
+
 struct IdentifyOptions {
   // Per-axis noise standard deviations. Unset: estimated per axis (fx ... mz)
   // from the residuals, iterating the weighted solve `weight_iterations` times.
@@ -24,6 +31,22 @@ struct IdentifyOptions {
   // Rank decision on the column-normalised regressor: a singular value below
   // rank_tolerance * largest marks an undetermined direction.
   double rank_tolerance = 1e-9;
+  // Robust estimation: a robust fit (Huber, then Tukey's biweight, on each
+  // sample's standardised residual norm with MAD noise scales) finds the
+  // samples whose residuals are implausible; they are rejected and the
+  // estimate is the weighted least-squares solution of the others. Without it
+  // such samples are only reported (IdentifySummary::outliers).
+  bool robust = false;
+  // Family-wise false-alarm probability of the outlier test over all samples.
+  double outlier_probability = 0.01;
+  Drift drift = Drift::None;
+};
+
+// A sample whose residual is implausible for the fitted noise.
+struct Outlier {
+  int sample = 0;      // row in Samples
+  int line = 0;        // file line
+  double score = 0.0;  // d = sqrt(sum_k (r_k / sigma_k)^2), robust sigma; chi with 6 dof
 };
 
 struct IdentifySummary {
@@ -38,12 +61,27 @@ struct IdentifySummary {
   double chi2_per_dof = 1.0;                 // weighted residual sum / (6N - p)
   int samples = 0;
   bool gravity_from_force = false;
+  // Outlier test (always run): samples with d above outlier_threshold. With
+  // options.robust they are rejected (not used in the estimate); else reported.
+  std::vector<Outlier> outliers;
+  double outlier_threshold = 0.0;
+  bool robust = false;
+  // Drift unknowns beyond the base parameters and offsets: names, values, std.
+  Drift drift = Drift::None;
+  std::vector<std::string> drift_names;
+  Eigen::VectorXd drift_value, drift_stddev;
 };
 
 // Throws IdentifiabilityError when the samples cannot determine every unknown,
 // naming them and the poses that would determine them.
 IdentifySummary identify(const Model& model, const BaseParameters& base, const Samples& samples,
                          const IdentifyOptions& options = {});
+
+// For a fit without per-sample residuals (streamed): is any axis' largest
+// residual above the two-sided normal bound at 1 % over all 6N residuals?
+// largest_residual_bound(N) is that bound in sigmas.
+double largest_residual_bound(int samples);
+bool largest_residuals_implausible(const IdentifySummary& s);
 
 // Stacked base regressor, eq. 33: [6N x num_unknowns], rows fx..mz per sample.
 Eigen::MatrixXd stacked_regressor(const Model& model, const BaseParameters& base,

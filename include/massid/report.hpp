@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "massid/base_parameters.hpp"
 #include "massid/design.hpp"
@@ -26,6 +27,11 @@ PredictionErrors prediction_errors(const Eigen::MatrixXd& measured,
                                    const Eigen::MatrixXd& predicted);
 
 std::string model_report(const Model& model, const BaseParameters& base);
+// Warnings about an identification, one line each ("massid: warning: ..."):
+// samples whose residuals are implausible for the fitted noise (reported, or
+// rejected with --robust), and the largest residuals of a streamed log.
+std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::string& source);
+
 std::string identify_report(const Model& model, const BaseParameters& base,
                             const IdentifySummary& summary, const std::string& data_source);
 std::string prediction_report(const PredictionErrors& errors, int samples);

@@ -18,6 +18,8 @@ struct Samples {
   Eigen::MatrixXd gravity;  // [N x 3] gravity acceleration in the sensor frame, m/s^2
   Eigen::MatrixXd wrench;   // [N x 6] fx fy fz mx my mz; 0 columns when absent
   std::vector<int> line;    // [N] file line of each sample
+  Eigen::VectorXd time;     // [N] column t, s (0 rows when absent)
+  std::vector<int> block;   // [N] column block: sensor re-zeroed between blocks (empty when absent)
   bool gravity_from_force = false;  // gravity taken from the force direction (eq. 37)
 
   int size() const { return static_cast<int>(q.rows()); }
@@ -26,9 +28,9 @@ struct Samples {
 
 enum class WrenchColumns { Required, Optional };
 
-// Reads joint columns (named as the joint, or JOINT_deg in degrees), gx,gy,gz
-// and the wrench. Without gx,gy,gz, gravity is g0 times the unit measured force
-// (paper eq. 37). Throws InputError naming file, line and column.
+// Reads joint columns (named as the joint, or JOINT_deg in degrees), gx,gy,gz,
+// the wrench, and the optional t and block (integer) columns. Without gx,gy,gz, gravity is g0 times
+// the unit measured force (paper eq. 37). Throws InputError naming file, line and column.
 Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench,
                      double g0 = kStandardGravity);
 

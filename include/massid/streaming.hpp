@@ -57,7 +57,7 @@ struct StreamOptions {
 
 namespace detail {
 struct AccumulatorState;
-struct FastRegressor;
+struct ResidualMaxState;
 }  // namespace detail
 
 // Folds samples into the six per-axis triangular factors. Not thread-safe:
@@ -107,7 +107,9 @@ class IdentifyAccumulator {
   std::unique_ptr<detail::AccumulatorState> state_;
 };
 
-// The largest |measured - Y_b x| per axis over samples added to it.
+// The largest |measured - Y_b x| per axis over samples added to it. Samples
+// are buffered and evaluated in batches (max() and merge() evaluate the ones
+// still buffered), so one ResidualMax is not to be shared between threads.
 class ResidualMax {
  public:
   ResidualMax(const Model& model, const BaseParameters& base, const Eigen::VectorXd& value);
@@ -118,11 +120,7 @@ class ResidualMax {
   Eigen::Matrix<double, 6, 1> max() const;
 
  private:
-  std::unique_ptr<detail::FastRegressor> reg_;
-  Eigen::VectorXd value_;
-  Eigen::Matrix<double, 6, 1> max_;
-  int total_mass_ = 0;
-  int offset_ = -1;  // first offset unknown, -1 without offsets
+  std::unique_ptr<detail::ResidualMaxState> state_;  // samples are evaluated in batches
 };
 
 // identify(), streamed over samples already in memory (blocks on threads).

@@ -1,0 +1,36 @@
+// libFuzzer target: the params-file reader (params_file.cpp), then what
+// `predict` and `emulate` do with a file it accepts: bind it to each example
+// robot (sensor link and held joints from the file), express its values in the
+// robot's base parameters and compile a predictor from them.
+#include <Eigen/Core>
+
+#include "fuzz_support.hpp"
+#include "massid/base_parameters.hpp"
+#include "massid/params_file.hpp"
+#include "massid/predictor.hpp"
+
+using namespace massid;
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static fuzz::ScratchFile scratch(".json");
+  const auto& robots = fuzz::example_robots();
+  const std::string& path = scratch.write(data, size);
+  ParamsFile params;
+  if (!fuzz::expect_clean("read_params", [&] { params = read_params(path); })) return 0;
+  for (const auto& robot : robots) {
+    fuzz::expect_clean("predict with the params", [&] {
+      const Model model = hold_joints(
+          load_urdf_string(robot.urdf_text, params.sensor_link, robot.name + ".urdf"), params.held);
+      BaseParameterOptions options;
+      options.offset = params.has_offset;
+      const BaseParameters base = find_base_parameters(model, options);
+      const Eigen::VectorXd values = values_in_basis(params, model, base);
+      const Predictor predictor = compile_predictor(model, base, values);
+      PredictorData scratch_data(predictor);
+      const Eigen::VectorXd q = Eigen::VectorXd::Constant(model.num_joints(), 0.3);
+      const Wrench w = predict(predictor, scratch_data, q, Eigen::Vector3d(0.0, 0.0, -9.81));
+      (void)w;
+    });
+  }
+  return 0;
+}

@@ -1,0 +1,621 @@
+// Set-up checks (setup_checks.hpp). Notation: N samples, f_i the measured
+// force, g_i the gravity columns, M the URDF's total mass (nominal_total_mass),
+// g0 = 9.80665 m/s^2. At rest the data obey f_i = M g_i + b + noise, with b
+// the sensor offset, so
+//   - the centred force f_i - mean(f) depends on the centred gravity
+//     g_i - mean(g) alone: statistics built on centred data ignore b;
+//   - the force does not depend on the joints: sign and frame checks need the
+//     gravity columns only (they do not apply when gravity is taken from the
+//     force, eq. 37: then f and g agree by construction).
+#include "massid/setup_checks.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+
+#include "csv_fields.hpp"
+#include "massid/csv.hpp"
+#include "massid/errors.hpp"
+#include "massid/kinematics.hpp"
+#include "massid/simulate.hpp"
+
+namespace massid {
+namespace {
+
+using Severity = SetupFinding::Severity;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// --- thresholds -------------------------------------------------------------
+
+// |g| accepted as Earth's gravity: 9.78-9.83 m/s^2 at the surface, with room
+// for an accelerometer's few-% scale error. Every unit mistake (g = 1, mm/s^2,
+// ft/s^2 = 32.2, cm/s^2) is far outside.
+constexpr double kGravityLow = 9.0, kGravityHigh = 10.5;
+// A factor "near 1000": within 10^(3 +- 0.5). A URDF whose masses are off by
+// 3x (or the as-built robot's extra 5 %) stays far below.
+constexpr double kUnitLow = 316.0, kUnitHigh = 3162.0;
+// Frame rotation: the angle must exceed this (warning; error above
+// kRotationError) and 6 standard deviations of its noise. Realistic mounting
+// and calibration errors stay below 1 deg; 2 deg already leaves force residuals
+// of 3.5 % of the weight; 5 deg of 9 %, which biases every first moment.
+constexpr double kRotationWarn = 2.0, kRotationError = 5.0, kRotationSigmas = 6.0;
+// Gravity directions count as distinct when their RMS spread about the mean
+// exceeds 2 % of |g| (1.2 deg of tilt).
+constexpr double kMinSpread = 0.02;
+// Rows the geometry and the nominal wrench are evaluated at (a strided subset).
+constexpr int kNominalRows = 2000;
+// Checks that compare columns over rows need this many rows.
+constexpr int kMinRows = 3;
+
+// --- formatting ---------------------------------------------------------------
+
+std::string lines_text(const Samples& s, const std::vector<int>& rows) {
+  std::string t = rows.size() == 1 ? "line " : "lines ";
+  const size_t shown = std::min<size_t>(rows.size(), 3);
+  for (size_t k = 0; k < shown; ++k) t += fmt::format("{}{}", k ? ", " : "", s.line[rows[k]]);
+  if (rows.size() > shown) t += fmt::format(" and {} more", rows.size() - shown);
+  return t;
+}
+
+std::string joint_column(const Joint& j, const std::vector<std::string>& header) {
+  if (std::find(header.begin(), header.end(), j.name) == header.end() &&
+      std::find(header.begin(), header.end(), j.name + "_deg") != header.end())
+    return j.name + "_deg";
+  return j.name;
+}
+
+std::string vec_text(const Eigen::Vector3d& v, int precision = 4) {
+  return fmt::format("({:.{}f}, {:.{}f}, {:.{}f})", v.x(), precision, v.y(), precision, v.z(),
+                     precision);
+}
+
+std::string matrix_text(const Eigen::Matrix3d& R) {
+  return fmt::format(
+      "[[{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}]]", R(0, 0),
+      R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2));
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + m, v.end());
+  return v[m];
+}
+
+bool constant(const Eigen::VectorXd& c) { return c.size() > 0 && c.maxCoeff() == c.minCoeff(); }
+
+// The rotation R minimising sum |b_i - R a_i|^2 (Kabsch) from H = sum a_i b_i^T.
+Eigen::Matrix3d kabsch(const Eigen::Matrix3d& H) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  return svd.matrixV() * D * svd.matrixU().transpose();
+}
+
+struct Context {
+  Context(const Model& m, const Samples& samples, const std::vector<std::string>& h,
+          std::vector<SetupFinding>& o)
+      : model(m),
+        s(samples),
+        header(h),
+        out(o),
+        N(samples.size()),
+        M(m.nominal_total_mass()),
+        F(samples.wrench.leftCols(3)),
+        G(samples.gravity) {}
+  const Model& model;
+  const Samples& s;
+  const std::vector<std::string>& header;
+  std::vector<SetupFinding>& out;
+  int N;
+  double M;              // URDF total mass
+  Eigen::MatrixXd F, G;  // [N x 3] force, gravity
+  std::vector<int> sub;  // strided subset of rows
+  Eigen::MatrixXd nom;   // [sub x 6] URDF wrench at the subset, gravity scaled to g0
+  double reach = 0.0;    // largest distance of a link origin or com from the sensor origin
+
+  void add(Severity sev, const char* code, std::string message) {
+    if (sev == Severity::Error) message += " (--no-checks skips the set-up checks)";
+    out.push_back({sev, code, std::move(message)});
+  }
+};
+
+// The URDF's wrench and reach at a strided subset of the rows, gravity scaled
+// to g0 (so that a unit mistake in gx,gy,gz does not hide one in the wrench).
+void nominal(Context& c) {
+  const int stride = std::max(1, (c.N + kNominalRows - 1) / kNominalRows);
+  for (int i = 0; i < c.N; i += stride) c.sub.push_back(i);
+  Samples p;
+  p.q.resize(static_cast<Eigen::Index>(c.sub.size()), c.model.num_joints());
+  p.gravity.resize(static_cast<Eigen::Index>(c.sub.size()), 3);
+  KinematicsData kin(c.model);
+  for (size_t k = 0; k < c.sub.size(); ++k) {
+    const int i = c.sub[k];
+    p.q.row(k) = c.s.q.row(i);
+    const double n = c.G.row(i).norm();
+    p.gravity.row(k).setZero();
+    if (n > 0) p.gravity.row(k) = kStandardGravity / n * c.G.row(i);
+    forward_kinematics(c.model, kin, p.q.row(k).transpose());
+    for (int l = 0; l < c.model.num_links(); ++l) {
+      c.reach = std::max(c.reach, kin.position[l].norm());
+      if (c.model.links[l].mass > 0)
+        c.reach =
+            std::max(c.reach, (kin.position[l] + kin.rotation[l] * c.model.links[l].com).norm());
+    }
+  }
+  c.nom = simulate_wrenches(c.model, p);
+}
+
+// gravity-magnitude. Statistic: the median of |g_i| over the rows, and the rows
+// outside [9.0, 10.5] m/s^2. Error when the median is outside: every
+// identified parameter scales with 1/|g|. Warning for single rows outside
+// while the median is right (a few corrupted rows bias the fit).
+void check_gravity_magnitude(Context& c) {
+  std::vector<double> norms(c.N);
+  std::vector<int> bad;
+  for (int i = 0; i < c.N; ++i) {
+    norms[i] = c.G.row(i).norm();
+    if (!(norms[i] >= kGravityLow && norms[i] <= kGravityHigh)) bad.push_back(i);
+  }
+  const double med = median(norms);
+  if (med >= kGravityLow && med <= kGravityHigh) {
+    if (!bad.empty())
+      c.add(Severity::Warning, "gravity-magnitude",
+            fmt::format("{}: gx,gy,gz have |g| = {:.4g} m/s^2 at {} ({} of {} rows), outside "
+                        "[{}, {}]: fix or remove those rows (gravity in m/s^2, sensor frame)",
+                        c.s.source, norms[bad[0]], lines_text(c.s, bad), bad.size(), c.N,
+                        kGravityLow, kGravityHigh));
+    return;
+  }
+  std::string fix = "give gravity in m/s^2 (level, sensor z up: 0,0,-9.80665)";
+  if (med > 0.9 && med < 1.1)
+    fix = "they look like unit vectors or g units: multiply gx,gy,gz by 9.80665";
+  else if (med > 9000 && med < 10500)
+    fix = "they look like mm/s^2: divide gx,gy,gz by 1000";
+  else if (med > 900 && med < 1050)
+    fix = "they look like cm/s^2: divide gx,gy,gz by 100";
+  else if (med > 29.5 && med < 34.5)
+    fix = "they look like ft/s^2: multiply gx,gy,gz by 0.3048";
+  c.add(Severity::Error, "gravity-magnitude",
+        fmt::format("{}: gx,gy,gz have a median magnitude of {:.6g} m/s^2 (lines {}-{}), not "
+                    "Earth's 9.81: every identified parameter would be off by the same factor; {}",
+                    c.s.source, med, c.s.line.front(), c.s.line.back(), fix));
+}
+
+// Centred gravity and force, and the eigen-decomposition of the gravity scatter
+// C = sum (g_i - mean g)(g_i - mean g)^T (eigenvalues ascending).
+struct Centred {
+  Eigen::MatrixXd Gc, Fc;
+  Eigen::Vector3d lambda;  // ascending
+  Eigen::Matrix3d axes;    // columns: eigenvectors
+  double g = 0.0;          // mean |g_i|
+  bool spread_ok = false;
+};
+
+Centred centre(const Context& c) {
+  Centred r;
+  r.Gc = c.G.rowwise() - c.G.colwise().mean();
+  r.Fc = c.F.rowwise() - c.F.colwise().mean();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(r.Gc.transpose() * r.Gc);
+  r.lambda = eig.eigenvalues().cwiseMax(0.0);
+  r.axes = eig.eigenvectors();
+  r.g = c.G.rowwise().norm().mean();
+  r.spread_ok = c.N >= kMinRows && std::sqrt(r.lambda.sum() / c.N) > kMinSpread * r.g;
+  return r;
+}
+
+// wrench-sign. Statistic: the slope s of the centred force on the centred
+// gravity, s = sum (f_i - mean f).(g_i - mean g) / sum |g_i - mean g|^2 (the
+// total mass, offset-free), when the gravity directions vary enough to
+// determine it to 10 standard deviations; else (one gravity direction) the
+// median over rows of cos(f_i, g_i), flagged below -0.5 (an offset would have
+// to exceed the weight to get there). Error: a negated wrench identifies
+// negated parameters.
+bool check_sign(Context& c, const Centred& k) {
+  bool negative = false;
+  std::string how;
+  const double Sgg = k.lambda.sum();
+  bool decided = false;
+  if (k.spread_ok) {
+    const double s = (k.Fc.array() * k.Gc.array()).sum() / Sgg;
+    const double dof = std::max(1, 3 * c.N - 4);
+    const double sigma = std::sqrt((k.Fc - s * k.Gc).squaredNorm() / dof);
+    if (std::abs(s) > 10.0 * sigma / std::sqrt(Sgg)) {
+      decided = true;
+      negative = s < 0;
+      how = fmt::format("the force changes by {:.4g} kg times the change of gravity", s);
+    }
+  }
+  std::vector<int> against;
+  std::vector<double> cosines;
+  for (int i = 0; i < c.N; ++i) {
+    const double n = c.F.row(i).norm() * c.G.row(i).norm();
+    if (!(n > 0)) continue;
+    const double cs = c.F.row(i).dot(c.G.row(i)) / n;
+    cosines.push_back(cs);
+    if (cs < 0) against.push_back(i);
+  }
+  if (!decided) {
+    const double med = median(cosines);
+    negative = !cosines.empty() && med < -0.5;
+    how = fmt::format("the median angle between force and gravity is {:.0f} deg",
+                      std::acos(std::clamp(med, -1.0, 1.0)) / kDeg);
+  }
+  if (!negative) return false;
+  const double fitted = (c.F.array() * c.G.array()).sum() / c.G.squaredNorm();
+  c.add(Severity::Error, "wrench-sign",
+        fmt::format("{}: the measured force points against gravity (gx,gy,gz) at {} of {} rows "
+                    "({}; {}; total mass along gravity {:.4g} kg, the URDF's {:.4g} kg): massid "
+                    "wants the wrench the bodies exert on the sensor, f = M g at rest. If the "
+                    "sensor reports the reaction (MuJoCo, force plates), negate fx,fy,fz,mx,my,mz; "
+                    "if gx,gy,gz point up instead of along gravity, negate gx,gy,gz",
+                    c.s.source, against.size(), c.N, lines_text(c.s, against), how, fitted, c.M));
+  return true;
+}
+
+// frame-rotation. Statistic: the angle of the best rotation R with
+// f_i - mean f = s R (g_i - mean g) (Kabsch on centred data: offset-free) when
+// the gravity directions span two dimensions; with two directions only (one
+// tilt axis) the rotation about their difference is invisible, and the
+// statistic is the angle between the force's and gravity's principal
+// direction of change. Its noise: for a rotation error w the residuals are
+// s w x g_i, so std(w) <= sigma / (|s| sqrt(l2 + l3)) (l: eigenvalues of the
+// gravity scatter, descending; l1 alone for the 1-D statistic), sigma the
+// per-axis force residual. Flagged above max(2 deg, 6 std): a warning to
+// 5 deg, an error above (the fit's moments would be meaningless).
+void check_rotation(Context& c, const Centred& k) {
+  if (!k.spread_ok) return;  // one gravity direction: a rotation is undetermined
+  const double l1 = k.lambda(2), l23 = k.lambda(0) + k.lambda(1);
+  const bool two_d = l23 > 0.01 * l1 && std::sqrt(k.lambda(1) / c.N) > kMinSpread * k.g;
+  double angle = 0.0, sigma_angle = 0.0;
+  Eigen::Matrix3d R;
+  std::string basis;
+  if (two_d) {
+    R = kabsch(k.Gc.transpose() * k.Fc);
+    const double s = (k.Fc.array() * (k.Gc * R.transpose()).array()).sum() / k.lambda.sum();
+    const double dof = std::max(1, 3 * c.N - 7);
+    const double sigma = std::sqrt((k.Fc - s * k.Gc * R.transpose()).squaredNorm() / dof);
+    angle = Eigen::AngleAxisd(R).angle();
+    sigma_angle = sigma / (std::abs(s) * std::sqrt(l23));
+    basis = "from the centred data, so a sensor offset does not matter";
+  } else {
+    const Eigen::Vector3d dg = k.axes.col(2);
+    const Eigen::VectorXd t = k.Gc * dg;
+    const Eigen::Vector3d v = k.Fc.transpose() * t / l1;
+    const double dof = std::max(1, 3 * c.N - 6);
+    const double sigma = std::sqrt((k.Fc - t * v.transpose()).squaredNorm() / dof);
+    angle = std::acos(std::clamp(v.normalized().dot(dg), -1.0, 1.0));
+    sigma_angle = sigma / (v.norm() * std::sqrt(l1));
+    // The full rotation from the raw vectors (assuming no offset): two
+    // distinct directions determine it.
+    R = kabsch(c.G.transpose() * c.F);
+    basis = fmt::format(
+        "the force's direction of change is {:.2f} deg from gravity's (the plan tilts about one "
+        "axis, so that is a lower bound); the rotation assumes no sensor offset",
+        angle / kDeg);
+  }
+  const double deg = angle / kDeg;
+  if (!(deg > kRotationWarn && angle > kRotationSigmas * sigma_angle)) return;
+  const Eigen::AngleAxisd aa(R);
+  c.add(deg > kRotationError ? Severity::Error : Severity::Warning, "frame-rotation",
+        fmt::format("{}: the force direction disagrees with gx,gy,gz by {:.2f} deg (noise explains "
+                    "{:.2g} deg) over lines {}-{}: the wrench frame is rotated against the gravity "
+                    "columns; best fit f = M R g with R = {} ({:.2f} deg about {}; {}). Rotate "
+                    "fx,fy,fz and mx,my,mz by R^T into the frame of gx,gy,gz (or gx,gy,gz by R if "
+                    "they are the rotated ones), or make the URDF's sensor link the sensor's frame",
+                    c.s.source, deg, kRotationSigmas * sigma_angle / kDeg, c.s.line.front(),
+                    c.s.line.back(), matrix_text(R), aa.angle() / kDeg, vec_text(aa.axis(), 3),
+                    basis));
+}
+
+// force-units. Statistic: r = median |f_i| / (M g0), the total mass the force
+// implies over the URDF's (offset-robust: the median of magnitudes). Error for
+// r in [316, 3162]: forces in mN.
+void check_force_units(Context& c) {
+  if (!(c.M > 0)) return;
+  std::vector<double> n(c.N);
+  for (int i = 0; i < c.N; ++i) n[i] = c.F.row(i).norm();
+  const double r = median(n) / (c.M * kStandardGravity);
+  if (r >= kUnitLow && r <= kUnitHigh)
+    c.add(
+        Severity::Error, "force-units",
+        fmt::format("{}: fx,fy,fz imply a total mass of {:.4g} kg, {:.0f} times the URDF's {:.4g} "
+                    "kg (median |f| {:.4g} over lines {}-{}): the forces look like mN; divide "
+                    "fx,fy,fz by 1000 (massid wants N)",
+                    c.s.source, r * c.M, r, c.M, median(n), c.s.line.front(), c.s.line.back()));
+}
+
+// moment-units. Statistics: r = RMS |m_i| / RMS |m_URDF,i| (the measured
+// moments over the URDF's, at a subset of rows), and the lever arm they imply,
+// L = RMS |m_i| / (M g0), against the robot's reach (the farthest link origin
+// or centre of mass from the sensor origin). Error when r is in [316, 3162]
+// and L exceeds 3 times the reach plus 1 cm: no offset or inertial error
+// explains a lever arm longer than the robot.
+void check_moment_units(Context& c) {
+  if (!(c.M > 0) || c.sub.empty()) return;
+  double mm = 0, mn = 0;
+  for (size_t k = 0; k < c.sub.size(); ++k) {
+    mm += c.s.wrench.row(c.sub[k]).tail<3>().squaredNorm();
+    mn += c.nom.row(k).tail<3>().squaredNorm();
+  }
+  const double n = static_cast<double>(c.sub.size());
+  const double rms_meas = std::sqrt(mm / n), rms_nom = std::sqrt(mn / n);
+  if (!(rms_nom > 0)) return;
+  const double r = rms_meas / rms_nom, lever = rms_meas / (c.M * kStandardGravity);
+  if (r >= kUnitLow && r <= kUnitHigh && lever > 3.0 * c.reach + 0.01)
+    c.add(Severity::Error, "moment-units",
+          fmt::format("{}: mx,my,mz are {:.0f} times what the URDF predicts (RMS {:.4g}, lever "
+                      "arm {:.3g} m for a robot that reaches {:.3g} m, lines {}-{}): the moments "
+                      "look like N mm; divide mx,my,mz by 1000 (massid wants N m)",
+                      c.s.source, r, rms_meas, lever, c.reach, c.s.line.front(), c.s.line.back()));
+}
+
+// joint-degrees / joint-millimetres. Statistic per joint column named as the
+// joint (not JOINT_deg): the largest excursion beyond the URDF limits, and
+// whether every value divided by 57.2958 (revolute) or 1000 (prismatic) lies
+// within them. Tolerance: 0.05 rad or m plus 5 % of the range. Error for a
+// limited joint more than 0.5 rad (0.05 m plus 10 % of the range) outside
+// while the converted values fit: a joint in the wrong unit makes the
+// kinematics, hence every parameter, wrong. A continuous joint has no limits:
+// more than one turn each way (|q| > 2 pi + 0.5) with |q| / 57.3 within a turn
+// is a warning (a static experiment rarely winds a joint up), more than two
+// turns an error.
+void check_joint_units(Context& c) {
+  for (int j = 0; j < c.model.num_joints(); ++j) {
+    const Joint& joint = c.model.joints[j];
+    if (std::find(c.header.begin(), c.header.end(), joint.name) == c.header.end() &&
+        !c.header.empty())
+      continue;  // a JOINT_deg column
+    const Eigen::VectorXd q = c.s.q.col(j);
+    const double qmax = q.cwiseAbs().maxCoeff();
+    auto rows_where = [&](auto pred) {
+      std::vector<int> r;
+      for (int i = 0; i < c.N; ++i)
+        if (pred(q[i])) r.push_back(i);
+      return r;
+    };
+    if (joint.type == JointType::Revolute) {
+      const double to_rad = kDeg;
+      if (joint.limited) {
+        const double tol = 0.05 + 0.05 * (joint.upper - joint.lower);
+        const double excess =
+            std::max({0.0, q.maxCoeff() - joint.upper, joint.lower - q.minCoeff()});
+        const bool fits = to_rad * q.maxCoeff() <= joint.upper + tol &&
+                          to_rad * q.minCoeff() >= joint.lower - tol;
+        if (excess > 0.5 && excess > tol && fits) {
+          const auto out =
+              rows_where([&](double v) { return v > joint.upper + tol || v < joint.lower - tol; });
+          c.add(Severity::Error, "joint-degrees",
+                fmt::format(
+                    "{}: column '{}' reaches {:.4g} at {}, beyond the URDF limits [{:.4g}, "
+                    "{:.4g}] rad, and every value fits them read as degrees: rename the "
+                    "column '{}_deg' or convert it to radians",
+                    c.s.source, joint.name,
+                    std::abs(q.maxCoeff()) > std::abs(q.minCoeff()) ? q.maxCoeff() : q.minCoeff(),
+                    lines_text(c.s, out), joint.lower, joint.upper, joint.name));
+        }
+      } else if (qmax > 2 * std::numbers::pi + 0.5 &&
+                 to_rad * qmax <= 2 * std::numbers::pi + 0.05) {
+        const auto out = rows_where([&](double v) { return std::abs(v) > 2 * std::numbers::pi; });
+        const bool two_turns = qmax > 4 * std::numbers::pi;
+        c.add(two_turns ? Severity::Error : Severity::Warning, "joint-degrees",
+              fmt::format("{}: continuous joint column '{}' reaches |q| = {:.4g} rad ({:.1f} "
+                          "turns) at {}; read as degrees it stays within one turn: if it is in "
+                          "degrees, rename the column '{}_deg' or convert it to radians",
+                          c.s.source, joint.name, qmax, qmax / (2 * std::numbers::pi),
+                          lines_text(c.s, out), joint.name));
+      }
+    } else if (joint.type == JointType::Prismatic && joint.limited) {
+      const double range = joint.upper - joint.lower;
+      const double tol = 0.05 * range + 0.005;
+      const double excess = std::max({0.0, q.maxCoeff() - joint.upper, joint.lower - q.minCoeff()});
+      const bool fits =
+          q.maxCoeff() / 1000 <= joint.upper + tol && q.minCoeff() / 1000 >= joint.lower - tol;
+      if (excess > 0.05 + 0.1 * range && fits) {
+        const auto out =
+            rows_where([&](double v) { return v > joint.upper + tol || v < joint.lower - tol; });
+        c.add(Severity::Error, "joint-millimetres",
+              fmt::format("{}: prismatic joint column '{}' reaches {:.4g} at {}, beyond the URDF "
+                          "limits [{:.4g}, {:.4g}] m, and every value fits them read as mm: "
+                          "divide the column by 1000 (massid wants m)",
+                          c.s.source, joint.name, q[out.front()], lines_text(c.s, out), joint.lower,
+                          joint.upper));
+      }
+    }
+  }
+}
+
+// duplicate-columns, constant-wrench, constant-joint. Statistics: exact
+// equality of two columns over every row, exact constancy of one (both
+// impossible for a live sensor channel with noise), over at least 3 rows.
+// Wrench columns are judged against the URDF's wrench at the subset of rows,
+// so noise-free data that physics makes constant or equal (fy = 0 when the
+// plan tilts about y only) are not flagged: a constant channel must vary in
+// the URDF's wrench by 5 % of the largest range of its kind (forces, moments),
+// two equal channels must differ there by 1 %.
+// Severity: a dead or duplicated wrench channel feeds wrong numbers into every
+// fit (error); joints that are equal or constant only limit what the data can
+// determine, which identify diagnoses itself (warning).
+// Returns whether a force column is dead or duplicated (then the sign and
+// frame checks, which would only echo it, are skipped).
+bool check_columns(Context& c, const SetupCheckOptions& options) {
+  if (c.N < kMinRows) return false;
+  bool force_broken = false;
+  const Eigen::MatrixXd& W = c.s.wrench;
+  // Ranges of the URDF's wrench per axis, and of its kind.
+  Eigen::Matrix<double, 6, 1> range = Eigen::Matrix<double, 6, 1>::Zero();
+  if (c.nom.rows() > 0) range = c.nom.colwise().maxCoeff() - c.nom.colwise().minCoeff();
+  const double kind_range[2] = {std::max(range.head<3>().maxCoeff(), 0.0),
+                                range.tail<3>().maxCoeff()};
+  bool wrench_constant[6];
+  for (int a = 0; a < 6; ++a) {
+    wrench_constant[a] = constant(W.col(a));
+    const double scale = kind_range[a / 3];
+    if (wrench_constant[a] && scale > 0 && range[a] > 0.05 * scale) {
+      force_broken |= a < 3;
+      c.add(Severity::Error, "constant-wrench",
+            fmt::format("{}: column '{}' is {} in all {} rows (lines {}-{}), yet the URDF's {} "
+                        "varies by {:.4g} {} over them: the channel looks dead (cable, logger, "
+                        "wrong column); fix the recording",
+                        c.s.source, kWrenchColumns[a], W(0, a), c.N, c.s.line.front(),
+                        c.s.line.back(), kWrenchColumns[a], range[a], a < 3 ? "N" : "N m"));
+    }
+  }
+  for (int a = 0; a < 6; ++a)
+    for (int b = a + 1; b < 6; ++b) {
+      if (wrench_constant[a] || wrench_constant[b] || W.col(a) != W.col(b)) continue;
+      const double scale = std::max(kind_range[a / 3], kind_range[b / 3]);
+      const double differ =
+          c.nom.rows() > 0 ? (c.nom.col(a) - c.nom.col(b)).cwiseAbs().maxCoeff() : 0.0;
+      if (!(differ > 0.01 * scale)) continue;
+      force_broken |= a < 3 || b < 3;
+      c.add(Severity::Error, "duplicate-columns",
+            fmt::format("{}: columns '{}' and '{}' are identical in all {} rows (lines {}-{}): one "
+                        "channel was recorded twice; fix the logger's column mapping",
+                        c.s.source, kWrenchColumns[a], kWrenchColumns[b], c.N, c.s.line.front(),
+                        c.s.line.back()));
+    }
+  const int nj = c.model.num_joints();
+  std::vector<bool> joint_constant(nj);
+  for (int j = 0; j < nj; ++j) {
+    joint_constant[j] = constant(c.s.q.col(j));
+    const std::string col = joint_column(c.model.joints[j], c.header);
+    if (joint_constant[j] && options.constant_joints)
+      c.add(Severity::Warning, "constant-joint",
+            fmt::format("{}: column '{}' is {} in all {} rows (lines {}-{}): joint '{}' never "
+                        "moves, so the parameters only its motion separates cannot be identified; "
+                        "move it in the plan, or if it was held still pass --fixed {}={}",
+                        c.s.source, col, format_number(c.s.q(0, j)), c.N, c.s.line.front(),
+                        c.s.line.back(), c.model.joints[j].name, c.model.joints[j].name,
+                        format_number(c.s.q(0, j))));
+  }
+  for (int a = 0; a < nj; ++a)
+    for (int b = a + 1; b < nj; ++b) {
+      if (joint_constant[a] || joint_constant[b] || c.s.q.col(a) != c.s.q.col(b)) continue;
+      c.add(Severity::Warning, "duplicate-columns",
+            fmt::format("{}: joint columns '{}' and '{}' are identical in all {} rows (lines "
+                        "{}-{}): if the logger wrote one joint into both, fix its column mapping; "
+                        "if the joints really moved together, the data cannot separate what each "
+                        "moves (move them independently)",
+                        c.s.source, joint_column(c.model.joints[a], c.header),
+                        joint_column(c.model.joints[b], c.header), c.N, c.s.line.front(),
+                        c.s.line.back()));
+    }
+  return force_broken;
+}
+
+}  // namespace
+
+std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples,
+                                      const std::vector<std::string>& header,
+                                      const SetupCheckOptions& options) {
+  std::vector<SetupFinding> out;
+  if (!samples.has_wrench() || samples.size() == 0) return out;
+  Context c(model, samples, header, out);
+  nominal(c);
+  const bool force_broken = check_columns(c, options);
+  if (!samples.gravity_from_force) {
+    check_gravity_magnitude(c);
+    const Centred k = centre(c);
+    if (!force_broken && !check_sign(c, k)) check_rotation(c, k);
+  }
+  check_force_units(c);
+  check_moment_units(c);
+  check_joint_units(c);
+  // Errors first: they decide the outcome.
+  std::stable_partition(out.begin(), out.end(),
+                        [](const SetupFinding& f) { return f.severity == Severity::Error; });
+  return out;
+}
+
+Samples read_samples_head(const Model& model, const std::string& path, int max_rows,
+                          std::vector<std::string>* header, double g0) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open file", path));
+  // Pieces of kChunk rows go through parse_csv + read_samples, which give the
+  // same values and errors as for the whole file: the first piece is the
+  // file's text from its start, a later one is the header line followed by the
+  // piece's lines, padded with empty lines so that line numbers are the file's.
+  constexpr int kChunk = 8192;
+  std::string prefix, header_text, chunk, line;
+  int header_line = 0, line_no = 0, chunk_rows = 0, chunk_first = 0, total = 0;
+  std::vector<Samples> parts;
+  auto flush = [&] {
+    std::string text;
+    if (parts.empty()) {
+      text = prefix + chunk;
+    } else {
+      text.assign(static_cast<size_t>(header_line - 1), '\n');
+      text += header_text + '\n';
+      text.append(static_cast<size_t>(chunk_first - header_line - 1), '\n');
+      text += chunk;
+    }
+    const CsvTable table = parse_csv(text, path);
+    if (header && parts.empty()) *header = table.header;
+    parts.push_back(read_samples(model, table, WrenchColumns::Required, g0));
+    chunk.clear();
+    chunk_rows = 0;
+  };
+  max_rows = std::max(1, max_rows);
+  while (total < max_rows && std::getline(in, line)) {
+    ++line_no;
+    std::string_view content(line);
+    if (line_no == 1 && content.substr(0, 3) == "\xEF\xBB\xBF") content.remove_prefix(3);
+    content = detail::trim(content);
+    const bool row = !content.empty() && content.front() != '#';
+    if (header_line == 0) {
+      prefix += line + '\n';
+      if (row) {
+        header_line = line_no;
+        header_text = line;
+      }
+      continue;
+    }
+    if (chunk.empty()) chunk_first = line_no;
+    chunk += line + '\n';
+    if (row) {
+      ++total;
+      if (++chunk_rows == kChunk) flush();
+    }
+  }
+  if (parts.empty() || chunk_rows > 0) flush();
+
+  Samples s;
+  s.source = path;
+  s.gravity_from_force = parts.front().gravity_from_force;
+  Eigen::Index n = 0;
+  for (const Samples& p : parts) n += p.size();
+  s.q.resize(n, model.num_joints());
+  s.gravity.resize(n, 3);
+  s.wrench.resize(n, 6);
+  s.line.reserve(static_cast<size_t>(n));
+  Eigen::Index at = 0;
+  for (const Samples& p : parts) {
+    s.q.middleRows(at, p.size()) = p.q;
+    s.gravity.middleRows(at, p.size()) = p.gravity;
+    s.wrench.middleRows(at, p.size()) = p.wrench;
+    s.line.insert(s.line.end(), p.line.begin(), p.line.end());
+    at += p.size();
+  }
+  return s;
+}
+
+std::vector<SetupFinding> check_setup_file(const Model& model, const std::string& path,
+                                           const SetupCheckOptions& options) {
+  std::vector<std::string> header;
+  const Samples s = read_samples_head(model, path, options.max_rows, &header);
+  return check_setup(model, s, header, options);
+}
+
+bool has_error(const std::vector<SetupFinding>& findings) {
+  return std::any_of(findings.begin(), findings.end(),
+                     [](const SetupFinding& f) { return f.severity == Severity::Error; });
+}
+
+}  // namespace massid

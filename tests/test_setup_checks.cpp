@@ -1,0 +1,473 @@
+// Set-up checks (setup_checks.hpp): each mistake of a new set-up, made on
+// simulated data of the example robots, gives its finding; clean data with
+// realistic noise and a sensor offset give none.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "massid/csv.hpp"
+#include "massid/errors.hpp"
+#include "massid/setup_checks.hpp"
+#include "massid/simulate.hpp"
+#include "test_support.hpp"
+
+namespace massid {
+namespace {
+
+using Severity = SetupFinding::Severity;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+struct Data {
+  Model model;
+  Samples samples;
+};
+
+// The example's plan with the wrench its URDF produces: sensor noise 0.05 N,
+// 0.005 N m (the README's) and a constant offset.
+Data simulated(const test::Example& ex, double noise = 1.0,
+               const Wrench& offset = (Wrench() << 1.0, -2.0, 3.5, 0.1, -0.2, 0.3).finished(),
+               int repeat = 1, std::uint64_t seed = 7) {
+  Data d{load_urdf(ex.urdf), {}};
+  const Samples plan = test::load_plan(d.model, ex.plan);
+  SimulateOptions so;
+  so.noise_force = 0.05 * noise;
+  so.noise_moment = 0.005 * noise;
+  so.offset = offset;
+  so.seed = seed;
+  so.repeat = repeat;
+  d.samples.wrench = simulate_wrenches(d.model, plan, so);
+  const int n = static_cast<int>(d.samples.wrench.rows());
+  d.samples.q.resize(n, plan.q.cols());
+  d.samples.gravity.resize(n, 3);
+  for (int i = 0; i < n; ++i) {
+    d.samples.q.row(i) = plan.q.row(i / repeat);
+    d.samples.gravity.row(i) = plan.gravity.row(i / repeat);
+    d.samples.line.push_back(plan.line[i / repeat]);
+  }
+  d.samples.source = ex.name + ".csv";
+  return d;
+}
+
+const test::Example& example(const std::string& name) {
+  static const std::vector<test::Example> all = test::examples();
+  for (const auto& e : all)
+    if (e.name == name) return e;
+  throw std::runtime_error("no example " + name);
+}
+
+std::vector<SetupFinding> check(const Data& d, const std::vector<std::string>& header = {},
+                                const SetupCheckOptions& o = {}) {
+  return check_setup(d.model, d.samples, header, o);
+}
+
+std::string describe(const std::vector<SetupFinding>& f) {
+  std::string s;
+  for (const auto& x : f)
+    s += fmt::format("  [{}] {}: {}\n", x.severity == Severity::Error ? "error" : "warning", x.code,
+                     x.message);
+  return s.empty() ? "  (none)\n" : s;
+}
+
+// The one finding with `code`; fails when there is none or several.
+std::optional<SetupFinding> only(const std::vector<SetupFinding>& f, const std::string& code) {
+  const auto n = std::count_if(f.begin(), f.end(), [&](auto& x) { return x.code == code; });
+  EXPECT_EQ(n, 1) << code << " in\n" << describe(f);
+  for (const auto& x : f)
+    if (x.code == code) return x;
+  return std::nullopt;
+}
+
+bool contains(const std::optional<SetupFinding>& f, const std::string& piece) {
+  return f && f->message.find(piece) != std::string::npos;
+}
+
+// Gravity taken along the measured force (no gx,gy,gz columns, eq. 37).
+void gravity_from_force(Samples& s) {
+  s.gravity_from_force = true;
+  for (int i = 0; i < s.size(); ++i)
+    s.gravity.row(i) = kStandardGravity * s.wrench.row(i).head<3>().normalized();
+}
+
+// ------------------------------------------------------------------ clean data
+
+TEST(SetupChecks, CleanDataOfEveryExampleHasNoFinding) {
+  for (const auto& ex : test::examples()) {
+    for (double noise : {0.0, 1.0, 3.0})
+      for (const Wrench& offset :
+           {Wrench::Zero().eval(), (Wrench() << 1.0, -2.0, 3.5, 0.1, -0.2, 0.3).finished(),
+            (Wrench() << 0.5, -0.3, 1.0, 0.05, -0.02, 0.03).finished()})
+        for (std::uint64_t seed : {1, 2, 3}) {
+          Data d = simulated(ex, noise, offset, 1, seed);
+          const auto f = check(d);
+          EXPECT_TRUE(f.empty()) << ex.name << " noise x" << noise << " offset "
+                                 << offset.transpose() << "\n"
+                                 << describe(f);
+          gravity_from_force(d.samples);
+          const auto g = check(d);
+          EXPECT_TRUE(g.empty()) << ex.name << " gravity from force\n" << describe(g);
+        }
+    // A log held at each pose (--repeat), and the as-built PUMA's extra mass.
+    const auto r = check(simulated(ex, 1.0, Wrench::Zero(), 50));
+    EXPECT_TRUE(r.empty()) << ex.name << " repeat 50\n" << describe(r);
+  }
+  const std::string dir = MASSID_SOURCE_DIR "/examples/puma260/";
+  Data as_built{load_urdf(dir + "puma260.urdf"), simulated(example("puma260")).samples};
+  const Model built = load_urdf(dir + "puma260_as_built.urdf");
+  SimulateOptions so;
+  so.noise_force = 0.05;
+  so.noise_moment = 0.005;
+  as_built.samples.wrench = simulate_wrenches(built, as_built.samples, so);
+  EXPECT_TRUE(check(as_built).empty()) << describe(check(as_built));
+}
+
+// ------------------------------------------------------------------ wrench sign
+
+TEST(SetupChecks, NegatedWrenchIsAnError) {
+  for (const auto& ex : test::examples()) {
+    Data d = simulated(ex);
+    d.samples.wrench *= -1.0;
+    const auto f = check(d);
+    const auto s = only(f, "wrench-sign");
+    ASSERT_TRUE(s) << ex.name;
+    EXPECT_EQ(s->severity, Severity::Error);
+    EXPECT_TRUE(contains(s, "negate fx,fy,fz,mx,my,mz")) << s->message;
+    EXPECT_TRUE(contains(s, ex.name + ".csv")) << s->message;
+    // Not also diagnosed as a rotated frame.
+    EXPECT_EQ(std::count_if(f.begin(), f.end(), [](auto& x) { return x.code == "frame-rotation"; }),
+              0)
+        << describe(f);
+    EXPECT_TRUE(has_error(f));
+  }
+}
+
+TEST(SetupChecks, NegatedWrenchAtOneGravityDirectionIsAnError) {
+  // Level rows only: the sign comes from the angle between force and gravity.
+  Data d = simulated(example("puma260"));
+  const Samples& s = d.samples;
+  std::vector<int> level;
+  for (int i = 0; i < s.size(); ++i)
+    if (std::abs(s.gravity(i, 0)) < 1e-9) level.push_back(i);
+  ASSERT_GE(level.size(), 10u);
+  Data l = d;
+  l.samples.q = s.q(level, Eigen::all);
+  l.samples.gravity = s.gravity(level, Eigen::all);
+  l.samples.wrench = -s.wrench(level, Eigen::all);
+  l.samples.line.clear();
+  for (int i : level) l.samples.line.push_back(s.line[i]);
+  EXPECT_TRUE(only(check(l), "wrench-sign"));
+  l.samples.wrench *= -1.0;
+  EXPECT_TRUE(check(l).empty()) << describe(check(l));
+}
+
+TEST(SetupChecks, GravityColumnsPointingUpAreTheSameError) {
+  Data d = simulated(example("ur_like"));
+  d.samples.gravity *= -1.0;
+  const auto s = only(check(d), "wrench-sign");
+  EXPECT_TRUE(contains(s, "negate gx,gy,gz"));
+}
+
+TEST(SetupChecks, SignIsNotJudgedWhenGravityComesFromTheForce) {
+  // Then force and gravity agree by construction, and identification is
+  // unaffected by the sign: nothing to report.
+  Data d = simulated(example("puma260"));
+  d.samples.wrench *= -1.0;
+  gravity_from_force(d.samples);
+  EXPECT_TRUE(check(d).empty()) << describe(check(d));
+}
+
+// ------------------------------------------------------------------ frame rotation
+
+Data rotated(const std::string& name, double deg, const Eigen::Vector3d& axis) {
+  Data d = simulated(example(name));
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(deg * kDeg, axis.normalized()).toRotationMatrix();
+  for (int i = 0; i < d.samples.size(); ++i) {
+    d.samples.wrench.row(i).head<3>() = (R * d.samples.wrench.row(i).head<3>().transpose());
+    d.samples.wrench.row(i).tail<3>() = (R * d.samples.wrench.row(i).tail<3>().transpose());
+  }
+  return d;
+}
+
+double reported_angle(const std::optional<SetupFinding>& f) {
+  if (!f) return NAN;
+  const size_t at = f->message.find("deg about");
+  if (at == std::string::npos) return NAN;
+  const size_t start = f->message.rfind('(', at);
+  return std::stod(f->message.substr(start + 1, at - start - 1));
+}
+
+Eigen::Vector3d reported_axis(const std::optional<SetupFinding>& f) {
+  Eigen::Vector3d a = Eigen::Vector3d::Zero();
+  const size_t at = f ? f->message.find("deg about (") : std::string::npos;
+  if (at != std::string::npos)
+    std::sscanf(f->message.c_str() + at + 11, "%lf, %lf, %lf", &a.x(), &a.y(), &a.z());
+  return a;
+}
+
+TEST(SetupChecks, RotatedWrenchFrameIsReportedWithTheBestRotation) {
+  // ur_like and wrist_tool tilt in every direction (the centred, offset-free
+  // fit); the PUMA tilts about y only (the direction of change).
+  const Eigen::Vector3d axis(0.3, -0.5, 1.0);
+  for (const char* name : {"ur_like", "wrist_tool", "branching"}) {
+    const auto f = check(rotated(name, 10.0, axis));
+    const auto r = only(f, "frame-rotation");
+    ASSERT_TRUE(r) << name;
+    EXPECT_EQ(r->severity, Severity::Error) << r->message;
+    EXPECT_NEAR(reported_angle(r), 10.0, 0.3) << r->message;
+    EXPECT_TRUE(contains(r, "R = [[")) << r->message;
+    EXPECT_GT(reported_axis(r).dot(axis.normalized()), 0.9995) << r->message;
+  }
+  const auto p = check(rotated("puma260", 10.0, Eigen::Vector3d::UnitZ()));
+  const auto r = only(p, "frame-rotation");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->severity, Severity::Error);
+  EXPECT_TRUE(contains(r, "lower bound")) << r->message;
+  // A small misalignment is a warning; below 2 degrees nothing.
+  const auto w = only(check(rotated("ur_like", 3.0, axis)), "frame-rotation");
+  ASSERT_TRUE(w);
+  EXPECT_EQ(w->severity, Severity::Warning);
+  EXPECT_TRUE(check(rotated("ur_like", 1.0, axis)).empty());
+}
+
+TEST(SetupChecks, RotationCheckIgnoresTheOffsetAndNeedsTwoDirections) {
+  // A large force offset does not look like a rotation (centred fit)...
+  for (const char* name : {"ur_like", "puma260", "wrist_tool"}) {
+    Data d = simulated(example(name), 1.0, (Wrench() << 5.0, -4.0, 6.0, 0, 0, 0).finished());
+    EXPECT_TRUE(check(d).empty()) << name << "\n" << describe(check(d));
+  }
+}
+
+// ------------------------------------------------------------------ units
+
+TEST(SetupChecks, JointInDegreesIsAnError) {
+  Data d = simulated(example("puma260"));
+  d.samples.q.col(1) /= kDeg;  // joint2 written in degrees
+  const auto j = only(check(d), "joint-degrees");
+  ASSERT_TRUE(j);
+  EXPECT_EQ(j->severity, Severity::Error);
+  EXPECT_TRUE(contains(j, "'joint2'")) << j->message;
+  EXPECT_TRUE(contains(j, "joint2_deg")) << j->message;
+  // Named JOINT_deg in the header, the values were converted: not judged.
+  const auto named = check(d, {"joint1", "joint2_deg", "joint3", "gx", "gy", "gz"});
+  EXPECT_TRUE(std::none_of(named.begin(), named.end(), [](auto& x) {
+    return x.code == "joint-degrees";
+  })) << describe(named);
+  for (const char* name : {"ur_like", "branching"}) {
+    Data u = simulated(example(name));
+    u.samples.q.col(0) /= kDeg;
+    const auto k = only(check(u), "joint-degrees");
+    ASSERT_TRUE(k) << name;
+    EXPECT_EQ(k->severity, Severity::Error) << k->message;
+  }
+}
+
+TEST(SetupChecks, ContinuousJointInDegrees) {
+  Data d = simulated(example("branching"));
+  const int j = d.model.find_joint("head_pan");
+  ASSERT_GE(j, 0);
+  ASSERT_TRUE(d.model.joints[j].continuous);
+  d.samples.q.col(j) /= kDeg;
+  const auto k = only(check(d), "joint-degrees");
+  ASSERT_TRUE(k);
+  EXPECT_TRUE(contains(k, "'head_pan'")) << k->message;
+}
+
+TEST(SetupChecks, PrismaticJointInMillimetres) {
+  Data d = simulated(example("branching"));
+  const int j = d.model.find_joint("left_slide");
+  ASSERT_GE(j, 0);
+  d.samples.q.col(j) *= 1000.0;
+  const auto k = only(check(d), "joint-millimetres");
+  ASSERT_TRUE(k);
+  EXPECT_EQ(k->severity, Severity::Error);
+  EXPECT_TRUE(contains(k, "'left_slide'")) << k->message;
+}
+
+TEST(SetupChecks, ForceInMillinewtonsIsAnError) {
+  for (const auto& ex : test::examples()) {
+    Data d = simulated(ex);
+    d.samples.wrench.leftCols(3) *= 1000.0;
+    const auto f = check(d);
+    const auto k = only(f, "force-units");
+    ASSERT_TRUE(k) << ex.name;
+    EXPECT_EQ(k->severity, Severity::Error);
+    EXPECT_TRUE(contains(k, "mN")) << k->message;
+    EXPECT_EQ(f.size(), 1u) << ex.name << "\n" << describe(f);
+    gravity_from_force(d.samples);
+    EXPECT_TRUE(only(check(d), "force-units")) << ex.name;
+  }
+}
+
+TEST(SetupChecks, MomentInNewtonMillimetresIsAnError) {
+  for (const auto& ex : test::examples()) {
+    Data d = simulated(ex);
+    d.samples.wrench.rightCols(3) *= 1000.0;
+    const auto f = check(d);
+    const auto k = only(f, "moment-units");
+    ASSERT_TRUE(k) << ex.name;
+    EXPECT_EQ(k->severity, Severity::Error);
+    EXPECT_TRUE(contains(k, "N mm")) << k->message;
+    EXPECT_EQ(f.size(), 1u) << ex.name << "\n" << describe(f);
+    // Both: two findings.
+    d.samples.wrench.leftCols(3) *= 1000.0;
+    const auto both = check(d);
+    EXPECT_TRUE(only(both, "moment-units")) << ex.name;
+    EXPECT_TRUE(only(both, "force-units")) << ex.name;
+  }
+}
+
+TEST(SetupChecks, GravityMagnitudeFarFromEarthsIsAnError) {
+  for (const auto& [scale, hint] : std::vector<std::pair<double, std::string>>{
+           {1000.0, "mm/s^2"}, {1.0 / kStandardGravity, "unit vectors"}, {3.2808, "ft/s^2"}}) {
+    Data d = simulated(example("ur_like"));
+    d.samples.gravity *= scale;
+    const auto f = check(d);
+    const auto g = only(f, "gravity-magnitude");
+    ASSERT_TRUE(g) << scale;
+    EXPECT_EQ(g->severity, Severity::Error);
+    EXPECT_TRUE(contains(g, hint)) << g->message;
+    EXPECT_EQ(f.size(), 1u) << describe(f);
+  }
+  // A few rows off: a warning naming their lines.
+  Data d = simulated(example("puma260"));
+  d.samples.gravity.row(4) *= 0.5;
+  const auto g = only(check(d), "gravity-magnitude");
+  ASSERT_TRUE(g);
+  EXPECT_EQ(g->severity, Severity::Warning);
+  EXPECT_TRUE(contains(g, fmt::format("line {}", d.samples.line[4]))) << g->message;
+}
+
+// ------------------------------------------------------------------ columns
+
+TEST(SetupChecks, DuplicatedWrenchColumnIsAnError) {
+  for (const auto& ex : test::examples()) {
+    Data d = simulated(ex);
+    d.samples.wrench.col(4) = d.samples.wrench.col(3);  // my := mx
+    const auto f = check(d);
+    const auto k = only(f, "duplicate-columns");
+    ASSERT_TRUE(k) << ex.name;
+    EXPECT_EQ(f.size(), 1u) << ex.name << "\n" << describe(f);
+    d.samples.wrench.col(1) = d.samples.wrench.col(0);  // fy := fx: not a rotation too
+    const auto g = check(d);
+    EXPECT_EQ(g.size(), 2u) << ex.name << "\n" << describe(g);
+    EXPECT_EQ(k->severity, Severity::Error);
+    EXPECT_TRUE(contains(k, "'mx' and 'my'")) << k->message;
+  }
+}
+
+TEST(SetupChecks, DuplicatedJointColumnIsAWarning) {
+  Data d = simulated(example("ur_like"));
+  d.samples.q.col(2) = d.samples.q.col(1);
+  const auto k = only(check(d), "duplicate-columns");
+  ASSERT_TRUE(k);
+  EXPECT_EQ(k->severity, Severity::Warning);
+  EXPECT_TRUE(contains(k, "'shoulder_lift_joint' and 'elbow_joint'")) << k->message;
+}
+
+TEST(SetupChecks, ConstantJointIsAWarningUnlessTurnedOff) {
+  Data d = simulated(example("puma260"));
+  d.samples.q.col(2).setConstant(0.5);
+  const auto k = only(check(d), "constant-joint");
+  ASSERT_TRUE(k);
+  EXPECT_EQ(k->severity, Severity::Warning);
+  EXPECT_TRUE(contains(k, "--fixed joint3=0.5")) << k->message;
+  SetupCheckOptions o;
+  o.constant_joints = false;
+  EXPECT_TRUE(check(d, {}, o).empty());
+}
+
+TEST(SetupChecks, DeadWrenchChannelIsAnError) {
+  for (const auto& ex : test::examples()) {
+    Data d = simulated(ex);
+    d.samples.wrench.col(2).setZero();  // fz
+    const auto f = check(d);
+    const auto k = only(f, "constant-wrench");
+    ASSERT_TRUE(k) << ex.name;
+    EXPECT_EQ(f.size(), 1u) << ex.name << "\n" << describe(f);
+    EXPECT_EQ(k->severity, Severity::Error);
+    EXPECT_TRUE(contains(k, "'fz'")) << k->message;
+  }
+  // Noise-free PUMA data: fy is zero in every row (the plan tilts about y), as
+  // the URDF says it must be: no finding.
+  EXPECT_TRUE(check(simulated(example("puma260"), 0.0, Wrench::Zero())).empty());
+}
+
+// ------------------------------------------------------------------ reading the head
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          fmt::format("massid_setup_{}_{}", ::getpid(), name))
+      .string();
+}
+
+TEST(SetupChecks, HeadOfABigFileIsReadInPiecesWithTheFilesLines) {
+  Data d = simulated(example("puma260"), 1.0, Wrench::Zero(), 400);  // 12000 rows
+  const std::string path = temp_path("head.csv");
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "\xEF\xBB\xBF# comment\r\n\r\njoint1,joint2,joint3,gx,gy,gz,note,fx,fy,fz,mx,my,mz\r\n";
+    for (int i = 0; i < d.samples.size(); ++i) {
+      if (i % 1000 == 999) out << "# every thousand\n\n";
+      out << fmt::format("{},{},{},{},{},{},\"a, b\",{},{},{},{},{},{}\n", d.samples.q(i, 0),
+                         d.samples.q(i, 1), d.samples.q(i, 2), d.samples.gravity(i, 0),
+                         d.samples.gravity(i, 1), d.samples.gravity(i, 2), d.samples.wrench(i, 0),
+                         d.samples.wrench(i, 1), d.samples.wrench(i, 2), d.samples.wrench(i, 3),
+                         d.samples.wrench(i, 4), d.samples.wrench(i, 5));
+    }
+  }
+  const Samples whole = read_samples(d.model, read_csv(path), WrenchColumns::Required);
+  std::vector<std::string> header;
+  const Samples all = read_samples_head(d.model, path, 100000, &header);
+  EXPECT_EQ(header.size(), 13u);
+  ASSERT_EQ(all.size(), whole.size());
+  EXPECT_EQ(all.line, whole.line);
+  EXPECT_EQ(all.q, whole.q);
+  EXPECT_EQ(all.gravity, whole.gravity);
+  EXPECT_EQ(all.wrench, whole.wrench);
+  const Samples head = read_samples_head(d.model, path, 9000);
+  ASSERT_EQ(head.size(), 9000);
+  EXPECT_EQ(head.wrench, whole.wrench.topRows(9000));
+  EXPECT_EQ(head.line.back(), whole.line[8999]);
+  EXPECT_TRUE(check_setup_file(d.model, path).empty());
+
+  // A bad cell in a later piece: read_csv's message, with the file's line.
+  std::string text;
+  {
+    std::ifstream in(path, std::ios::binary);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t at = text.find('\n', text.size() - 200);
+  text.insert(at + 1, "0.1,0.2,0.3,0,0,9.8,x,1,2,3,nan,5,6\n");
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+  }
+  std::string expected, got;
+  try {
+    read_samples(d.model, read_csv(path), WrenchColumns::Required);
+  } catch (const InputError& e) {
+    expected = e.what();
+  }
+  try {
+    read_samples_head(d.model, path, 100000);
+  } catch (const InputError& e) {
+    got = e.what();
+  }
+  EXPECT_NE(expected, "");
+  EXPECT_EQ(got, expected);
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace massid
