@@ -96,7 +96,10 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
   Eigen::MatrixXd YB(6 * S, nb), YD(6 * S, dependent.size());
   for (int i = 0; i < nb; ++i) YB.col(i) = Ys.col(kept[i]);
   for (size_t i = 0; i < dependent.size(); ++i) YD.col(i) = Ys.col(dependent[i]);
-  Eigen::MatrixXd beta = YB.colPivHouseholderQr().solve(YD);
+  // (No dependent column: nothing to solve; Eigen's solve would bind a
+  // reference to the empty matrix's null data.)
+  const Eigen::MatrixXd beta =
+      YD.cols() > 0 ? Eigen::MatrixXd(YB.colPivHouseholderQr().solve(YD)) : Eigen::MatrixXd(nb, 0);
 
   // K' in pi' coordinates, then K = K' P with M_t = sum of the masses.
   Eigen::MatrixXd Kp = Eigen::MatrixXd::Zero(nb, n);

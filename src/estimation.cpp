@@ -71,6 +71,7 @@ struct DriftColumns {
 DriftColumns drift_columns(const Samples& s, Drift drift) {
   const int N = s.size();
   DriftColumns out;
+  out.E.resize(6 * N, 0);
   if (drift == Drift::Linear) {
     if (s.time.size() != N)
       throw InputError(s.source + ": --drift linear needs a t column (time of each sample, s)");
@@ -236,7 +237,8 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
 
   const int e = static_cast<int>(drift.E.cols());
   Eigen::MatrixXd M(6 * N, p + e);
-  M << A, drift.E;
+  M.leftCols(p) = A;
+  if (e > 0) M.rightCols(e) = drift.E;
   if (6 * N < p + e)
     throw IdentifiabilityError(samples.source + ": too few samples for the drift unknowns");
 
