@@ -35,7 +35,7 @@ stage "dependencies"
 scripts/deps.sh
 
 # 2. The normal build: RelWithDebInfo, warnings as errors; line tables only
-#    (-g1) rather than full debug information, which halves the compile time
+#    (-g1) rather than full debug information, which cuts the compile time by a third
 #    of the Eigen-heavy files (CI has 2 cores and 20 minutes).
 stage "build ($BUILD)"
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMASSID_WERROR=ON \
