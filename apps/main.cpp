@@ -110,7 +110,7 @@ bool report_setup(const std::vector<SetupFinding>& findings) {
 int run_identify(const Common& c, const std::string& data_path, const std::string& out, bool offset,
                  const IdentifyOptions& opts, bool checks = true) {
   const Model model = c.load();
-  // Before any work: wrong signs, units, frames or columns (the first 100 000
+  // Before any work: wrong signs, units, frames or columns (the first 20 000
   // rows of a big file). A joint that never moves is left to the
   // identifiability diagnosis below, which names it with the fix.
   SetupCheckOptions sopts;
