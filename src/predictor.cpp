@@ -119,7 +119,6 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     const Eigen::Matrix3d& A = b.rotation;
     for (int j = 0; j < 3; ++j) Eigen::Map<Eigen::Vector3d>(s.axes[j]) = A.col(j);
     s.row2[0] = A(2, 0), s.row2[1] = A(2, 1), s.row2[2] = A(2, 1), s.row2[3] = -A(2, 0);
-    s.revolute = b.type == JointType::Revolute ? 1.0 : 0.0;
     s.slide = b.type == JointType::Prismatic ? b.subtree_mass : 0.0;
     pred.steps.push_back(s);
   }
@@ -129,19 +128,17 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
   const std::size_t lanes = (pred.steps.size() + 3) / 4 * 4;
   pred.lane_joint.assign(lanes, 0);
   pred.lane_revolute.assign(lanes, 0.0);
-  for (std::size_t k = 0; k < pred.steps.size(); ++k)
-    pred.lane_joint[k] = pred.steps[k].joint, pred.lane_revolute[k] = pred.steps[k].revolute;
+  for (std::size_t k = 0; k < pred.steps.size(); ++k) {
+    const Body& b = bodies[order[k + 1]];
+    pred.lane_joint[k] = b.joint;
+    pred.lane_revolute[k] = b.type == JointType::Revolute ? 1.0 : 0.0;
+  }
   return pred;
 }
 
-namespace {
-// Movable bodies, rounded up to a multiple of four for the four-lane sincos.
-std::size_t lanes_for(const Predictor& p) { return (p.steps.size() + 3) / 4 * 4; }
-}  // namespace
-
 PredictorData::PredictorData(const Predictor& predictor)
-    : sin(lanes_for(predictor), 0.0),
-      cos(lanes_for(predictor), 1.0),
+    : sin(predictor.lane_joint.size(), 0.0),
+      cos(predictor.lane_joint.size(), 1.0),
       gathered(4 * predictor.first_moment.size(), 0.0) {}
 
 namespace {

@@ -38,7 +38,7 @@ std::vector<double> test_angles() {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> wide(-1e5, 1e5);
   for (int i = 0; i < 100000; ++i) x.push_back(wide(rng));
-  x.insert(x.end(), {0.0, -0.0, 1e-300, -1e-300, 1e-8, M_PI, -M_PI, 2 * M_PI});
+  x.insert(x.end(), {0.0, -0.0, 1e-300, -1e-300, 1e-8, M_PI, -M_PI, 2 * M_PI});  // zeros first
   while (x.size() % 4 != 0) x.push_back(0.5);
   return x;
 }
@@ -77,7 +77,10 @@ TEST(Sincos, WithinOneUlpOfLibm) {
   EXPECT_LE(cos_near.ulps, 1) << "at x = " << cos_near.x;
   EXPECT_LE(sin_far.ulps, 2) << "at x = " << sin_far.x;
   EXPECT_LE(cos_far.ulps, 2) << "at x = " << cos_far.x;
-  EXPECT_EQ(s[x.size() - 8], 0.0);  // sin(0) and sin(-0) are exact
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (x[i] == 0.0) {
+      EXPECT_EQ(s[i], 0.0) << "sin(" << x[i] << ") is exact";
+    }
 }
 
 TEST(Sincos, FourLanesGiveTheSameBitsAsTwo) {

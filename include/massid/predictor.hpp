@@ -41,12 +41,11 @@ using Wrench = Eigen::Matrix<double, 6, 1>;  // fx fy fz mx my mz
 // One movable body k of the recursion (bodies numbered depth first, 0 the
 // sensor body; steps are stored for k = 1..n and run from n down to 1).
 struct PredictorStep {
-  int joint = 0;          // index into q
-  int parent = 0;         // parent body p
-  bool carry = false;     // p == k - 1: S_p continues in registers
-  bool gathers = false;   // carry, and p has other children: add their sum, gathered[p]
-  double revolute = 0.0;  // theta = revolute q (1 for a revolute joint, else 0)
-  double slide = 0.0;     // M_k for a prismatic joint, else 0 (c_k's q term)
+  int joint = 0;         // index into q
+  int parent = 0;        // parent body p
+  bool carry = false;    // p == k - 1: S_p continues in registers
+  bool gathers = false;  // carry, and p has other children: add their sum, gathered[p]
+  double slide = 0.0;    // M_k for a prismatic joint, else 0 (c_k's q term)
   // A_k (parent frame <- body frame, joint axis = z): axes[j] = column j, then 0.
   double axes[3][4] = {};
   // Row 2 of A_k as two lane pairs, (A_2x, A_2y) and (A_2y, -A_2x): B_k's row 2.
