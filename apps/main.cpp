@@ -5,7 +5,6 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 
@@ -17,14 +16,15 @@
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
+#include "massid/identify_file.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
 #include "massid/report.hpp"
 #include "massid/samples.hpp"
 #include "massid/setup_checks.hpp"
 #include "massid/simulate.hpp"
-#include "massid/streaming.hpp"
 #include "options.hpp"
+#include "python_report.hpp"
 
 namespace {
 
@@ -88,15 +88,6 @@ int run_simulate(const Common& c, const std::string& plan_path, const std::strin
   return 0;
 }
 
-// A streamed log whose largest residuals are implausible is re-read whole to
-// name its samples when it is at most 64 MB (about 250 000 rows; the dense fit
-// then needs a few hundred MB, and only then).
-bool small_enough_to_name_samples(const std::string& path) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  return !ec && size <= (64u << 20);
-}
-
 // The set-up checks' findings (setup_checks.hpp): with an error, every error
 // on its own line and false (exit 2); else the warnings.
 bool report_setup(const std::vector<SetupFinding>& findings) {
@@ -107,8 +98,26 @@ bool report_setup(const std::vector<SetupFinding>& findings) {
   return !error;
 }
 
+// The arguments of `python -m massid.report identify` that repeat this fit.
+std::vector<std::string> identify_report_args(const Common& c, const std::string& data_path,
+                                              const std::string& report, bool offset,
+                                              const IdentifyOptions& opts, bool checks) {
+  std::vector<std::string> a{"identify", c.urdf, data_path, "-o", report};
+  if (!c.sensor.empty()) a.insert(a.end(), {"--sensor", c.sensor});
+  if (offset) a.push_back("--offset");
+  for (const std::string& f : c.fixed) a.insert(a.end(), {"--fixed", f});
+  if (opts.robust) a.push_back("--robust");
+  if (opts.drift != Drift::None)
+    a.insert(a.end(), {"--drift", opts.drift == Drift::Linear ? "linear" : "per-block"});
+  if (opts.sigma_force) a.insert(a.end(), {"--sigma-force", format_number(*opts.sigma_force)});
+  if (opts.sigma_moment) a.insert(a.end(), {"--sigma-moment", format_number(*opts.sigma_moment)});
+  if (!checks) a.push_back("--no-checks");
+  return a;
+}
+
 int run_identify(const Common& c, const std::string& data_path, const std::string& out, bool offset,
-                 const IdentifyOptions& opts, bool checks = true) {
+                 const IdentifyOptions& opts, bool checks, const std::string& report) {
+  if (!report.empty()) check_report_tools();  // before any work
   const Model model = c.load();
   // Before any work: wrong signs, units, frames or columns (the first 20 000
   // rows of a big file). A joint that never moves is left to the
@@ -119,25 +128,7 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   BaseParameterOptions bopts;
   bopts.offset = offset || opts.drift != Drift::None;  // a drifting offset is an offset
   const BaseParameters base = find_base_parameters(model, bopts);
-  IdentifySummary summary;
-  const auto in_memory = [&] {
-    const Samples samples = read_samples(model, read_csv(data_path), WrenchColumns::Required);
-    return identify(model, base, samples, opts);
-  };
-  if (opts.robust || opts.drift != Drift::None) {
-    summary = in_memory();  // iterated fits over the loaded samples
-  } else {
-    // Streamed from the memory-mapped file in constant memory (streaming.hpp):
-    // the same results as identify() on read_samples of the whole file.
-    const StreamOptions stream;
-    const IdentifyAccumulator acc = accumulate_csv(model, base, data_path, stream);
-    summary = acc.finish(opts);
-    if (summary.residual_max.hasNaN())  // not proven in the first pass: a second one
-      summary.residual_max = residual_max_csv(model, base, data_path, summary.value, stream);
-    // Implausible residuals: the in-memory fit (the same estimate) names the samples.
-    if (largest_residuals_implausible(summary) && small_enough_to_name_samples(data_path))
-      summary = in_memory();
-  }
+  const IdentifySummary summary = identify_file(model, base, data_path, opts);
   if (summary.gravity_from_force)
     std::cerr << fmt::format(
         "massid: note: {} has no gx,gy,gz columns: gravity is taken along the measured force "
@@ -146,12 +137,15 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   for (const std::string& w : identify_warnings(summary, data_path)) std::cerr << w;
   write_file_atomically(out, params_json(model, base, &summary));
   std::cout << identify_report(model, base, summary, data_path);
-  std::cout << "wrote " << out << "\n";
+  std::cout << "wrote " << out << std::endl;
+  if (!report.empty())
+    return run_report(identify_report_args(c, data_path, report, offset, opts, checks));
   return 0;
 }
 
 int run_predict(const std::string& urdf, const std::string& params_path,
-                const std::string& data_path, const std::string& out) {
+                const std::string& data_path, const std::string& out, const std::string& report) {
+  if (!report.empty()) check_report_tools();  // before any work
   const ParamsFile params = read_params(params_path);
   const Model model = hold_joints(load_urdf(urdf, params.sensor_link), params.held);
   BaseParameterOptions bopts;
@@ -182,6 +176,8 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   if (samples.has_wrench())
     std::cout << prediction_report(prediction_errors(samples.wrench, P), samples.size());
   if (!out.empty()) std::cout << "wrote " << out << "\n";
+  std::cout.flush();
+  if (!report.empty()) return run_report({"predict", urdf, params_path, data_path, "-o", report});
   return 0;
 }
 
@@ -198,7 +194,7 @@ int main(int argc, char** argv) {
   std::string plan, data, out, params, offset_text;
   SimulateOptions sim;
   IdentifyOptions idopts;
-  std::string drift_text;
+  std::string drift_text, report;
   bool no_checks = false;
   double sigma_force = 0, sigma_moment = 0;
 
@@ -257,11 +253,16 @@ int main(int argc, char** argv) {
                    "Moment noise sigma, N m (default: from residuals)")
       ->check(sign_check(true));
 
+  ident->add_option("--report", report,
+                    "Also write an HTML report (plots; needs Python with matplotlib)");
+
   CLI::App* pred = app.add_subcommand("predict", "Gravity wrench predicted at every row of a CSV");
   pred->add_option("robot", common.urdf, "Robot URDF")->required();
   pred->add_option("params", params, "Params JSON from identify")->required();
   pred->add_option("data", data, "Plan or data CSV")->required();
   pred->add_option("-o,--output", out, "CSV to write: input plus *_pred (and *_comp)");
+  pred->add_option("--report", report,
+                   "Also write an HTML report (plots; needs Python with matplotlib)");
 
   DesignCommand design;
   add_design_command(app, design);
@@ -292,9 +293,9 @@ int main(int argc, char** argv) {
       if (ident->count("--sigma-force")) idopts.sigma_force = sigma_force;
       if (ident->count("--sigma-moment")) idopts.sigma_moment = sigma_moment;
       if (!drift_text.empty()) idopts.drift = parse_drift(drift_text);
-      return run_identify(common, data, out, offset, idopts, !no_checks);
+      return run_identify(common, data, out, offset, idopts, !no_checks, report);
     }
-    if (*pred) return run_predict(common.urdf, params, data, out);
+    if (*pred) return run_predict(common.urdf, params, data, out, report);
     if (*design.app) return run_design(design);
     if (*emulate.app) return run_emulate(emulate);
     if (*bench.app) return run_bench(bench);

@@ -62,6 +62,16 @@ double chi6_quantile(double p) {
   return std::sqrt(0.5 * (lo + hi));
 }
 
+// Blocks other than the last sample's, in order of first appearance: per-block
+// drift estimates their offsets relative to the last block.
+std::vector<int> other_blocks(const Samples& s) {
+  std::vector<int> others;
+  for (int b : s.block)
+    if (b != s.block.back() && std::find(others.begin(), others.end(), b) == others.end())
+      others.push_back(b);
+  return others;
+}
+
 // Drift unknowns: [6N x e] columns beside the base regressor, and their names.
 struct DriftColumns {
   Eigen::MatrixXd E;
@@ -91,12 +101,8 @@ DriftColumns drift_columns(const Samples& s, Drift drift) {
       throw InputError(s.source +
                        ": --drift per-block needs a block column (an integer per sample; the "
                        "sensor was re-zeroed between blocks)");
-    // Offsets of the other blocks relative to the last sample's block.
     const int last = s.block.back();
-    std::vector<int> others;
-    for (int b : s.block)
-      if (b != last && std::find(others.begin(), others.end(), b) == others.end())
-        others.push_back(b);
+    const std::vector<int> others = other_blocks(s);
     out.E = Eigen::MatrixXd::Zero(6 * N, 6 * others.size());
     for (int i = 0; i < N; ++i) {
       const auto it = std::find(others.begin(), others.end(), s.block[i]);
@@ -351,6 +357,31 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   out.chi2_per_dof = 6 * used > p + e ? chi2 / (6 * used - p - e) : 0.0;
   out.condition_number = moment_condition_number(base, A);
   return out;
+}
+
+Eigen::MatrixXd fitted_wrenches(const Model& model, const BaseParameters& base,
+                                const Samples& samples, const IdentifySummary& summary) {
+  const int N = samples.size();
+  Eigen::MatrixXd W(N, 6);
+  RegressorData data(model, base);
+  for (int i = 0; i < N; ++i) {
+    base_regressor(model, base, data, samples.q.row(i).transpose(),
+                   samples.gravity.row(i).transpose());
+    W.row(i) = (data.base * summary.value).transpose();  // eq. 29
+  }
+  if (summary.drift == Drift::Linear && summary.drift_value.size() == 6) {
+    const double t_end = samples.time.maxCoeff();
+    for (int i = 0; i < N; ++i)
+      W.row(i) += (samples.time[i] - t_end) * summary.drift_value.transpose();
+  } else if (summary.drift == Drift::PerBlock && N > 0) {
+    const std::vector<int> others = other_blocks(samples);
+    for (int i = 0; i < N; ++i) {
+      const auto it = std::find(others.begin(), others.end(), samples.block[i]);
+      if (it != others.end())
+        W.row(i) += summary.drift_value.segment<6>(6 * (it - others.begin())).transpose();
+    }
+  }
+  return W;
 }
 
 }  // namespace massid

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "massid/csv.hpp"
 #include "massid/errors.hpp"
 
 namespace massid {
@@ -15,8 +16,49 @@ const char* const kWrenchColumns[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
 
 namespace {
 
+// The columns that read_samples takes its numbers from: a CSV table (errors
+// name file:line:column) or named arrays (errors name data['column'][row]).
+struct TableColumns {
+  const CsvTable& table;
+  int rows() const { return table.num_rows(); }
+  int find(const std::string& name) const { return table.find(name); }
+  double number(int r, int c) const { return table.number(r, c); }
+  int line(int r) const { return table.line[r]; }
+  // "file:line" of the header, "file:line:column: column 'x'" of a cell.
+  std::string header_where() const { return fmt::format("{}:{}", table.source, table.header_line); }
+  std::string row_where(int r) const { return fmt::format("{}:{}", table.source, table.line[r]); }
+  std::string cell_where(int r, int c) const {
+    return fmt::format("{}:{}:{}: column '{}'", table.source, table.line[r],
+                       table.column_offset[r][c], table.header[c]);
+  }
+};
+
+struct ArrayColumns {
+  const std::string& source;
+  const std::vector<std::string>& names;
+  const std::vector<Eigen::VectorXd>& values;
+  int rows() const { return values.empty() ? 0 : static_cast<int>(values.front().size()); }
+  int find(const std::string& name) const {
+    const auto it = std::find(names.begin(), names.end(), name);
+    return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+  }
+  double number(int r, int c) const {
+    const double v = values[c][r];
+    if (!std::isfinite(v))
+      throw InputError(fmt::format("{}: {} is not a finite number", cell_where(r, c), v));
+    return v;
+  }
+  int line(int r) const { return r; }
+  std::string header_where() const { return source; }
+  std::string row_where(int r) const { return fmt::format("{} row {}", source, r); }
+  std::string cell_where(int r, int c) const {
+    return fmt::format("{}['{}'][{}]", source, names[c], r);
+  }
+};
+
 // Indices of a group of columns that must be all present or all absent.
-std::vector<int> column_group(const CsvTable& table, std::initializer_list<const char*> names) {
+template <class Columns>
+std::vector<int> column_group(const Columns& table, std::initializer_list<const char*> names) {
   std::vector<int> idx;
   std::vector<std::string> missing;
   for (const char* n : names) {
@@ -26,16 +68,15 @@ std::vector<int> column_group(const CsvTable& table, std::initializer_list<const
   const size_t found = std::count_if(idx.begin(), idx.end(), [](int c) { return c >= 0; });
   if (found == 0) return {};
   if (found < idx.size())
-    throw InputError(fmt::format(
-        "{}:{}: column(s) {} missing (the header has some of {} but not all)", table.source,
-        table.header_line, fmt::join(missing, ","), fmt::join(names.begin(), names.end(), ",")));
+    throw InputError(fmt::format("{}: column(s) {} missing (the header has some of {} but not all)",
+                                 table.header_where(), fmt::join(missing, ","),
+                                 fmt::join(names.begin(), names.end(), ",")));
   return idx;
 }
 
-}  // namespace
-
-Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table) {
-  const int N = table.num_rows();
+template <class Columns>
+Eigen::MatrixXd joint_columns(const Model& model, const Columns& table) {
+  const int N = table.rows();
   const int nj = model.num_joints();
   Eigen::MatrixXd q(N, nj);
   for (int j = 0; j < nj; ++j) {
@@ -48,27 +89,29 @@ Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table) {
     }
     if (c < 0)
       throw InputError(fmt::format(
-          "{}:{}: no column for joint '{}' (expected '{}'{})", table.source, table.header_line,
-          joint.name, joint.name,
+          "{}: no column for joint '{}' (expected '{}'{})", table.header_where(), joint.name,
+          joint.name,
           joint.type == JointType::Revolute ? fmt::format(" or '{}_deg'", joint.name) : ""));
     for (int r = 0; r < N; ++r) q(r, j) = scale * table.number(r, c);
   }
   return q;
 }
 
-Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench, double g0) {
+template <class Columns>
+Samples samples_of(const Model& model, const Columns& table, const std::string& source,
+                   WrenchColumns wrench, double g0) {
   Samples s;
-  s.source = table.source;
-  const int N = table.num_rows();
-  s.line = table.line;
+  s.source = source;
+  const int N = table.rows();
+  s.line.resize(N);
+  for (int r = 0; r < N; ++r) s.line[r] = table.line(r);
 
-  s.q = read_joint_columns(model, table);
+  s.q = joint_columns(model, table);
 
   const std::vector<int> w = column_group(table, {"fx", "fy", "fz", "mx", "my", "mz"});
   if (w.empty() && wrench == WrenchColumns::Required)
-    throw InputError(
-        fmt::format("{}:{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed",
-                    table.source, table.header_line));
+    throw InputError(fmt::format("{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed",
+                                 table.header_where()));
   if (!w.empty()) {
     s.wrench.resize(N, 6);
     for (int r = 0; r < N; ++r)
@@ -84,9 +127,8 @@ Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wr
     for (int r = 0; r < N; ++r) {
       const double b = table.number(r, c);
       if (b != std::round(b) || std::abs(b) > 1e9)
-        throw InputError(fmt::format("{}:{}:{}: column 'block': '{}' is not an integer",
-                                     table.source, table.line[r], table.column_offset[r][c],
-                                     table.rows[r][c]));
+        throw InputError(
+            fmt::format("{}: '{}' is not an integer", table.cell_where(r, c), format_number(b)));
       s.block[r] = static_cast<int>(b);
     }
   }
@@ -102,16 +144,43 @@ Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wr
       const Eigen::Vector3d f = s.wrench.row(r).head<3>();
       if (!(f.norm() > 0.0))
         throw InputError(
-            fmt::format("{}:{}: zero force: no gx,gy,gz columns and no force to take "
+            fmt::format("{}: zero force: no gx,gy,gz columns and no force to take "
                         "the gravity direction from",
-                        table.source, table.line[r]));
+                        table.row_where(r)));
       s.gravity.row(r) = g0 * f / f.norm();  // paper eq. 37
     }
   } else {
-    throw InputError(fmt::format("{}:{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame)",
-                                 table.source, table.header_line));
+    throw InputError(fmt::format("{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame)",
+                                 table.header_where()));
   }
   return s;
+}
+
+}  // namespace
+
+Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table) {
+  return joint_columns(model, TableColumns{table});
+}
+
+Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench, double g0) {
+  return samples_of(model, TableColumns{table}, table.source, wrench, g0);
+}
+
+Samples samples_from_columns(const Model& model, const std::vector<std::string>& names,
+                             const std::vector<Eigen::VectorXd>& columns, WrenchColumns wrench,
+                             const std::string& source, double g0) {
+  if (names.size() != columns.size())
+    throw InputError(
+        fmt::format("{}: {} column names for {} columns", source, names.size(), columns.size()));
+  for (size_t c = 0; c < columns.size(); ++c) {
+    if (columns[c].size() != columns.front().size())
+      throw InputError(fmt::format("{}: column '{}' has {} rows, column '{}' has {}", source,
+                                   names[c], columns[c].size(), names.front(),
+                                   columns.front().size()));
+    if (std::count(names.begin(), names.end(), names[c]) > 1)
+      throw InputError(fmt::format("{}: column '{}' appears twice", source, names[c]));
+  }
+  return samples_of(model, ArrayColumns{source, names, columns}, source, wrench, g0);
 }
 
 }  // namespace massid

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "massid/atomic_file.hpp"
@@ -13,6 +14,7 @@
 #include "massid/estimation.hpp"
 #include "massid/params_file.hpp"
 #include "massid/regressor.hpp"
+#include "massid/samples.hpp"
 #include "massid/simulate.hpp"
 #include "test_support.hpp"
 
@@ -66,6 +68,57 @@ TEST(Csv, ErrorsNameFileLineAndColumn) {
 TEST(Csv, NumbersRoundTripExactly) {
   for (double v : {0.1, -2.445, 1e-300, 9.80665, 1.0 / 3.0, 123456789.123456789})
     EXPECT_EQ(parse_csv("a\n" + format_number(v), "f").number(0, 0), v);
+}
+
+// The Python module's columns-by-name path: the same samples as the CSV, and
+// errors that name data['column'][row].
+TEST(Samples, ColumnsInMemoryReadLikeTheCsv) {
+  const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");
+  const std::string text =
+      "joint1_deg,joint2,joint3,fx,fy,fz,mx,my,mz,t,block\n"
+      "10,0.5,-0.25,1,2,30,0.1,0.2,0.3,0.0,4\n"
+      "-45,0.125,1.5,-1,2,-30,0.4,0.5,0.6,0.5,7\n";
+  const Samples csv = read_samples(model, parse_csv(text, "log.csv"), WrenchColumns::Required);
+  const std::vector<std::string> names{"joint1_deg", "joint2", "joint3", "fx", "fy",   "fz",
+                                       "mx",         "my",     "mz",     "t",  "block"};
+  std::vector<Eigen::VectorXd> cols(names.size(), Eigen::VectorXd::Zero(2));
+  const double values[2][11] = {{10, 0.5, -0.25, 1, 2, 30, 0.1, 0.2, 0.3, 0.0, 4},
+                                {-45, 0.125, 1.5, -1, 2, -30, 0.4, 0.5, 0.6, 0.5, 7}};
+  for (int r = 0; r < 2; ++r)
+    for (size_t c = 0; c < names.size(); ++c) cols[c][r] = values[r][c];
+  const Samples mem = samples_from_columns(model, names, cols, WrenchColumns::Required);
+  EXPECT_EQ(mem.q, csv.q);
+  EXPECT_EQ(mem.wrench, csv.wrench);
+  EXPECT_EQ(mem.gravity, csv.gravity);  // from the force (eq. 37) in both
+  EXPECT_TRUE(mem.gravity_from_force);
+  EXPECT_EQ(mem.time, csv.time);
+  EXPECT_EQ(mem.block, csv.block);
+  EXPECT_EQ(mem.line, (std::vector<int>{0, 1}));  // row indices
+  EXPECT_EQ(mem.source, "data");
+
+  const auto message = [&](const std::vector<std::string>& n,
+                           const std::vector<Eigen::VectorXd>& c) {
+    try {
+      samples_from_columns(model, n, c, WrenchColumns::Required);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  auto bad = cols;
+  bad[5][1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(message(names, bad), "data['fz'][1]: nan is not a finite number");
+  bad = cols;
+  bad[10][0] = 2.5;
+  EXPECT_EQ(message(names, bad), "data['block'][0]: '2.5' is not an integer");
+  bad = cols;
+  bad[3].resize(3);
+  EXPECT_EQ(message(names, bad), "data: column 'fx' has 3 rows, column 'joint1_deg' has 2");
+  auto dup = names;
+  dup[4] = "fx";
+  EXPECT_EQ(message(dup, cols), "data: column 'fx' appears twice");
+  EXPECT_EQ(message({names.begin() + 1, names.end()}, {cols.begin() + 1, cols.end()}),
+            "data: no column for joint 'joint1' (expected 'joint1' or 'joint1_deg')");
 }
 
 TEST(AtomicFile, FailureLeavesTheOldFileAndNoTemporary) {

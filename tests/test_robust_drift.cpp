@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <set>
 
@@ -77,6 +78,17 @@ struct Log {
     }
   }
 };
+
+// The fit's residuals from fitted_wrenches (drift terms included) have the
+// RMS the summary reports.
+void expect_fitted_residuals(const Model& model, const BaseParameters& base, const Samples& samples,
+                             const IdentifySummary& fit) {
+  const Eigen::MatrixXd R = samples.wrench - fitted_wrenches(model, base, samples, fit);
+  for (int k = 0; k < 6; ++k) {
+    const double rms = std::sqrt(R.col(k).squaredNorm() / R.rows());
+    EXPECT_NEAR(rms, fit.residual_rms[k], 1e-9 * fit.residual_rms[k]) << "axis " << k;
+  }
+}
 
 BaseParameters with_offset(const Model& model) {
   BaseParameterOptions bo;
@@ -184,6 +196,8 @@ TEST(Drift, LinearDriftOfFourNewtonsNoLongerBiasesTheMasses) {
         << "offset at the end of the log, axis " << k;
   }
   EXPECT_TRUE(fit.outliers.empty());
+  expect_fitted_residuals(log.model, base, log.samples, fit);
+  expect_fitted_residuals(log.model, base, log.samples, plain);
 }
 
 TEST(Drift, PerBlockOffsetsAfterReZeroingNoLongerBiasTheMasses) {
@@ -218,6 +232,7 @@ TEST(Drift, PerBlockOffsetsAfterReZeroingNoLongerBiasTheMasses) {
     EXPECT_NEAR(fit.drift_value[6 + k], jump[1][k], 4.5 * fit.drift_stddev[6 + k]) << "block 3";
   }
   EXPECT_NE(fit.drift_names[0].find("block 7"), std::string::npos) << fit.drift_names[0];
+  expect_fitted_residuals(log.model, base, log.samples, fit);
 }
 
 TEST(Drift, MissingOrUselessColumnsAreClearErrors) {

@@ -83,6 +83,12 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
 double largest_residual_bound(int samples);
 bool largest_residuals_implausible(const IdentifySummary& s);
 
+// [N x 6] the wrench the fit ascribes to each sample: Y_b(q_i, g_i) x (eq. 29)
+// plus its drift terms; samples.wrench - fitted are the fit's residuals (rejected
+// samples included). `samples` must be those the summary was identified from.
+Eigen::MatrixXd fitted_wrenches(const Model& model, const BaseParameters& base,
+                                const Samples& samples, const IdentifySummary& summary);
+
 // Stacked base regressor, eq. 33: [6N x num_unknowns], rows fx..mz per sample.
 Eigen::MatrixXd stacked_regressor(const Model& model, const BaseParameters& base,
                                   const Samples& samples);

@@ -34,6 +34,13 @@ enum class WrenchColumns { Required, Optional };
 Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench,
                      double g0 = kStandardGravity);
 
+// read_samples for columns already in memory (the Python module's dict of
+// arrays): names[c] labels columns[c], all of one length. Errors name
+// source['column'][row].
+Samples samples_from_columns(const Model& model, const std::vector<std::string>& names,
+                             const std::vector<Eigen::VectorXd>& columns, WrenchColumns wrench,
+                             const std::string& source = "data", double g0 = kStandardGravity);
+
 // [N x num_joints] joint columns (named as the joint, or JOINT_deg in degrees).
 Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table);
 

@@ -1,0 +1,86 @@
+"""massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches.
+
+The Python face of the massid library (the CLI's commands as functions, on numpy
+arrays). Five lines from a URDF to a report::
+
+    import massid
+    plan = massid.design("robot.urdf", 30, tilt_max_deg=15)
+    data = massid.simulate("robot.urdf", plan, noise_force=0.05, noise_moment=0.005)
+    ident = massid.identify("robot.urdf", data)           # or a CSV log
+    massid.report.write_identify_report("report.html", ident)
+
+Conventions (as the CLI): SI units; wrenches [fx, fy, fz, mx, my, mz] in the
+sensor frame, the wrench the mechanism exerts on the sensor; gravity in the
+sensor frame. Errors raise InputError / IdentifiabilityError with the CLI's
+messages; warnings are MassidWarning. The report module (massid.report) needs
+matplotlib and is imported on first use.
+"""
+
+from ._massid import (  # noqa: F401  (the public API)
+    BaseParameter,
+    BaseParameters,
+    IdentifiabilityError,
+    Identification,
+    InputError,
+    Joint,
+    Link,
+    Model,
+    Outlier,
+    Params,
+    Plan,
+    Predictor,
+    __version__,
+    base_parameters,
+    design,
+    identify,
+    load_model,
+    load_model_string,
+    load_params,
+    predict,
+    read_csv,
+    regressor,
+    simulate,
+    standard_regressor,
+)
+
+
+class MassidWarning(UserWarning):
+    """A warning about the data or the fit (the CLI's 'massid: warning:' lines)."""
+
+
+def __getattr__(name: str):
+    # massid.report imports matplotlib: only when it is used.
+    if name == "report":
+        import importlib
+
+        return importlib.import_module(".report", __name__)
+    raise AttributeError(f"module 'massid' has no attribute '{name}'")
+
+
+__all__ = [
+    "BaseParameter",
+    "BaseParameters",
+    "IdentifiabilityError",
+    "Identification",
+    "InputError",
+    "Joint",
+    "Link",
+    "MassidWarning",
+    "Model",
+    "Outlier",
+    "Params",
+    "Plan",
+    "Predictor",
+    "__version__",
+    "base_parameters",
+    "design",
+    "identify",
+    "load_model",
+    "load_model_string",
+    "load_params",
+    "predict",
+    "read_csv",
+    "regressor",
+    "simulate",
+    "standard_regressor",
+]

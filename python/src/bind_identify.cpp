@@ -1,0 +1,272 @@
+// Identification (massid/estimation.hpp, identify_file.hpp, setup_checks.hpp,
+// params_file.hpp, report.hpp): massid.identify and its result.
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+#include <climits>
+
+#include "bindings.hpp"
+#include "convert.hpp"
+#include "massid/atomic_file.hpp"
+#include "massid/errors.hpp"
+#include "massid/identify_file.hpp"
+#include "massid/params_file.hpp"
+#include "massid/report.hpp"
+#include "massid/setup_checks.hpp"
+
+namespace massid::python {
+
+namespace {
+
+constexpr const char* kWarningPrefix = "massid: warning: ";
+
+std::string strip_warning(std::string line) {
+  if (line.rfind(kWarningPrefix, 0) == 0) line.erase(0, std::string(kWarningPrefix).size());
+  while (!line.empty() && line.back() == '\n') line.pop_back();
+  return line;
+}
+
+// The set-up checks (setup_checks.hpp): errors raise InputError with every
+// error on its own line; warnings are returned.
+std::vector<std::string> run_checks(const Model& model, const py::handle& data,
+                                    const Samples* samples,
+                                    const std::vector<std::string>& header) {
+  SetupCheckOptions o;
+  o.constant_joints = false;  // left to the identifiability diagnosis (exit 3), as the CLI
+  const std::vector<SetupFinding> findings =
+      samples ? check_setup(model, *samples, header, o) : check_setup_file(model, path_of(data), o);
+  std::vector<std::string> errors, warnings;
+  for (const SetupFinding& f : findings)
+    (f.severity == SetupFinding::Severity::Error ? errors : warnings).push_back(f.message);
+  if (!errors.empty()) throw InputError(fmt::format("{}", fmt::join(errors, "\n")));
+  return warnings;
+}
+
+Identification run_identify(const py::object& robot, const py::object& data, bool offset,
+                            std::optional<std::string> sensor,
+                            std::optional<std::map<std::string, double>> fixed, bool robust,
+                            std::optional<std::string> drift, std::optional<double> sigma_force,
+                            std::optional<double> sigma_moment, bool checks) {
+  Identification out;
+  out.model = model_of(robot, sensor, fixed);
+  IdentifyOptions opts;
+  opts.robust = robust;
+  if (drift) {
+    if (*drift == "linear")
+      opts.drift = Drift::Linear;
+    else if (*drift == "per-block")
+      opts.drift = Drift::PerBlock;
+    else
+      throw InputError(fmt::format("drift: '{}' is not 'linear' or 'per-block'", *drift));
+  }
+  for (auto [value, name] : {std::pair{sigma_force, "sigma_force"}, {sigma_moment, "sigma_moment"}})
+    if (value && !(*value > 0 && std::isfinite(*value)))
+      throw InputError(fmt::format("{}: {} is not a positive number", name, *value));
+  opts.sigma_force = sigma_force;
+  opts.sigma_moment = sigma_moment;
+  BaseParameterOptions bopts;
+  bopts.offset = offset || opts.drift != Drift::None;  // a drifting offset is an offset
+  out.base = find_base_parameters(out.model, bopts);
+
+  std::vector<std::string> notes;
+  std::string source;
+  if (is_path(data)) {
+    source = path_of(data);
+    if (checks) notes = run_checks(out.model, data, nullptr, {});
+    py::gil_scoped_release release;
+    out.summary = identify_file(out.model, out.base, source, opts, &out.samples);
+  } else {
+    std::vector<std::string> header;
+    out.samples = samples_of(out.model, data, WrenchColumns::Required, &header);
+    source = out.samples.source;
+    if (checks) notes = run_checks(out.model, data, &out.samples, header);
+    py::gil_scoped_release release;
+    out.summary = identify(out.model, out.base, out.samples, opts);
+  }
+  out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
+  if (out.summary.gravity_from_force)
+    notes.push_back(fmt::format(
+        "{} has no gx,gy,gz columns: gravity is taken along the measured force (paper eq. 37), "
+        "|g| = {} m/s^2",
+        source, kStandardGravity));
+  for (const std::string& w : identify_warnings(out.summary, source))
+    notes.push_back(strip_warning(w));
+  out.warnings = notes;
+  const py::object warn = py::module_::import("warnings").attr("warn");
+  const py::object category = py::module_::import("massid").attr("MassidWarning");
+  for (const std::string& w : out.warnings) warn(w, category, 3);
+  return out;
+}
+
+py::object optional_vector(bool present, const Eigen::VectorXd& v) {
+  return present ? py::object(to_numpy(v)) : py::object(py::none());
+}
+
+}  // namespace
+
+void bind_identify(py::module_& m) {
+  py::class_<Outlier>(m, "Outlier", "A sample whose residual is implausible for the fitted noise.")
+      .def_readonly("sample", &Outlier::sample, "row in the data")
+      .def_readonly("line", &Outlier::line, "file line (row index for columns given as arrays)")
+      .def_readonly("score", &Outlier::score,
+                    "standardised residual norm d, chi with 6 degrees of freedom")
+      .def("__repr__", [](const Outlier& o) {
+        return fmt::format("Outlier(sample={}, line={}, score={:.3g})", o.sample, o.line, o.score);
+      });
+
+  using I = Identification;
+  const auto sum = [](const I& i) -> const IdentifySummary& { return i.summary; };
+  py::class_<I>(m, "Identification",
+                "Identified base parameters (paper eqs. 32-36) with the samples they came from. "
+                "Attributes mirror the params file.")
+      .def_readonly("model", &I::model)
+      .def_property_readonly("source", [](const I& i) { return i.samples.source; })
+      .def_property_readonly("total_mass",
+                             [sum](const I& i) { return sum(i).value[i.base.total_mass]; })
+      .def_property_readonly("total_mass_std",
+                             [sum](const I& i) { return sum(i).stddev[i.base.total_mass]; })
+      .def_property_readonly("base_parameters",
+                             [sum](const I& i) {
+                               std::vector<NamedParameter> out;
+                               for (int k = 0; k < i.base.num_mass(); ++k) {
+                                 NamedParameter p = named_parameter(i.model, i.base.params[k]);
+                                 p.value = sum(i).value[k];
+                                 p.std = sum(i).stddev[k];
+                                 out.push_back(std::move(p));
+                               }
+                               return out;
+                             })
+      .def_property_readonly("unknown_names", [](const I& i) { return unknown_names(i.base); })
+      .def_property_readonly(
+          "values", [sum](const I& i) { return to_numpy(sum(i).value); },
+          "[p] base parameters, then the offsets")
+      .def_property_readonly("std", [sum](const I& i) { return to_numpy(sum(i).stddev); })
+      .def_property_readonly("covariance",
+                             [sum](const I& i) { return to_numpy(sum(i).covariance); })
+      .def_property_readonly("correlation",
+                             [sum](const I& i) {
+                               const Eigen::MatrixXd& C = sum(i).covariance;
+                               const Eigen::VectorXd d = C.diagonal().cwiseSqrt();
+                               Eigen::MatrixXd R = C.array() / (d * d.transpose()).array();
+                               return to_numpy(R);
+                             })
+      .def_property_readonly("offset",
+                             [sum](const I& i) {
+                               return optional_vector(i.base.offset,
+                                                      sum(i).value.tail(i.base.offset ? 6 : 0));
+                             })
+      .def_property_readonly("offset_std",
+                             [sum](const I& i) {
+                               return optional_vector(i.base.offset,
+                                                      sum(i).stddev.tail(i.base.offset ? 6 : 0));
+                             })
+      .def_property_readonly("condition_number",
+                             [sum](const I& i) { return sum(i).condition_number; })
+      .def_property_readonly("chi2_per_dof", [sum](const I& i) { return sum(i).chi2_per_dof; })
+      .def_property_readonly("sigma",
+                             [sum](const I& i) { return to_numpy(Eigen::VectorXd(sum(i).sigma)); })
+      .def_property_readonly("sigma_estimated",
+                             [sum](const I& i) { return sum(i).sigma_estimated; })
+      .def_property_readonly("samples", [sum](const I& i) { return sum(i).samples; })
+      .def_property_readonly(
+          "residual_rms",
+          [sum](const I& i) { return to_numpy(Eigen::VectorXd(sum(i).residual_rms)); })
+      .def_property_readonly(
+          "residual_max",
+          [sum](const I& i) { return to_numpy(Eigen::VectorXd(sum(i).residual_max)); })
+      .def_property_readonly("q", [](const I& i) { return to_numpy(i.samples.q); })
+      .def_property_readonly("gravity", [](const I& i) { return to_numpy(i.samples.gravity); })
+      .def_property_readonly("wrench", [](const I& i) { return to_numpy(i.samples.wrench); })
+      .def_property_readonly("fitted", [](const I& i) { return to_numpy(i.fitted); })
+      .def_property_readonly(
+          "residuals",
+          [](const I& i) { return to_numpy(Eigen::MatrixXd(i.samples.wrench - i.fitted)); })
+      .def_property_readonly("lines",
+                             [](const I& i) {
+                               py::array_t<long> a(static_cast<py::ssize_t>(i.samples.line.size()));
+                               std::copy(i.samples.line.begin(), i.samples.line.end(),
+                                         a.mutable_data());
+                               return a;
+                             })
+      .def_property_readonly(
+          "time",
+          [](const I& i) { return optional_vector(i.samples.time.size() > 0, i.samples.time); })
+      .def_property_readonly("gravity_from_force",
+                             [sum](const I& i) { return sum(i).gravity_from_force; })
+      .def_property_readonly("outliers", [sum](const I& i) { return sum(i).outliers; })
+      .def_property_readonly("outlier_threshold",
+                             [sum](const I& i) { return sum(i).outlier_threshold; })
+      .def_property_readonly("robust", [sum](const I& i) { return sum(i).robust; })
+      .def_property_readonly(
+          "used",
+          [sum](const I& i) {
+            py::array_t<bool> a(i.samples.size());
+            bool* p = a.mutable_data();
+            std::fill(p, p + i.samples.size(), true);
+            if (sum(i).robust)
+              for (const Outlier& o : sum(i).outliers) p[o.sample] = false;
+            return a;
+          },
+          "[N] False for the samples that robust=True rejected")
+      .def_property_readonly("drift",
+                             [sum](const I& i) -> py::object {
+                               switch (sum(i).drift) {
+                                 case Drift::Linear:
+                                   return py::str("linear");
+                                 case Drift::PerBlock:
+                                   return py::str("per-block");
+                                 default:
+                                   return py::none();
+                               }
+                             })
+      .def_property_readonly("drift_names", [sum](const I& i) { return sum(i).drift_names; })
+      .def_property_readonly("drift_values",
+                             [sum](const I& i) { return to_numpy(sum(i).drift_value); })
+      .def_property_readonly("drift_std",
+                             [sum](const I& i) { return to_numpy(sum(i).drift_stddev); })
+      .def_readonly("warnings", &I::warnings)
+      .def(
+          "report",
+          [sum](const I& i) { return identify_report(i.model, i.base, sum(i), i.samples.source); },
+          "The text report that massid identify prints.")
+      .def(
+          "to_json", [sum](const I& i) { return params_json(i.model, i.base, &sum(i)); },
+          "The params file's text ('massid-params-1').")
+      .def(
+          "save",
+          [sum](const I& i, const py::object& path) {
+            write_file_atomically(path_of(path), params_json(i.model, i.base, &sum(i)));
+          },
+          py::arg("path"), "Writes the params file (atomically: never half-written).")
+      .def(
+          "predictor",
+          [](const py::object& self) {
+            return py::module_::import("massid").attr("Predictor")(py::none(), self);
+          },
+          "A Predictor of these parameters.")
+      .def("__repr__", [sum](const I& i) {
+        return fmt::format(
+            "Identification('{}', total_mass={:.6g} +- {:.2g} kg, {} samples, "
+            "condition number {:.4g})",
+            i.model.name, sum(i).value[i.base.total_mass], sum(i).stddev[i.base.total_mass],
+            sum(i).samples, sum(i).condition_number);
+      });
+
+  m.def("identify", &run_identify, py::arg("robot"), py::arg("data"), py::kw_only(),
+        py::arg("offset") = false, py::arg("sensor") = py::none(), py::arg("fixed") = py::none(),
+        py::arg("robust") = false, py::arg("drift") = py::none(),
+        py::arg("sigma_force") = py::none(), py::arg("sigma_moment") = py::none(),
+        py::arg("checks") = true,
+        R"(Identifies the base parameters from measured static wrenches (massid identify).
+
+robot: URDF path or Model. data: a CSV path (streamed, as the CLI) or columns by name
+(joints or JOINT_deg, gx, gy, gz, fx ... mz, optional t and block). offset: estimate the six
+sensor offsets; sensor: sensor link; fixed: joints held still, name -> position;
+robust: reject samples with implausible residuals; drift: 'linear' (column t) or
+'per-block' (column block); sigma_force / sigma_moment: noise (default: from residuals);
+checks: the set-up checks (sign, frame, units, gravity, columns).
+Raises InputError (bad input, failed check) or IdentifiabilityError; warnings are issued
+as MassidWarning and kept in .warnings.)");
+}
+
+}  // namespace massid::python

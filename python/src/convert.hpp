@@ -1,0 +1,60 @@
+// Conversions between Python arguments and massid's types, shared by the
+// bindings: arrays (numpy, any array-like) to Eigen and back, a robot argument
+// (URDF path or Model), a data argument (CSV path or columns by name).
+// Errors are massid::InputError, which Python sees as massid.InputError.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "massid/csv.hpp"
+#include "massid/model.hpp"
+#include "massid/samples.hpp"
+
+namespace massid::python {
+
+namespace py = pybind11;
+
+// [N x cols] from an array-like of shape (N, cols), or (cols,) as one row.
+// `what` names the argument and its columns in errors: "q (joints j1, j2)".
+Eigen::MatrixXd to_matrix(const py::handle& array, int cols, const std::string& what);
+// Eigen matrix -> a new float64 numpy array of the same shape.
+py::array_t<double> to_numpy(const Eigen::MatrixXd& m);
+py::array_t<double> to_numpy(const Eigen::VectorXd& v);
+
+// os.fspath(obj) for str and os.PathLike.
+std::string path_of(const py::handle& obj);
+bool is_path(const py::handle& obj);
+
+// The model of a `robot` argument: a Model (sensor must be unset) or a URDF
+// path; `fixed` joints are then held (hold_joints).
+Model model_of(const py::handle& robot, const std::optional<std::string>& sensor,
+               const std::optional<std::map<std::string, double>>& fixed);
+
+std::vector<std::pair<std::string, double>> held_list(const std::map<std::string, double>& m);
+std::map<std::string, double> held_dict(const std::vector<std::pair<std::string, double>>& held);
+
+// A data argument that is not a path: columns by name (dict, or anything with
+// keys() and [], a pandas DataFrame included), each a 1-D array of length N.
+struct Columns {
+  std::vector<std::string> names;
+  std::vector<Eigen::VectorXd> values;
+};
+Columns columns_of(const py::handle& mapping);
+
+// Samples of a data argument (path: read_csv and read_samples' rules).
+// `header` receives the column names (for the set-up checks).
+Samples samples_of(const Model& model, const py::handle& data, WrenchColumns wrench,
+                   std::vector<std::string>* header = nullptr);
+
+// A CSV's numeric columns, by name.
+py::dict csv_columns(const CsvTable& table);
+
+}  // namespace massid::python

@@ -1,0 +1,49 @@
+#include "massid/identify_file.hpp"
+
+#include <climits>
+#include <filesystem>
+
+#include "massid/csv.hpp"
+#include "massid/setup_checks.hpp"
+#include "massid/streaming.hpp"
+
+namespace massid {
+
+namespace {
+
+// A streamed log whose largest residuals are implausible is re-read whole to
+// name its samples when it is at most 64 MB (about 250 000 rows; the dense fit
+// then needs a few hundred MB, and only then).
+bool small_enough_to_name_samples(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  return !ec && size <= (64u << 20);
+}
+
+}  // namespace
+
+IdentifySummary identify_file(const Model& model, const BaseParameters& base,
+                              const std::string& path, const IdentifyOptions& options,
+                              Samples* samples) {
+  const auto in_memory = [&] {
+    Samples s = read_samples(model, read_csv(path), WrenchColumns::Required);
+    IdentifySummary summary = identify(model, base, s, options);
+    if (samples) *samples = std::move(s);
+    return summary;
+  };
+  if (options.robust || options.drift != Drift::None) return in_memory();  // iterated fits
+  // Streamed from the memory-mapped file in constant memory: the same results
+  // as identify() on read_samples of the whole file.
+  const StreamOptions stream;
+  const IdentifyAccumulator acc = accumulate_csv(model, base, path, stream);
+  IdentifySummary summary = acc.finish(options);
+  if (summary.residual_max.hasNaN())  // not proven in the first pass: a second one
+    summary.residual_max = residual_max_csv(model, base, path, summary.value, stream);
+  // Implausible residuals: the in-memory fit (the same estimate) names the samples.
+  if (largest_residuals_implausible(summary) && small_enough_to_name_samples(path))
+    return in_memory();
+  if (samples) *samples = read_samples_head(model, path, INT_MAX);
+  return summary;
+}
+
+}  // namespace massid
