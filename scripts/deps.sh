@@ -5,7 +5,9 @@ set -euo pipefail
 pkgs=(build-essential cmake libeigen3-dev liburdfdom-dev libtinyxml2-dev nlohmann-json3-dev
       libcli11-dev libfast-float-dev libfmt-dev libgtest-dev libbenchmark-dev
       libmujoco-dev libqhull-dev libgl-dev liborocos-kdl-dev python3-numpy
-      clang libclang-rt-14-dev)  # clang + its sanitizer and libFuzzer runtimes: scripts/test.sh
+      clang libclang-rt-14-dev  # clang + its sanitizer and libFuzzer runtimes: scripts/test.sh
+      pybind11-dev python3-dev python3-matplotlib  # the Python package and --report
+      python3-pytest chromium)  # its tests: pytest, and the report in headless Chromium
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -34,15 +34,18 @@ stage() {
 stage "dependencies"
 scripts/deps.sh
 
-# 2. The normal build: RelWithDebInfo, warnings as errors; line tables only
+# 2. The normal build, the Python package included: RelWithDebInfo, warnings as errors; line tables only
 #    (-g1) rather than full debug information, which cuts the compile time by a third
 #    of the Eigen-heavy files (CI has 2 cores and 20 minutes).
 stage "build ($BUILD)"
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMASSID_WERROR=ON \
+  -DMASSID_PYTHON=ON -DPython_EXECUTABLE=/usr/bin/python3 \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" >/dev/null
 cmake --build "$BUILD" -j "$JOBS"
 
-# 3. Every test.
+# 3. Every test: GoogleTest, and pytest on the Python package (tests/python:
+#    the module against the CLI and independent sums, the HTML report, the
+#    report in headless Chromium, `cmake --install` of the package).
 stage "tests ($BUILD)"
 ctest --test-dir "$BUILD" --output-on-failure -j "$JOBS"
 

@@ -1,0 +1,1224 @@
+"""Self-contained HTML reports of an identification or a prediction.
+
+One HTML file per report, readable offline and safe to mail: every figure is
+an embedded PNG (``data:`` URI), the style sheet is inline, and there is no
+JavaScript and no external URL. Figures are drawn with matplotlib's Agg
+renderer through :class:`matplotlib.figure.Figure` objects (no pyplot, so the
+caller's backend and open figures are left alone). matplotlib is imported
+only when a report is written: ``import massid`` never needs it.
+
+From Python::
+
+    ident = massid.identify("robot.urdf", "data.csv")
+    massid.report.write_identify_report("report.html", ident)
+    massid.report.write_predict_report("pred.html", "robot.urdf", "params.json", "holdout.csv")
+
+From the shell (the CLI's ``--report`` runs these)::
+
+    python3 -m massid.report identify ROBOT DATA -o REPORT.html [identify options]
+    python3 -m massid.report predict ROBOT PARAMS DATA -o REPORT.html
+    python3 -m massid.report --check      # exit 0 when matplotlib is usable
+
+docs/report.md explains what each part shows and how to read it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import base64
+import html
+import io
+import json
+import math
+import os
+import re
+import sys
+import warnings
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+import massid
+
+AXES = ("fx", "fy", "fz", "mx", "my", "mz")
+UNITS = ("N", "N", "N", "N m", "N m", "N m")
+DPI = 90
+#: Scatter plots show at most about this many samples (every k-th sample).
+MAX_SCATTER = 20000
+#: Most joints in one residual-against-joint figure (more are split).
+JOINTS_PER_FIGURE = 4
+#: A parameter whose std exceeds this fraction of |value| is poorly determined.
+POOR_RELATIVE_STD = 0.10
+MATPLOTLIB_MISSING = "--report needs matplotlib (Debian: apt-get install python3-matplotlib)"
+
+PathType = Union[str, "os.PathLike[str]"]
+
+
+class MatplotlibMissing(ImportError):
+    """matplotlib cannot be imported (the CLI reports it with exit code 2)."""
+
+
+def _matplotlib() -> Any:
+    """Import matplotlib with the Agg canvas; raise MatplotlibMissing if absent."""
+    try:
+        import matplotlib
+        import matplotlib.backends.backend_agg  # the canvas we draw on
+        import matplotlib.figure
+        import matplotlib.ticker
+    except ImportError as e:  # pragma: no cover - depends on the machine
+        raise MatplotlibMissing(MATPLOTLIB_MISSING) from e
+    return matplotlib
+
+
+# --------------------------------------------------------------------------
+# Formatting
+
+
+def format_value(v: float) -> str:
+    """A parameter value as the report prints it: 6 significant digits ("—" if not identified)."""
+    return "—" if v is None or not math.isfinite(v) else f"{v:.6g}"
+
+
+def format_std(v: float) -> str:
+    """A standard deviation as the report prints it: 2 significant digits."""
+    return "—" if v is None or not math.isfinite(v) else f"{v:.2g}"
+
+
+def _fmt(v: float, digits: int = 4) -> str:
+    return "—" if v is None or not math.isfinite(float(v)) else f"{float(v):.{digits}g}"
+
+
+def _e(text: Any) -> str:
+    return html.escape(str(text), quote=True)
+
+
+def condition_verdict(cond: float) -> tuple[str, str]:
+    """Plain-language verdict on the eq. 36 condition number: (css class, sentence)."""
+    if cond is None or not math.isfinite(cond):
+        return "bad", "not available: the data do not determine every parameter"
+    if cond < 10:
+        return "good", "good: the poses determine every first moment well"
+    if cond < 100:
+        return "fair", ("fair: some combinations of first moments are determined "
+                        "less well; check the relative standard deviations below")
+    if cond < 1e4:
+        return "bad", ("poor: the poses hardly separate some parameters; "
+                       "plan a better experiment with massid design")
+    return "bad", ("very poor: some parameters are nearly undetermined; "
+                   "add poses that move every joint and tilt the platform (massid design)")
+
+
+def chi2_verdict(chi2: float, sigma_estimated: bool) -> tuple[str, str]:
+    """Verdict on chi^2 per degree of freedom: (css class, sentence)."""
+    if chi2 is None or not math.isfinite(chi2):
+        return "fair", "not available"
+    if sigma_estimated:
+        return "good", "1 by construction: the noise was estimated from the residuals"
+    if 0.5 <= chi2 <= 2.0:
+        return "good", "consistent with the given sensor noise"
+    if chi2 > 2.0:
+        return "bad", ("the residuals exceed the given noise: the noise is larger "
+                       "than stated, or the model is wrong (frames, signs, units)")
+    return "fair", "the residuals are smaller than the given noise: it is overstated"
+
+
+# --------------------------------------------------------------------------
+# Small numerics
+
+
+def _subsample(n: int, flagged: np.ndarray, limit: int = MAX_SCATTER) -> tuple[np.ndarray, int]:
+    """Every k-th sample index (k chosen so that about `limit` remain) plus the flagged ones."""
+    k = max(1, math.ceil(n / limit))
+    idx = np.arange(0, n, k)
+    if k > 1 and flagged.size:
+        idx = np.union1d(idx, flagged[: limit // 4])
+    return idx, k
+
+
+def _tilt(gravity: np.ndarray) -> Optional[dict[str, Any]]:
+    """Gravity directions in the sensor frame as tilt and azimuth (degrees, radians).
+
+    The reference is the sensor axis (signed) nearest to the mean gravity
+    direction, e.g. +z for the PUMA whose sensor z points down when level:
+    tilt is the angle from that axis, azimuth the direction of the tilt in the
+    plane of the other two axes (from the first towards the second, cyclic:
+    x -> y for z, y -> z for x, z -> x for y).
+    """
+    g = np.asarray(gravity, dtype=float)
+    if g.ndim != 2 or g.shape[0] == 0:
+        return None
+    norm = np.linalg.norm(g, axis=1)
+    ok = np.isfinite(norm) & (norm > 0)
+    if not ok.any():
+        return None
+    u = g[ok] / norm[ok, None]
+    mean = u.mean(axis=0)
+    if np.linalg.norm(mean) < 1e-9:
+        mean = u[0]
+    mean = mean / np.linalg.norm(mean)
+    axis = int(np.argmax(np.abs(mean)))
+    sign = 1.0 if mean[axis] >= 0 else -1.0
+    a1, a2 = (axis + 1) % 3, (axis + 2) % 3
+    tilt = np.degrees(np.arccos(np.clip(sign * u[:, axis], -1.0, 1.0)))
+    azimuth = np.arctan2(u[:, a2], u[:, a1])
+    names = "xyz"
+    return {"tilt": tilt, "azimuth": azimuth, "mean": mean,
+            "axis": ("+" if sign > 0 else "-") + names[axis], "a1": names[a1], "a2": names[a2]}
+
+
+def _correlation_from_covariance(cov: np.ndarray) -> np.ndarray:
+    d = np.sqrt(np.clip(np.diag(cov), 0, None))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = cov / np.outer(d, d)
+    c[~np.isfinite(c)] = np.nan
+    return np.clip(c, -1.0, 1.0)
+
+
+@dataclass
+class _JointInfo:
+    name: str
+    kind: str  # "revolute" / "prismatic" / "" (unknown)
+    limited: bool
+    lower: float
+    upper: float
+
+    @property
+    def scale(self) -> float:
+        """Factor from SI (rad, m) to the displayed unit (deg, m)."""
+        return 180.0 / math.pi if self.kind != "prismatic" else 1.0
+
+    @property
+    def unit(self) -> str:
+        return "m" if self.kind == "prismatic" else "deg"
+
+
+def _joint_infos(model: Any) -> list[_JointInfo]:
+    by_name = {j.name: j for j in getattr(model, "joints", [])}
+    out = []
+    for name in model.joint_names:
+        j = by_name.get(name)
+        if j is None:
+            out.append(_JointInfo(name, "revolute", False, math.nan, math.nan))
+        else:
+            out.append(_JointInfo(name, str(j.type), bool(j.limited), float(j.lower), float(j.upper)))
+    return out
+
+
+# --------------------------------------------------------------------------
+# Figures
+
+
+class _Figures:
+    """Draws the report's figures and turns them into data: URIs."""
+
+    def __init__(self) -> None:
+        self.mpl = _matplotlib()
+        from matplotlib.figure import Figure
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        self._Figure = Figure
+        self._Canvas = FigureCanvasAgg
+        self.rc = {
+            "font.size": 10,
+            "axes.titlesize": 10.5,
+            "axes.labelsize": 10,
+            "xtick.labelsize": 9,
+            "ytick.labelsize": 9,
+            "legend.fontsize": 9,
+            "axes.grid": True,
+            "axes.axisbelow": True,
+            "grid.alpha": 0.3,
+            "axes.spines.top": False,
+            "axes.spines.right": False,
+        }
+
+    def __enter__(self) -> "_Figures":
+        self._rc = self.mpl.rc_context(self.rc)
+        self._rc.__enter__()
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self._rc.__exit__(*exc)
+
+    def new(self, width: float, height: float) -> Any:
+        fig = self._Figure(figsize=(width, height), constrained_layout=True)
+        self._Canvas(fig)
+        return fig
+
+    def png(self, fig: Any, tight: bool = False) -> str:
+        """The figure as a PNG data: URI (tight: crop to the drawn extent, one more draw)."""
+        buf = io.BytesIO()
+        extra = {"bbox_inches": "tight", "pad_inches": 0.08} if tight else {}
+        fig.savefig(buf, format="png", dpi=DPI, facecolor="white", **extra)
+        # No pyplot: nothing holds the figure once it is dropped (fig.clear() would only cost time).
+        return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+    # -- wrench plots ----------------------------------------------------
+
+    def measured_vs_model(self, measured: np.ndarray, model: np.ndarray, idx: np.ndarray,
+                          rejected: np.ndarray, outlier: np.ndarray, model_label: str) -> str:
+        fig = self.new(11.5, 7.0)
+        axs = fig.subplots(2, 3)
+        for k, ax in enumerate(axs.flat):
+            x, y = measured[idx, k], model[idx, k]
+            rej, out = rejected[idx], outlier[idx] & ~rejected[idx]
+            ok = ~rej
+            ax.scatter(x[ok], y[ok], s=_dot_size(idx.size) ** 2, color="C0", alpha=0.6, linewidths=0,
+                       label="used" if rejected.any() else "samples", rasterized=True)
+            if out.any():
+                ax.scatter(x[out], y[out], s=36, facecolors="none", edgecolors="C1",
+                           linewidths=1.2, label="outlier")
+            if rej.any():
+                ax.scatter(x[rej], y[rej], s=30, marker="x", color="C3", linewidths=1.2,
+                           label="rejected")
+            finite = np.concatenate([x[np.isfinite(x)], y[np.isfinite(y)]])
+            if finite.size:
+                lo, hi = float(finite.min()), float(finite.max())
+                pad = 0.05 * (hi - lo) if hi > lo else max(1e-9, abs(hi) * 0.05 + 1e-9)
+                line = [lo - pad, hi + pad]
+                ax.plot(line, line, color="0.25", lw=0.8, ls="--", label="y = x", zorder=0)
+                ax.set_xlim(line)
+                ax.set_ylim(line)
+            ax.set_aspect("equal", adjustable="box")
+            ax.set_title(AXES[k])
+            ax.set_xlabel(f"measured {AXES[k]} [{UNITS[k]}]")
+            ax.set_ylabel(f"{model_label} {AXES[k]} [{UNITS[k]}]")
+            if k == 0:
+                ax.legend(loc="upper left", frameon=False)
+        return self.png(fig)
+
+    def against_index(self, values: np.ndarray, idx: np.ndarray, rejected: np.ndarray,
+                      outlier: np.ndarray, ylabel: str, sigma: Optional[np.ndarray] = None,
+                      zero_line: bool = True) -> str:
+        fig = self.new(11.5, 9.0)
+        axs = fig.subplots(6, 1, sharex=True)
+        for k, ax in enumerate(axs):
+            v = values[idx, k]
+            rej, out = rejected[idx], outlier[idx] & ~rejected[idx]
+            ok = ~rej
+            ax.plot(idx[ok], v[ok], ".", ms=_dot_size(idx.size), color="C0", alpha=0.7, rasterized=True,
+                    label="used" if rejected.any() else "samples")
+            if out.any():
+                ax.plot(idx[out], v[out], "o", ms=6, mfc="none", mec="C1", mew=1.2,
+                        label="outlier")
+            if rej.any():
+                ax.plot(idx[rej], v[rej], "x", ms=5, color="C3", mew=1.2, label="rejected")
+            if zero_line:
+                ax.axhline(0.0, color="0.3", lw=0.7)
+            if sigma is not None and math.isfinite(float(sigma[k])) and sigma[k] > 0:
+                for s in (-2.0, 2.0):
+                    ax.axhline(s * sigma[k], color="C2", lw=0.8, ls="--",
+                               label="±2σ noise" if s > 0 else None)
+            ax.set_ylabel(f"{AXES[k]} [{UNITS[k]}]")
+            if k == 0:
+                ax.set_title(ylabel, loc="left")
+                if sigma is not None or outlier.any() or rejected.any():
+                    ax.legend(loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=4,
+                              frameon=False, borderaxespad=0.2)
+        axs[-1].set_xlabel("sample index (row of the data, from 0)")
+        return self.png(fig)
+
+    def against_joints(self, values: np.ndarray, q: np.ndarray, joints: Sequence[_JointInfo],
+                       idx: np.ndarray, rejected: np.ndarray, outlier: np.ndarray,
+                       title: str) -> list[str]:
+        """Residuals of each axis (rows) against each joint (columns), split by 4 joints."""
+        images = []
+        for start in range(0, len(joints), JOINTS_PER_FIGURE):
+            chunk = list(range(start, min(start + JOINTS_PER_FIGURE, len(joints))))
+            nc = len(chunk)
+            fig = self.new(2.7 * nc + 1.3, 9.5)
+            axs = np.atleast_2d(fig.subplots(6, nc, sharex="col", sharey="row", squeeze=False))
+            for c, j in enumerate(chunk):
+                info = joints[j]
+                x_all = q[:, j] * info.scale
+                x = x_all[idx]
+                rej, out = rejected[idx], outlier[idx] & ~rejected[idx]
+                for k in range(6):
+                    ax = axs[k, c]
+                    y = values[idx, k]
+                    ax.plot(x[~rej], y[~rej], ".", ms=_dot_size(idx.size), color="C0", alpha=0.6,
+                            rasterized=True)
+                    if out.any():
+                        ax.plot(x[out], y[out], "o", ms=5, mfc="none", mec="C1", mew=1.0)
+                    if rej.any():
+                        ax.plot(x[rej], y[rej], "x", ms=4, color="C3", mew=1.0)
+                    ax.axhline(0.0, color="0.3", lw=0.7)
+                    trend = _binned_mean(x_all[~rejected], values[~rejected, k])
+                    if trend is not None:
+                        ax.plot(trend[0], trend[1], "-", color="C1", lw=1.4)
+                    if c == 0:
+                        ax.set_ylabel(f"{AXES[k]} [{UNITS[k]}]")
+                    if k == 0:
+                        ax.set_title(info.name)
+                    if k == 5:
+                        ax.set_xlabel(f"{info.name} [{info.unit}]")
+            fig.suptitle(title + (f" (joints {chunk[0] + 1}–{chunk[-1] + 1} of {len(joints)})"
+                                  if len(joints) > JOINTS_PER_FIGURE else ""), fontsize=10)
+            images.append(self.png(fig))
+        return images
+
+    # -- parameters ------------------------------------------------------
+
+    def correlation(self, corr: np.ndarray, names: Sequence[str]) -> str:
+        p = corr.shape[0]
+        size = min(max(5.0, 0.45 * p + 2.6), 15.0)
+        fig = self.new(size + 1.0, size)
+        ax = fig.subplots()
+        masked = np.ma.masked_invalid(corr)
+        im = ax.imshow(masked, cmap="RdBu_r", vmin=-1.0, vmax=1.0, interpolation="nearest")
+        ax.set_xticks(range(p))
+        ax.set_yticks(range(p))
+        ax.set_xticklabels(names, rotation=90)
+        ax.set_yticklabels(names)
+        ax.grid(False)
+        ax.tick_params(length=0)
+        if p <= 20:
+            fs = max(6.5, 10.5 - 0.16 * p)
+            for i in range(p):
+                for j in range(p):
+                    v = corr[i, j]
+                    if math.isfinite(v):
+                        ax.text(j, i, f"{v:.2f}" if abs(v) >= 0.005 else "0", ha="center", va="center", fontsize=fs,
+                                color="white" if abs(v) > 0.6 else "0.15")
+        fig.colorbar(im, ax=ax, fraction=0.046, pad=0.03, label="correlation")
+        ax.set_title("correlation of the estimates")
+        return self.png(fig, tight=True)  # constrained layout clips long labels beside imshow
+
+    # -- coverage --------------------------------------------------------
+
+    def joint_coverage(self, q: np.ndarray, joints: Sequence[_JointInfo]) -> str:
+        n = len(joints)
+        nc = min(4, n)
+        nr = math.ceil(n / nc)
+        fig = self.new(3.0 * nc + 0.6, 2.5 * nr + 0.3)
+        axs = np.atleast_1d(fig.subplots(nr, nc, squeeze=False)).flat
+        for j, ax in zip(range(n), axs):
+            info = joints[j]
+            x = q[:, j] * info.scale
+            x = x[np.isfinite(x)]
+            if info.limited and math.isfinite(info.lower) and math.isfinite(info.upper):
+                lo, hi = info.lower * info.scale, info.upper * info.scale
+            elif x.size:
+                lo, hi = float(x.min()), float(x.max())
+            else:
+                lo, hi = -1.0, 1.0
+            rng_lo = min(lo, float(x.min())) if x.size else lo
+            rng_hi = max(hi, float(x.max())) if x.size else hi
+            if rng_hi <= rng_lo:
+                rng_lo, rng_hi = rng_lo - 1.0, rng_hi + 1.0
+            ax.hist(x, bins=36, range=(rng_lo, rng_hi), color="C0", alpha=0.85)
+            if info.limited:
+                for v in (lo, hi):
+                    ax.axvline(v, color="C3", lw=1.0, ls="--")
+            span = (float(x.max() - x.min()) / (hi - lo)) if x.size and hi > lo else math.nan
+            covered = f", spans {span * 100:.0f} % of {'its limits' if info.limited else 'the data range'}" \
+                if math.isfinite(span) and info.limited else ""
+            ax.set_title(f"{info.name}{covered}")
+            ax.set_xlabel(f"{info.name} [{info.unit}]")
+            ax.set_ylabel("samples")
+            ax.yaxis.set_major_locator(self.mpl.ticker.MaxNLocator(integer=True))
+        for ax in list(axs):
+            ax.set_visible(False)
+        return self.png(fig)
+
+    def tilt(self, tilt: Mapping[str, Any], idx: np.ndarray) -> str:
+        fig = self.new(11.0, 4.4)
+        ax1 = fig.add_subplot(1, 2, 1, projection="polar")
+        ax2 = fig.add_subplot(1, 2, 2)
+        t, a = tilt["tilt"], tilt["azimuth"]
+        sel = idx[idx < t.size]
+        ax1.scatter(a[sel], t[sel], s=14, color="C0", alpha=0.6, linewidths=0, rasterized=True)
+        # Few distinct directions (a plan of a few tilts): say how many samples share each.
+        keys = np.round(np.column_stack([t, np.where(t < 0.05, 0.0, a)]), 2)
+        distinct, counts = np.unique(keys, axis=0, return_counts=True)
+        if len(distinct) <= 12 and counts.max() > 1:
+            for (tt, aa), c in zip(distinct, counts):
+                ax1.annotate(f"{c}×", (aa, tt), xytext=(5, 5), textcoords="offset points",
+                             fontsize=9, color="C0")
+        ax1.set_rlim(0, max(5.0, float(np.nanmax(t)) * 1.1 if t.size else 5.0))
+        ax1.set_title(f"gravity direction in the sensor frame: angle from sensor "
+                      f"{tilt['axis']} [deg] (radius),\ndirection of the tilt (0° towards +{tilt['a1']}, "
+                      f"90° towards +{tilt['a2']})", fontsize=9.5)
+        ax1.tick_params(labelsize=7.5)
+        top = max(5.0, float(np.nanmax(t)) * 1.05 if t.size else 5.0)
+        ax2.hist(t, bins=30, range=(0, top), color="C0", alpha=0.85)
+        ax2.yaxis.set_major_locator(self.mpl.ticker.MaxNLocator(integer=True))
+        ax2.set_xlabel(f"angle between gravity and sensor {tilt['axis']} [deg]")
+        ax2.set_ylabel("samples")
+        ax2.set_title("tilt")
+        return self.png(fig, tight=True)
+
+
+def _dot_size(n: int) -> float:
+    """Marker size (points) for n plotted samples: bigger when few."""
+    return 5.0 if n <= 300 else 3.5 if n <= 3000 else 2.0
+
+
+def _binned_mean(x: np.ndarray, y: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
+    """Mean of y in bins of x (about 12 samples a bin, 4 to 16 bins); None for few samples."""
+    ok = np.isfinite(x) & np.isfinite(y)
+    x, y = x[ok], y[ok]
+    bins = min(16, x.size // 12)
+    if bins < 4 or x.max() <= x.min():
+        return None
+    edges = np.linspace(x.min(), x.max(), bins + 1)
+    which = np.clip(np.digitize(x, edges) - 1, 0, bins - 1)
+    count = np.bincount(which, minlength=bins)
+    total = np.bincount(which, weights=y, minlength=bins)
+    keep = count >= 3
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    return centres[keep], total[keep] / count[keep]
+
+
+# --------------------------------------------------------------------------
+# HTML
+
+_CSS = """
+:root{--ink:#1d2330;--muted:#5b6474;--line:#e2e5ea;--bg:#f3f4f6;--card:#fafbfc}
+*{box-sizing:border-box}
+body{margin:0;background:var(--bg);color:var(--ink);
+ font-family:"DejaVu Sans","Segoe UI",Roboto,Helvetica,Arial,sans-serif;font-size:15px;line-height:1.45}
+main{max-width:1200px;margin:0 auto;padding:26px 34px 60px;background:#fff;min-height:100vh}
+h1{font-size:1.65em;margin:0 0 .15em}
+h2{font-size:1.25em;margin:2.2em 0 .6em;padding-bottom:.25em;border-bottom:2px solid var(--line)}
+h3{font-size:1.05em;margin:1.4em 0 .4em}
+p{margin:.4em 0 .7em}
+.sub{color:var(--muted);margin:0 0 1.2em}
+.sub span{display:inline-block;margin-right:1.4em;overflow-wrap:anywhere}
+nav{font-size:.9em;margin:.6em 0 1.2em;color:var(--muted)}
+nav a{color:#0b5cad;text-decoration:none;margin-right:1.1em}
+.cards{display:grid;grid-template-columns:repeat(auto-fill,minmax(250px,1fr));gap:12px;margin:.8em 0}
+.card{border:1px solid var(--line);border-radius:8px;padding:10px 14px;background:var(--card)}
+.card .label{font-size:.76em;color:var(--muted);text-transform:uppercase;letter-spacing:.05em}
+.card .value{font-size:1.35em;font-weight:600;margin:.1em 0}
+.card .note{font-size:.84em;line-height:1.35}
+.good{color:#1a7f37}.fair{color:#9a6700}.bad{color:#c62828}
+table{border-collapse:collapse;font-size:.88em;margin:.5em 0 1em}
+th,td{padding:4px 10px;border-bottom:1px solid var(--line);text-align:right;vertical-align:top}
+th{background:#eef0f3;font-weight:600;white-space:nowrap}
+.l{text-align:left}
+td{white-space:nowrap}td.expr{white-space:normal}
+td.mono,.mono{font-family:"DejaVu Sans Mono",Menlo,Consolas,monospace;font-size:.92em}
+tr.poor td{background:#fff3cd}
+tr.section td{background:#f6f7f9;color:var(--muted);font-weight:600;text-align:left}
+.flag{color:#9a6700;font-weight:600}
+ul.warnings{padding-left:1.2em}
+ul.warnings li{margin:.3em 0;color:#8a3b00}
+.ok{color:#1a7f37}
+figure{margin:1em 0 1.6em}
+figure img{display:block;max-width:100%;height:auto;border:1px solid #edf0f3;margin:0 auto}
+figcaption{font-size:.86em;color:var(--muted);margin-top:.4em;max-width:62em}
+footer{margin-top:3em;font-size:.8em;color:var(--muted)}
+"""
+
+
+@dataclass
+class _Doc:
+    title: str
+    parts: list[str] = field(default_factory=list)
+    images: int = 0
+
+    def add(self, text: str) -> None:
+        self.parts.append(text)
+
+    def figure(self, uri: str, alt: str, caption: str) -> None:
+        self.images += 1
+        self.add(f'<figure><img src="{uri}" alt="{_e(alt)}">'
+                 f"<figcaption>{caption}</figcaption></figure>")
+
+    def render(self) -> str:
+        return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+                "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+                "<link rel=\"icon\" href=\"data:,\">\n"
+                f"<title>{_e(self.title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n<main>\n"
+                + "\n".join(self.parts)
+                + f"\n<footer>massid {_e(_version())} report. Figures: matplotlib.</footer>\n"
+                  "</main>\n</body>\n</html>\n")
+
+
+def _version() -> str:
+    return str(getattr(massid, "__version__", "unknown"))
+
+
+def _card(label: str, value: str, note: str = "", cls: str = "") -> str:
+    c = f' class="note {cls}"' if cls else ' class="note"'
+    return (f'<div class="card"><div class="label">{_e(label)}</div>'
+            f'<div class="value">{value}</div>'
+            + (f"<div{c}>{note}</div>" if note else "") + "</div>")
+
+
+def _axis_table(rows: Sequence[tuple[str, Sequence[float]]]) -> str:
+    head = "".join(f"<th>{a} [{_e(u)}]</th>" for a, u in zip(AXES, UNITS))
+    body = "".join(
+        f'<tr><td class="l">{_e(label)}</td>' + "".join(f"<td class=\"mono\">{_fmt(v, 4)}</td>" for v in vals)
+        + "</tr>" for label, vals in rows)
+    return f'<table><tr><th class="l"></th>{head}</tr>{body}</table>'
+
+
+def _warnings_html(items: Sequence[str]) -> str:
+    if not items:
+        return '<p class="ok">No warnings.</p>'
+    return '<ul class="warnings">' + "".join(f"<li>{_e(w)}</li>" for w in items) + "</ul>"
+
+
+@dataclass
+class _ParamRow:
+    name: str
+    value: float
+    std: float
+    unit: str
+    expression: str
+    judge: bool = True  # offsets and drift terms are not judged (0 is a fine offset)
+
+
+def _param_flags(row: _ParamRow) -> list[str]:
+    v, s = row.value, row.std
+    if not math.isfinite(v):
+        return ["not identified"]
+    if not row.judge or not math.isfinite(s):
+        return []
+    flags = []
+    if abs(s) > POOR_RELATIVE_STD * abs(v):
+        flags.append(f"std > {POOR_RELATIVE_STD * 100:.0f} % of |value|")
+    if abs(v) < 2.0 * abs(s):
+        flags.append("within 2 std of 0")
+    return flags
+
+
+def _param_table(groups: Sequence[tuple[str, Sequence[_ParamRow]]]) -> tuple[str, int]:
+    """The parameter table; returns (html, number of poorly determined rows)."""
+    poor = 0
+    out = ['<table class="params"><tr><th class="l">name</th><th>value</th><th>± std</th>'
+           '<th>rel. std</th><th class="l">unit</th><th class="l">expression</th>'
+           '<th class="l">note</th></tr>']
+    for heading, rows in groups:
+        if not rows:
+            continue
+        if heading:
+            out.append(f'<tr class="section"><td colspan="7">{_e(heading)}</td></tr>')
+        for r in rows:
+            flags = _param_flags(r)
+            poor += bool(flags)
+            rel = (_percent(abs(r.std / r.value) * 100)
+                   if math.isfinite(r.value) and math.isfinite(r.std) and r.value != 0 else "—")
+            cls = ' class="poor"' if flags else ""
+            out.append(
+                f'<tr{cls}><td class="l mono">{_e(r.name)}</td>'
+                f'<td class="mono">{_e(format_value(r.value))}</td>'
+                f'<td class="mono">{_e(format_std(r.std))}</td><td class="mono">{_e(rel)}</td>'
+                f'<td class="l">{_e(r.unit)}</td><td class="l mono expr">{_e(r.expression)}</td>'
+                f'<td class="l flag">{_e("; ".join(flags))}</td></tr>')
+    out.append("</table>")
+    return "".join(out), poor
+
+
+def _percent(v: float) -> str:
+    return f"{v:.0f} %" if v >= 100 else f"{v:.2g} %"
+
+
+def _strong_pairs(corr: np.ndarray, names: Sequence[str], limit: float = 0.9) -> list[str]:
+    pairs = []
+    p = corr.shape[0]
+    for i in range(p):
+        for j in range(i + 1, p):
+            v = corr[i, j]
+            if math.isfinite(v) and abs(v) >= limit:
+                pairs.append((abs(v), f"{names[i]} – {names[j]}: {v:+.3f}"))
+    pairs.sort(reverse=True)
+    shown = [t for _, t in pairs[:8]]
+    if len(pairs) > len(shown):
+        shown.append(f"and {len(pairs) - len(shown)} more")
+    return shown
+
+
+_NAME_UNIT = re.compile(r"^(.*\S)\s+\[([^\[\]]*)\]$")
+
+
+def _drift_row(name: str, value: float, std: float, drift: Optional[str]) -> _ParamRow:
+    """A drift term; its name may carry the unit ("drift_fx [N/s]")."""
+    m = _NAME_UNIT.match(name)
+    label, unit = (m.group(1), m.group(2)) if m else (name, _drift_unit(name, drift))
+    what = "offset rate" if drift == "linear" else "offset step between blocks" if drift == "per-block" \
+        else "drift"
+    return _ParamRow(label, value, std, unit, f"{what} ({drift} drift)", judge=False)
+
+
+def _drift_unit(name: str, drift: Optional[str]) -> str:
+    force = any(a in name for a in ("fx", "fy", "fz"))
+    moment = any(a in name for a in ("mx", "my", "mz"))
+    base = "N" if force and not moment else "N m" if moment and not force else ""
+    if not base:
+        return ""
+    return f"{base}/s" if drift == "linear" else base
+
+
+def _offset_unit(name: str) -> str:
+    return "N m" if any(name.endswith(a) for a in ("mx", "my", "mz")) else "N"
+
+
+# --------------------------------------------------------------------------
+# Sections shared by both reports
+
+
+def _coverage_section(doc: _Doc, figs: _Figures, q: np.ndarray, joints: Sequence[_JointInfo],
+                      gravity: Optional[np.ndarray], n: int, gravity_note: str) -> None:
+    doc.add('<h2 id="coverage">Coverage of the experiment</h2>')
+    doc.add("<p>How much of each joint's range the samples visit, and in how many directions "
+            "gravity acts on the sensor. Parameters are well determined when the joints "
+            "travel over most of their range and gravity comes from several directions "
+            "(tilts). Predictions outside what was visited are extrapolations.</p>")
+    if joints and q.size:
+        doc.figure(figs.joint_coverage(q, joints), "joint position histograms",
+                   "Histogram of each joint's position over its range (dashed red: the URDF "
+                   "limits; the data range for joints without limits). Revolute joints in "
+                   "degrees, prismatic in metres.")
+    tilt = _tilt(gravity) if gravity is not None else None
+    if tilt is not None:
+        idx, k = _subsample(tilt["tilt"].size, np.empty(0, dtype=int))
+        m = tilt["mean"]
+        spread = float(np.max(tilt["tilt"])) if tilt["tilt"].size else 0.0
+        sub = f" One sample in every {k} is shown in the polar plot." if k > 1 else ""
+        doc.figure(figs.tilt(tilt, idx), "gravity directions in the sensor frame",
+                   f"Gravity direction in the sensor frame{_e(gravity_note)}: its angle from "
+                   f"the sensor axis nearest to the mean direction ({m[0]:+.3f}, {m[1]:+.3f}, "
+                   f"{m[2]:+.3f}), and which way it is tilted. Largest tilt {spread:.1f}°. "
+                   f"Points spread in several directions determine every first moment; a "
+                   f"single point means gravity never changed direction, and then the sensor "
+                   f"offsets and some first moments cannot be told apart.{sub}")
+
+
+def _fit_figures(doc: _Doc, figs: _Figures, measured: np.ndarray, model: np.ndarray,
+                 residual: np.ndarray, q: np.ndarray, joints: Sequence[_JointInfo],
+                 rejected: np.ndarray, outlier: np.ndarray, sigma: Optional[np.ndarray],
+                 model_label: str, residual_label: str) -> None:
+    n = measured.shape[0]
+    flagged = np.flatnonzero(rejected | outlier)
+    idx, k = _subsample(n, flagged)
+    sub = (f" For legibility one sample in every {k} of the {n} is plotted"
+           f"{' (plus the flagged ones)' if flagged.size else ''}." if k > 1 else "")
+    marks = " ".join(t for t, on in (("Orange rings: outliers.", (outlier & ~rejected).any()),
+                                     ("Red crosses: samples rejected by the robust fit.",
+                                      rejected.any())) if on)
+    marks = " " + marks if marks else ""
+    doc.add(f'<h2 id="fit">{_e(model_label.capitalize())} against measured</h2>')
+    doc.figure(figs.measured_vs_model(measured, model, idx, rejected, outlier, model_label),
+               f"{model_label} against measured wrench",
+               f"Each axis of the wrench: {_e(model_label)} (vertical) against measured "
+               f"(horizontal). Points on the dashed line y = x are explained exactly; the "
+               f"scatter around it is the residual.{marks}{sub}")
+    doc.add(f'<h2 id="residuals">{_e(residual_label.capitalize())}</h2>')
+    doc.add("<p>Good residuals look like noise: centred on zero, of even spread, without "
+            "trends, steps or curves against the sample index or against any joint. A trend "
+            "against time points to sensor drift (<code>--drift</code>); a curve against a "
+            "joint points to a model error (a joint offset, wrong link frames, a cable); a "
+            "few isolated large values are outliers (<code>--robust</code>).</p>")
+    doc.figure(figs.against_index(residual, idx, rejected, outlier,
+                                  f"{residual_label} against sample index", sigma),
+               f"{residual_label} against sample index",
+               f"{_e(residual_label.capitalize())} of each axis against the sample's row in the "
+               f"data{'. Dashed green: ± 2 noise sigma' if sigma is not None else ''}.{marks}{sub}")
+    if joints and q.size:
+        for uri in figs.against_joints(residual, q, joints, idx, rejected, outlier,
+                                       f"{residual_label} against joint positions"):
+            doc.figure(uri, f"{residual_label} against joint positions",
+                       f"{_e(residual_label.capitalize())} of each axis (rows) against each "
+                       f"joint (columns); orange line (with enough samples): the mean in bins "
+                       f"over the joint's travel. It should stay flat at zero.{sub}")
+
+
+# --------------------------------------------------------------------------
+# Identification report
+
+
+def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
+    model = ident.model
+    name = getattr(model, "name", "robot")
+    doc = _Doc(title or f"massid identification — {name}")
+    n = int(ident.samples)
+    used = np.asarray(ident.used, dtype=bool).reshape(-1)
+    if used.size != n:
+        used = np.ones(n, dtype=bool)
+    rejected = ~used
+    outlier = np.zeros(n, dtype=bool)
+    outliers = list(ident.outliers)
+    for o in outliers:
+        if 0 <= int(o.sample) < n:
+            outlier[int(o.sample)] = True
+    sigma = np.asarray(ident.sigma, dtype=float)
+    joints = _joint_infos(model)
+    q = np.asarray(ident.q, dtype=float).reshape(n, -1) if n else np.zeros((0, len(joints)))
+
+    gravity_from = ("the measured force (eq. 37)" if getattr(ident, "gravity_from_force", False)
+                    else "the gx, gy, gz columns")
+    doc.add(f"<h1>{_e(doc.title)}</h1>")
+    doc.add('<p class="sub">'
+            f"<span>robot: <b>{_e(name)}</b></span>"
+            f"<span>data: <b>{_e(ident.source)}</b></span>"
+            f"<span><b>{n}</b> samples"
+            + (f" ({int(rejected.sum())} rejected)" if rejected.any() else "") + "</span>"
+            f"<span>sensor link: <b>{_e(getattr(model, 'sensor_link', ''))}</b></span>"
+            f"<span>massid {_e(_version())}</span></p>")
+    doc.add('<nav><a href="#summary">summary</a><a href="#fit">fit</a>'
+            '<a href="#residuals">residuals</a><a href="#parameters">parameters</a>'
+            '<a href="#correlation">correlation</a><a href="#coverage">coverage</a></nav>')
+
+    # a) key figures
+    cond_cls, cond_text = condition_verdict(float(ident.condition_number))
+    chi_cls, chi_text = chi2_verdict(float(ident.chi2_per_dof), bool(getattr(ident, "sigma_estimated", True)))
+    robust = bool(getattr(ident, "robust", False))
+    threshold = float(ident.outlier_threshold)
+    outlier_note = ("samples whose residuals are implausible for the noise"
+                    + (f" (score d above {_fmt(threshold, 3)})" if threshold > 0 else "")
+                    + ("; rejected by the robust fit" if robust and outliers
+                       else "; robust fit" if robust else ""))
+    cards = [
+        _card("total mass", f"{format_value(ident.total_mass)} kg",
+              f"± {_e(format_std(ident.total_mass_std))} kg (one standard deviation)"),
+        _card("condition number (eq. 36)", _e(_fmt(ident.condition_number, 4)), _e(cond_text), cond_cls),
+        _card("χ² per degree of freedom", _e(_fmt(ident.chi2_per_dof, 3)), _e(chi_text), chi_cls),
+        _card("outliers", str(len(outliers)), _e(outlier_note), "bad" if outliers else "good"),
+    ]
+    doc.add('<h2 id="summary">Summary</h2>')
+    doc.add(f'<div class="cards">{"".join(cards)}</div>')
+    doc.add(f"<p>Gravity from {_e(gravity_from)}"
+            + ("; sensor offsets estimated" if ident.offset is not None else "")
+            + (f"; drift model: {_e(ident.drift)}" if getattr(ident, "drift", None) else "")
+            + ".</p>")
+    sig_label = "noise sigma (estimated)" if getattr(ident, "sigma_estimated", True) else "noise sigma (given)"
+    doc.add(_axis_table([
+        (sig_label, sigma),
+        ("residual RMS", np.asarray(ident.residual_rms, dtype=float)),
+        ("residual max |r|", np.asarray(ident.residual_max, dtype=float)),
+        ("measured range", np.ptp(np.asarray(ident.wrench, dtype=float), axis=0) if n else [math.nan] * 6),
+    ]))
+    doc.add("<h3>Warnings</h3>")
+    doc.add(_warnings_html(list(ident.warnings)))
+    if outliers:
+        doc.add("<h3>Outliers</h3>")
+        doc.add("<p>Samples whose standardised residual norm d exceeds the threshold "
+                f"{_e(_fmt(threshold, 3))} (clean data exceed it with 1 % "
+                "probability over the whole file), worst first"
+                + (". They were rejected." if robust
+                   else ". Check them, or run with --robust to reject them.") + "</p>")
+        rows = sorted(outliers, key=lambda o: -float(o.score))
+        shown = rows[:50]
+        doc.add('<table class="outliers"><tr><th>line</th><th>sample</th><th>score d</th>'
+                '<th class="l">status</th></tr>'
+                + "".join(f'<tr><td class="mono">{int(o.line)}</td><td class="mono">{int(o.sample)}</td>'
+                          f'<td class="mono">{_fmt(o.score, 4)}</td><td class="l">'
+                          f'{"rejected" if 0 <= int(o.sample) < n and rejected[int(o.sample)] else "used"}</td></tr>'
+                          for o in shown)
+                + "</table>"
+                + (f"<p>… and {len(rows) - len(shown)} more.</p>" if len(rows) > len(shown) else ""))
+
+    # b), c)
+    if n:
+        wrench = np.asarray(ident.wrench, dtype=float).reshape(n, 6)
+        fitted = np.asarray(ident.fitted, dtype=float).reshape(n, 6)
+        residuals = np.asarray(ident.residuals, dtype=float).reshape(n, 6)
+        _fit_figures(doc, figs, wrench, fitted, residuals, q, joints, rejected, outlier, sigma,
+                     "fitted", "residuals (measured − fitted)")
+
+    # d) parameters
+    params = list(ident.base_parameters)
+    groups: list[tuple[str, list[_ParamRow]]] = [
+        ("", [_ParamRow(p.name, float(p.value), float(p.std), p.unit, p.expression) for p in params])]
+    names = list(ident.unknown_names)
+    values = np.asarray(ident.values, dtype=float)
+    stds = np.asarray(ident.std, dtype=float)
+    extra = [(nm, values[i], stds[i]) for i, nm in enumerate(names)
+             if i >= len(params) and i < values.size]
+    drift = getattr(ident, "drift", None)
+    if extra:
+        where = " at the end of the log" if drift else ""
+        groups.append(("sensor offsets" + where, [
+            _ParamRow(nm, float(v), float(s), _offset_unit(nm), "sensor offset" + where, judge=False)
+            for nm, v, s in extra]))
+    drift_names = list(getattr(ident, "drift_names", []) or [])
+    if drift_names:
+        dv = np.asarray(ident.drift_values, dtype=float).reshape(-1)
+        ds = np.asarray(ident.drift_std, dtype=float).reshape(-1)
+        groups.append((f"drift ({drift})", [
+            _drift_row(nm, float(dv[i]), float(ds[i]) if i < ds.size else math.nan, drift)
+            for i, nm in enumerate(drift_names) if i < dv.size]))
+    _parameter_section(doc, groups)
+
+    # e) correlation
+    corr = np.asarray(ident.correlation, dtype=float)
+    if corr.ndim == 2 and corr.shape[0] == corr.shape[1] and corr.shape[0] > 0:
+        labels = names if len(names) == corr.shape[0] else [f"u{i + 1}" for i in range(corr.shape[0])]
+        _correlation_section(doc, figs, corr, labels)
+
+    # f) coverage
+    gravity = np.asarray(ident.gravity, dtype=float).reshape(n, 3) if n else None
+    _coverage_section(doc, figs, q, joints, gravity, n,
+                      " (taken along the measured force)" if getattr(ident, "gravity_from_force", False) else "")
+    return doc.render()
+
+
+def _parameter_section(doc: _Doc, groups: Sequence[tuple[str, Sequence[_ParamRow]]]) -> None:
+    table, poor = _param_table(groups)
+    doc.add('<h2 id="parameters">Base parameters</h2>')
+    doc.add("<p>The combinations of link masses and first moments that a base sensor can "
+            "see, with one standard deviation. A row is highlighted when the parameter is "
+            f"poorly determined: its std exceeds {POOR_RELATIVE_STD * 100:.0f} % of its value, "
+            "or the value lies within 2 std of zero (then even its sign is uncertain). A "
+            "combination that is truly zero (a symmetric link) is always flagged so; more "
+            "poses or tilts that excite it shrink its std.</p>")
+    doc.add(table)
+    doc.add(f'<p class="{"fair" if poor else "ok"}">'
+            + (f"{poor} poorly determined parameter(s)." if poor
+               else "Every base parameter is determined to better than "
+                    f"{POOR_RELATIVE_STD * 100:.0f} % of its value.") + "</p>")
+
+
+def _correlation_section(doc: _Doc, figs: _Figures, corr: np.ndarray, labels: Sequence[str]) -> None:
+    doc.add('<h2 id="correlation">Correlation of the estimates</h2>')
+    pairs = _strong_pairs(corr, labels)
+    doc.figure(figs.correlation(corr, labels), "correlation matrix of the estimates",
+               "Correlation between the estimation errors of each pair of unknowns (red "
+               "+1, blue −1). Off-diagonal values near ±1 mean the data barely tell the two "
+               "apart: their sum or difference is known better than either. Pale off-diagonal "
+               "cells are what a well-designed plan gives.")
+    if pairs:
+        doc.add("<p>Strongly correlated pairs (|r| ≥ 0.9): "
+                + ", ".join(f'<span class="mono">{_e(t)}</span>' for t in pairs) + ".</p>")
+    else:
+        doc.add('<p class="ok">No pair of estimates is correlated beyond |r| = 0.9.</p>')
+
+
+def write_identify_report(path: PathType, ident: Any, *, title: Optional[str] = None) -> None:
+    """Write the HTML report of an identification.
+
+    Args:
+        path: the HTML file to write (atomically: a temporary file in the same
+            directory, then renamed).
+        ident: a :class:`massid.Identification` (from :func:`massid.identify`).
+        title: the page title; default "massid identification — ROBOT".
+
+    Raises:
+        MatplotlibMissing: matplotlib is not installed.
+        OSError: the file cannot be written.
+    """
+    with _Figures() as figs:
+        text = _identify_html(ident, title, figs)
+    _write_atomic(path, text)
+
+
+# --------------------------------------------------------------------------
+# Prediction report
+
+
+def _data_columns(data: Union[PathType, Mapping[str, Any]]) -> tuple[dict[str, np.ndarray], str]:
+    if isinstance(data, Mapping):
+        return {str(k): np.asarray(v, dtype=float).reshape(-1) for k, v in data.items()}, "(columns)"
+    return dict(massid.read_csv(data)), os.fspath(data)
+
+
+def _joint_matrix(cols: Mapping[str, np.ndarray], joints: Sequence[_JointInfo], n: int) -> np.ndarray:
+    q = np.full((n, len(joints)), np.nan)
+    for j, info in enumerate(joints):
+        if info.name in cols:
+            q[:, j] = cols[info.name]
+        elif info.name + "_deg" in cols:
+            q[:, j] = np.radians(cols[info.name + "_deg"])
+    return q
+
+
+def _params_rows(doc_json: Mapping[str, Any]) -> list[tuple[str, list[_ParamRow]]]:
+    rows = [_ParamRow(str(p.get("name", "")), _num(p.get("value")), _num(p.get("std")),
+                      str(p.get("unit", "")), str(p.get("expression", "")))
+            for p in doc_json.get("base_parameters", [])]
+    groups: list[tuple[str, list[_ParamRow]]] = [("", rows)]
+    drift = doc_json.get("drift") or None
+    off = doc_json.get("sensor_offset")
+    if isinstance(off, Mapping):
+        where = " at the end of the log" if drift else ""
+        orows = []
+        for part, axes, unit in (("force", AXES[:3], "N"), ("moment", AXES[3:], "N m")):
+            vals = list(off.get(part, []) or [])
+            stds = list(off.get(part + "_std", []) or [])
+            for i, a in enumerate(axes):
+                if i < len(vals):
+                    orows.append(_ParamRow(f"offset_{a}", _num(vals[i]),
+                                           _num(stds[i]) if i < len(stds) else math.nan,
+                                           unit, "sensor offset" + where, judge=False))
+        groups.append(("sensor offsets" + where, orows))
+    if isinstance(drift, Mapping):
+        model = drift.get("model")
+        groups.append((f"drift ({model})", [
+            _drift_row(str(t.get("name", "")), _num(t.get("value")), _num(t.get("std")), model)
+            for t in drift.get("terms", [])]))
+    return groups
+
+
+def _num(v: Any) -> float:
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _predict_html(robot: Union[PathType, Any], params: PathType,
+                  data: Union[PathType, Mapping[str, Any]], title: Optional[str],
+                  figs: _Figures) -> str:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        predicted = np.asarray(massid.predict(robot, params, data), dtype=float)
+    warned = [str(w.message) for w in caught]
+    params_path = os.fspath(params)
+    with open(params_path, encoding="utf-8") as f:
+        pj = json.load(f)
+    if isinstance(robot, (str, os.PathLike)):
+        held = pj.get("held_joints") or None
+        model = massid.load_model(robot, sensor=pj.get("sensor_link") or None,
+                                  fixed={str(k): float(v) for k, v in held.items()} if held else None)
+    else:
+        model = robot
+    cols, source = _data_columns(data)
+    n = predicted.shape[0]
+    predicted = predicted.reshape(n, 6)
+    joints = _joint_infos(model)
+    q = _joint_matrix(cols, joints, n)
+    has_wrench = all(a in cols for a in AXES)
+    if all(c in cols for c in ("gx", "gy", "gz")):
+        gravity = np.column_stack([cols["gx"], cols["gy"], cols["gz"]])
+        gnote = ""
+    elif all(c in cols for c in ("fx", "fy", "fz")):
+        f = np.column_stack([cols["fx"], cols["fy"], cols["fz"]])
+        gravity = f
+        gnote = " (taken along the measured force)"
+    else:
+        gravity, gnote = None, ""
+
+    name = getattr(model, "name", "robot")
+    doc = _Doc(title or f"massid prediction — {name}")
+    doc.add(f"<h1>{_e(doc.title)}</h1>")
+    doc.add('<p class="sub">'
+            f"<span>robot: <b>{_e(name)}</b></span>"
+            f"<span>parameters: <b>{_e(params_path)}</b></span>"
+            f"<span>data: <b>{_e(source)}</b></span>"
+            f"<span><b>{n}</b> samples</span>"
+            f"<span>massid {_e(_version())}</span></p>")
+    doc.add('<nav><a href="#summary">summary</a>'
+            + ('<a href="#fit">fit</a><a href="#residuals">compensated wrench</a>' if has_wrench
+               else '<a href="#wrench">predicted wrench</a>')
+            + '<a href="#parameters">parameters</a><a href="#correlation">correlation</a>'
+              '<a href="#coverage">coverage</a></nav>')
+    mass_std = next((_num(p.get("std")) for p in pj.get("base_parameters", []) if p.get("name") == "M"),
+                    math.nan)
+    cond = _num(pj.get("condition_number"))
+    cond_cls, cond_text = condition_verdict(cond)
+    cards = [
+        _card("total mass (identified)", f"{format_value(_num(pj.get('total_mass')))} kg",
+              f"± {_e(format_std(mass_std))} kg, from {_e(pj.get('samples', '?'))} samples"),
+        _card("condition number (eq. 36)", _e(_fmt(cond, 4)),
+              _e("of the identification: " + cond_text), cond_cls),
+    ]
+    comp = None
+    if has_wrench:
+        measured = np.column_stack([cols[a] for a in AXES])
+        comp = measured - predicted
+        rms = np.sqrt(np.nanmean(comp ** 2, axis=0))
+        rng = np.ptp(measured, axis=0)
+        worst = int(np.nanargmax(rms / np.where(rng > 0, rng, np.inf))) if n else 0
+        rel = rms[worst] / rng[worst] if rng[worst] > 0 else math.nan
+        cards.append(_card("largest RMS error / range", _e(f"{rel * 100:.3g} %") if math.isfinite(rel) else "—",
+                           _e(f"axis {AXES[worst]}: the compensated wrench's RMS over the axis' range"),
+                           "good" if math.isfinite(rel) and rel < 0.01 else "fair"))
+    doc.add('<h2 id="summary">Summary</h2>')
+    doc.add(f'<div class="cards">{"".join(cards)}</div>')
+    if comp is not None:
+        doc.add("<p>Compensated wrench = measured − predicted (the predicted wrench includes "
+                "the identified sensor offsets, if any). What remains is noise, the load "
+                "beyond the robot's own weight, and model error.</p>")
+        doc.add(_axis_table([
+            ("RMS of measured − predicted", rms),
+            ("max |measured − predicted|", np.nanmax(np.abs(comp), axis=0)),
+            ("measured range", rng),
+            ("RMS / range [%]", 100 * rms / np.where(rng > 0, rng, np.nan)),
+        ]))
+    else:
+        doc.add("<p>The data have no measured wrench (fx … mz): the report shows the "
+                "predicted gravity wrench only.</p>")
+        doc.add(_axis_table([
+            ("predicted min", np.nanmin(predicted, axis=0)),
+            ("predicted max", np.nanmax(predicted, axis=0)),
+        ]))
+    doc.add("<h3>Warnings</h3>")
+    doc.add(_warnings_html(warned))
+
+    no_flags = np.zeros(n, dtype=bool)
+    if comp is not None:
+        _fit_figures(doc, figs, measured, predicted, comp, q, joints, no_flags, no_flags, None,
+                     "predicted", "compensated wrench (measured − predicted)")
+    elif n:
+        idx, k = _subsample(n, np.empty(0, dtype=int))
+        sub = f" One sample in every {k} of the {n} is plotted." if k > 1 else ""
+        doc.add('<h2 id="wrench">Predicted wrench</h2>')
+        doc.figure(figs.against_index(predicted, idx, no_flags, no_flags,
+                                      "predicted gravity wrench against sample index",
+                                      zero_line=False),
+                   "predicted wrench against sample index",
+                   f"The gravity wrench predicted at every row of the data.{sub}")
+
+    _parameter_section(doc, _params_rows(pj))
+    cov = pj.get("covariance")
+    if isinstance(cov, Mapping) and cov.get("matrix"):
+        mat = np.asarray(cov["matrix"], dtype=float)
+        labels = [str(u) for u in cov.get("unknowns", [])]
+        if mat.ndim == 2 and mat.shape[0] == mat.shape[1]:
+            if len(labels) != mat.shape[0]:
+                labels = [f"u{i + 1}" for i in range(mat.shape[0])]
+            _correlation_section(doc, figs, _correlation_from_covariance(mat), labels)
+    _coverage_section(doc, figs, q, joints, gravity, n, gnote)
+    return doc.render()
+
+
+def write_predict_report(path: PathType, robot: Union[PathType, Any], params: PathType,
+                         data: Union[PathType, Mapping[str, Any]], *,
+                         title: Optional[str] = None) -> None:
+    """Write the HTML report of a prediction.
+
+    Args:
+        path: the HTML file to write (atomically).
+        robot: the URDF path or a :class:`massid.Model`. From a path the model is
+            loaded with the params file's sensor link and held joints.
+        params: the params JSON written by ``massid identify`` (its covariance
+            gives the correlation plot).
+        data: a CSV path or a dict of columns: joints (``JOINT`` or ``JOINT_deg``),
+            ``gx, gy, gz`` and, if measured, ``fx … mz``. With a measured wrench
+            the report compares it with the prediction and shows the compensated
+            wrench (measured − predicted); otherwise it shows the prediction.
+        title: the page title; default "massid prediction — ROBOT".
+
+    Raises:
+        massid.InputError: unreadable robot, params or data.
+        MatplotlibMissing: matplotlib is not installed.
+        OSError: the file cannot be written.
+    """
+    with _Figures() as figs:
+        text = _predict_html(robot, params, data, title, figs)
+    _write_atomic(path, text)
+
+
+# --------------------------------------------------------------------------
+# Files and the command line
+
+
+def _write_atomic(path: PathType, text: str) -> None:
+    path = os.fspath(path)
+    directory = os.path.dirname(os.path.abspath(path))
+    tmp = os.path.join(directory, f".{os.path.basename(path)}.{os.getpid()}.tmp")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o666)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def _parse_fixed(items: Optional[Iterable[str]]) -> Optional[dict[str, float]]:
+    if not items:
+        return None
+    out: dict[str, float] = {}
+    for item in items:
+        joint, sep, value = item.partition("=")
+        if not sep or not joint or not value:
+            raise massid.InputError(f"--fixed: '{item}' should read JOINT=VALUE")
+        try:
+            out[joint] = float(value)
+        except ValueError:
+            raise massid.InputError(f"--fixed {joint}: '{value}' is not a number") from None
+    return out
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="python3 -m massid.report",
+        description="Write a self-contained HTML report of a massid identification or prediction.")
+    p.add_argument("--check", action="store_true",
+                   help="only check that matplotlib can be imported (exit 0), then stop")
+    sub = p.add_subparsers(dest="command", metavar="{identify,predict}")
+    ident = sub.add_parser("identify", help="identify, then write the report")
+    ident.add_argument("robot", help="URDF file")
+    ident.add_argument("data", help="data CSV")
+    ident.add_argument("-o", "--output", required=True, help="the HTML report to write")
+    ident.add_argument("--sensor", help="sensor link (default: the URDF's root)")
+    ident.add_argument("--offset", action="store_true", help="estimate the six sensor offsets")
+    ident.add_argument("--fixed", action="append", metavar="JOINT=VALUE",
+                       help="a joint held still (repeatable)")
+    ident.add_argument("--robust", action="store_true", help="reject outliers")
+    ident.add_argument("--drift", choices=("linear", "per-block"), help="sensor drift model")
+    ident.add_argument("--sigma-force", type=float, metavar="N", help="force noise, N")
+    ident.add_argument("--sigma-moment", type=float, metavar="NM", help="moment noise, N m")
+    ident.add_argument("--no-checks", action="store_true", help="skip the set-up checks")
+    pred = sub.add_parser("predict", help="predict, then write the report")
+    pred.add_argument("robot", help="URDF file")
+    pred.add_argument("params", help="params JSON from massid identify")
+    pred.add_argument("data", help="data CSV")
+    pred.add_argument("-o", "--output", required=True, help="the HTML report to write")
+    return p
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """The command-line entry (``python3 -m massid.report``); returns the exit code.
+
+    Exit codes as the CLI's: 0 written, 2 bad input or no matplotlib, 3 data
+    that cannot determine the parameters. Errors go to stderr as
+    "massid: error: ..."; the fit's warnings go into the report only.
+    """
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        if args.check:
+            _matplotlib()
+            return 0
+        if args.command is None:
+            parser.error("a command is needed: identify or predict (or --check)")
+        _matplotlib()  # fail before any work when it is missing
+        # The fit's warnings are listed in the report; the CLI that spawns this
+        # has printed them already, so they are not printed twice.
+        warnings.filterwarnings("ignore", category=getattr(massid, "MassidWarning", UserWarning))
+        if args.command == "identify":
+            for opt in ("sigma_force", "sigma_moment"):
+                v = getattr(args, opt)
+                if v is not None and not (math.isfinite(v) and v > 0):
+                    raise massid.InputError(f"--{opt.replace('_', '-')}: '{v}' is not a positive number")
+            ident = massid.identify(
+                args.robot, args.data, offset=args.offset, sensor=args.sensor,
+                fixed=_parse_fixed(args.fixed), robust=args.robust, drift=args.drift,
+                sigma_force=args.sigma_force, sigma_moment=args.sigma_moment,
+                checks=not args.no_checks)
+            write_identify_report(args.output, ident)
+        else:
+            write_predict_report(args.output, args.robot, args.params, args.data)
+    except MatplotlibMissing:
+        print(f"massid: error: {MATPLOTLIB_MISSING}", file=sys.stderr)
+        return 2
+    except massid.IdentifiabilityError as e:
+        print(f"massid: error: {e}", file=sys.stderr)
+        return 3
+    except massid.InputError as e:
+        print(f"massid: error: {e}", file=sys.stderr)
+        return 2
+    except OSError as e:
+        where = f"{e.filename}: " if getattr(e, "filename", None) else ""
+        print(f"massid: error: {where}{e.strerror or e}", file=sys.stderr)
+        return 2
+    except json.JSONDecodeError as e:
+        print(f"massid: error: {args.params}:{e.lineno}:{e.colno}: {e.msg}", file=sys.stderr)
+        return 2
+    print(f"wrote {args.output}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

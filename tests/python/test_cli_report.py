@@ -1,0 +1,68 @@
+"""massid identify/predict --report: the CLI runs python -m massid.report and
+writes the HTML next to its usual outputs, unchanged by the report."""
+
+import base64
+import os
+import pathlib
+import re
+import subprocess
+
+import massid
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+PUMA = REPO / "examples" / "puma260" / "puma260.urdf"
+PLAN = REPO / "examples" / "puma260" / "plan.csv"
+HOLDOUT = REPO / "examples" / "puma260" / "holdout.csv"
+
+
+def cli() -> str:
+    return os.environ.get("MASSID_CLI") or str(pathlib.Path(massid.__file__).resolve().parents[2] / "massid")
+
+
+def run(*args):
+    return subprocess.run([cli(), *map(str, args)], capture_output=True, text=True)
+
+
+def images(html: str):
+    return [base64.b64decode(m) for m in re.findall(r'src="data:image/png;base64,([^"]+)"', html)]
+
+
+def test_identify_and_predict_reports(tmp_path):
+    data = tmp_path / "data.csv"
+    assert run("simulate", PUMA, PLAN, "-o", data, "--noise-force", "0.05", "--noise-moment", "0.005",
+               "--repeat", "3").returncode == 0
+    # one spoiled sample: its warning must appear once, not again from the report
+    lines = data.read_text().splitlines()
+    header = lines[0].split(",")
+    row = lines[10].split(",")
+    row[header.index("fz")] = repr(float(row[header.index("fz")]) + 3.0)
+    lines[10] = ",".join(row)
+    data.write_text("\n".join(lines) + "\n")
+
+    plain = run("identify", PUMA, data, "-o", tmp_path / "plain.json")
+    assert plain.returncode == 0, plain.stderr
+    r = run("identify", PUMA, data, "-o", tmp_path / "params.json", "--report", tmp_path / "fit.html")
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "params.json").read_text() == (tmp_path / "plain.json").read_text()
+    assert r.stdout.startswith(plain.stdout.replace("plain.json", "params.json"))
+    assert f"wrote {tmp_path / 'fit.html'}" in r.stdout
+    assert r.stderr == plain.stderr, "the report repeats no warning"
+    assert "line 11" in r.stderr or "lines 11" in r.stderr or "11 (d =" in r.stderr
+    html = (tmp_path / "fit.html").read_text()
+    pngs = images(html)
+    assert len(pngs) >= 5 and all(p.startswith(b"\x89PNG\r\n\x1a\n") for p in pngs)
+    for name in ("p1", "p9", "M"):
+        assert f">{name}<" in html
+    assert "http://" not in html and "https://" not in html and "<script" not in html.lower()
+
+    r = run("predict", PUMA, tmp_path / "params.json", HOLDOUT, "--report", tmp_path / "pred.html")
+    assert r.returncode == 0, r.stderr
+    pred_html = (tmp_path / "pred.html").read_text()
+    assert len(images(pred_html)) >= 3
+    assert "holdout.csv" in pred_html
+
+
+def test_report_errors_keep_the_clis_exit_codes(tmp_path):
+    r = run("predict", PUMA, tmp_path / "missing.json", HOLDOUT, "--report", tmp_path / "x.html")
+    assert r.returncode == 2 and "missing.json" in r.stderr
+    assert not (tmp_path / "x.html").exists()
