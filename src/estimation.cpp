@@ -255,6 +255,7 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   out.robust = options.robust;
   out.drift = options.drift;
   out.outlier_threshold = chi6_quantile(options.outlier_probability / N);
+  out.per_sample_test = true;
 
   // Weighted least squares over the samples with w_i = 1, the per-axis noise
   // re-estimated from the residuals (given by the user, else iterated).

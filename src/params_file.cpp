@@ -93,8 +93,13 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     // Outlier test: rejected samples (robust) or suspect ones, by file line.
     json lines = json::array();
     for (const Outlier& o : s->outliers) lines.push_back(o.line);
-    j["outliers"] = {{"method", s->robust ? "rejected" : "reported"},
-                     {"threshold", s->outlier_threshold},
+    // A streamed fit tested the largest residual of each axis (threshold in
+    // sigmas of that axis) instead of each sample's d.
+    j["outliers"] = {{"method", s->robust            ? "rejected"
+                                : s->per_sample_test ? "reported"
+                                                     : "largest residual"},
+                     {"threshold", s->per_sample_test ? s->outlier_threshold
+                                                      : largest_residual_bound(s->samples)},
                      {"count", s->outliers.size()},
                      {"fraction", s->samples ? double(s->outliers.size()) / s->samples : 0.0},
                      {"lines", lines}};

@@ -3,6 +3,7 @@
 // file, --drift needs its column and says so.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -37,6 +38,22 @@ TEST_F(CliRobust, IdentifyWarnsAboutImplausibleSamplesByLine) {
   const auto j = nlohmann::json::parse(read_file(path("p.json")));
   EXPECT_EQ(j["outliers"]["method"], "reported");
   EXPECT_EQ(j["outliers"]["count"], 2);
+}
+
+// A clean log is streamed without per-sample residuals: its params file says
+// which test ran (the largest residual of each axis against the normal bound).
+TEST_F(CliRobust, StreamedCleanLogRecordsTheLargestResidualTest) {
+  const std::string data =
+      puma_data({"--noise-force", "0.05", "--noise-moment", "0.005", "--repeat", "5"});
+  const Result r = run({"identify", kPumaUrdf, data, "-o", path("p.json")});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_EQ(r.err, "");
+  const auto j = nlohmann::json::parse(read_file(path("p.json")));
+  EXPECT_EQ(j["outliers"]["method"], "largest residual");
+  EXPECT_EQ(j["outliers"]["count"], 0);
+  // Two-sided normal tail at 1 % over the 6 N = 900 residuals: erfc(b / sqrt 2) = 0.01 / 900.
+  const double b = j["outliers"]["threshold"].get<double>();
+  EXPECT_NEAR(std::erfc(b / std::sqrt(2.0)), 0.01 / 900, 1e-12);
 }
 
 TEST_F(CliRobust, RobustIdentifyRejectsTheSpoiledLines) {

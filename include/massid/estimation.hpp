@@ -65,6 +65,9 @@ struct IdentifySummary {
   // options.robust they are rejected (not used in the estimate); else reported.
   std::vector<Outlier> outliers;
   double outlier_threshold = 0.0;
+  // False for a streamed fit (streaming.hpp): no per-sample residuals, so the
+  // test run was largest_residuals_implausible; outliers is then empty.
+  bool per_sample_test = false;
   bool robust = false;
   // Drift unknowns beyond the base parameters and offsets: names, values, std.
   Drift drift = Drift::None;
