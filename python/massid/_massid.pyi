@@ -92,7 +92,11 @@ class Outlier:
     score: float  # standardised residual norm, chi with 6 degrees of freedom
 
 class Predictor:
-    def __init__(self, robot: Union[PathType, Model], params: Union[PathType, "Params", "Identification"]) -> None: ...
+    def __init__(
+        self,
+        robot: Optional[Union[PathType, Model]],  # None with an Identification (it has its model)
+        params: Union[PathType, "Params", "Identification"],
+    ) -> None: ...
     model: Model
     joint_names: list[str]
     def predict(self, q: npt.ArrayLike, gravity: npt.ArrayLike) -> np.ndarray:
