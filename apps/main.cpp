@@ -137,7 +137,7 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   for (const std::string& w : identify_warnings(summary, data_path)) std::cerr << w;
   write_file_atomically(out, params_json(model, base, &summary));
   std::cout << identify_report(model, base, summary, data_path);
-  std::cout << "wrote " << out << std::endl;
+  std::cout << "wrote " << out << "\n";
   if (!report.empty())
     return run_report(identify_report_args(c, data_path, report, offset, opts, checks));
   return 0;
@@ -148,11 +148,7 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   if (!report.empty()) check_report_tools();  // before any work
   const ParamsFile params = read_params(params_path);
   const Model model = hold_joints(load_urdf(urdf, params.sensor_link), params.held);
-  BaseParameterOptions bopts;
-  bopts.offset = params.has_offset;
-  const BaseParameters base = find_base_parameters(model, bopts);
-  const Eigen::VectorXd values = values_in_basis(params, model, base);
-  const Predictor predictor = compile_predictor(model, base, values);
+  const Predictor predictor = compile_predictor(model, params);
   PredictorData data(predictor);
 
   const CsvTable table = read_csv(data_path);
@@ -176,7 +172,6 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   if (samples.has_wrench())
     std::cout << prediction_report(prediction_errors(samples.wrench, P), samples.size());
   if (!out.empty()) std::cout << "wrote " << out << "\n";
-  std::cout.flush();
   if (!report.empty()) return run_report({"predict", urdf, params_path, data_path, "-o", report});
   return 0;
 }

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 
 #include "massid/errors.hpp"
 
@@ -61,6 +62,8 @@ int spawn_python(const std::vector<std::string>& args, bool quiet) {
   for (auto& e : env_s) envp.push_back(e.data());
   envp.push_back(nullptr);
 
+  std::cout.flush();  // what the command printed comes before the child's output
+  std::cerr.flush();
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   if (quiet) {

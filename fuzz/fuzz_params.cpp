@@ -21,11 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     fuzz::expect_clean("predict with the params", [&] {
       const Model model = hold_joints(
           load_urdf_string(robot.urdf_text, params.sensor_link, robot.name + ".urdf"), params.held);
-      BaseParameterOptions options;
-      options.offset = params.has_offset;
-      const BaseParameters base = find_base_parameters(model, options);
-      const Eigen::VectorXd values = values_in_basis(params, model, base);
-      const Predictor predictor = compile_predictor(model, base, values);
+      const Predictor predictor = compile_predictor(model, params);
       PredictorData scratch_data(predictor);
       const Eigen::VectorXd q = Eigen::VectorXd::Constant(model.num_joints(), 0.3);
       const Wrench w = predict(predictor, scratch_data, q, Eigen::Vector3d(0.0, 0.0, -9.81));

@@ -224,4 +224,11 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
   return v;
 }
 
+Predictor compile_predictor(const Model& model, const ParamsFile& params) {
+  BaseParameterOptions options;
+  options.offset = params.has_offset;
+  const BaseParameters base = find_base_parameters(model, options);
+  return compile_predictor(model, base, values_in_basis(params, model, base));
+}
+
 }  // namespace massid

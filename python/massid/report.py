@@ -40,6 +40,7 @@ from typing import Any, Iterable, Mapping, Optional, Sequence, Union
 import numpy as np
 
 import massid
+from massid import _massid
 
 AXES = ("fx", "fy", "fz", "mx", "my", "mz")
 UNITS = ("N", "N", "N", "N m", "N m", "N m")
@@ -902,7 +903,7 @@ def write_identify_report(path: PathType, ident: Any, *, title: Optional[str] = 
     """
     with _Figures() as figs:
         text = _identify_html(ident, title, figs)
-    _write_atomic(path, text)
+    _massid._write_file_atomically(path, text)
 
 
 # --------------------------------------------------------------------------
@@ -1099,30 +1100,11 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any], params: Pa
     """
     with _Figures() as figs:
         text = _predict_html(robot, params, data, title, figs)
-    _write_atomic(path, text)
+    _massid._write_file_atomically(path, text)
 
 
 # --------------------------------------------------------------------------
 # Files and the command line
-
-
-def _write_atomic(path: PathType, text: str) -> None:
-    path = os.fspath(path)
-    directory = os.path.dirname(os.path.abspath(path))
-    tmp = os.path.join(directory, f".{os.path.basename(path)}.{os.getpid()}.tmp")
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o666)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
 
 
 def _parse_fixed(items: Optional[Iterable[str]]) -> Optional[dict[str, float]]:
@@ -1188,10 +1170,6 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         # has printed them already, so they are not printed twice.
         warnings.filterwarnings("ignore", category=getattr(massid, "MassidWarning", UserWarning))
         if args.command == "identify":
-            for opt in ("sigma_force", "sigma_moment"):
-                v = getattr(args, opt)
-                if v is not None and not (math.isfinite(v) and v > 0):
-                    raise massid.InputError(f"--{opt.replace('_', '-')}: '{v}' is not a positive number")
             ident = massid.identify(
                 args.robot, args.data, offset=args.offset, sensor=args.sensor,
                 fixed=_parse_fixed(args.fixed), robust=args.robust, drift=args.drift,

@@ -93,14 +93,14 @@ void bind_design(py::module_& m) {
                                Eigen::MatrixXd Q(p.summary.plan.size(), p.model.num_joints());
                                for (size_t i = 0; i < p.summary.plan.size(); ++i)
                                  Q.row(i) = p.summary.plan[i].q.transpose();
-                               return to_numpy(Q);
+                               return Q;
                              })
       .def_property_readonly("gravity",
                              [](const Plan& p) {
                                Eigen::MatrixXd G(p.summary.plan.size(), 3);
                                for (size_t i = 0; i < p.summary.plan.size(); ++i)
                                  G.row(i) = p.summary.plan[i].gravity.transpose();
-                               return to_numpy(G);
+                               return G;
                              })
       .def_property_readonly("tilt_deg",
                              [](const Plan& p) {
@@ -108,7 +108,7 @@ void bind_design(py::module_& m) {
                                for (size_t i = 0; i < p.summary.plan.size(); ++i)
                                  T.row(i) << p.summary.plan[i].tilt.x / kDeg,
                                      p.summary.plan[i].tilt.y / kDeg;
-                               return to_numpy(T);
+                               return T;
                              })
       .def_property_readonly("condition_number",
                              [](const Plan& p) { return p.summary.condition_number; })
@@ -117,11 +117,9 @@ void bind_design(py::module_& m) {
       .def_property_readonly("identifiability_message",
                              [](const Plan& p) { return p.summary.identifiability_message; })
       .def_property_readonly("unknown_names", [](const Plan& p) { return unknown_names(p.base); })
-      .def_property_readonly("predicted_std",
-                             [](const Plan& p) { return to_numpy(p.summary.predicted_std); })
-      .def_property_readonly(
-          "expected_error",
-          [](const Plan& p) { return to_numpy(Eigen::VectorXd(p.summary.expected_error)); })
+      .def_property_readonly("predicted_std", [](const Plan& p) { return p.summary.predicted_std; })
+      .def_property_readonly("expected_error",
+                             [](const Plan& p) { return p.summary.expected_error; })
       .def_property_readonly("tilt_changes", [](const Plan& p) { return p.summary.tilt_changes; })
       .def_property_readonly("joint_travel", [](const Plan& p) { return p.summary.joint_travel; })
       .def_property_readonly("seconds", [](const Plan& p) { return p.summary.seconds; })

@@ -98,8 +98,8 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   return out;
 }
 
-py::object optional_vector(bool present, const Eigen::VectorXd& v) {
-  return present ? py::object(to_numpy(v)) : py::object(py::none());
+std::optional<Eigen::VectorXd> optional_vector(bool present, const Eigen::VectorXd& v) {
+  return present ? std::optional<Eigen::VectorXd>(v) : std::nullopt;
 }
 
 }  // namespace
@@ -138,17 +138,16 @@ void bind_identify(py::module_& m) {
                              })
       .def_property_readonly("unknown_names", [](const I& i) { return unknown_names(i.base); })
       .def_property_readonly(
-          "values", [sum](const I& i) { return to_numpy(sum(i).value); },
+          "values", [sum](const I& i) { return sum(i).value; },
           "[p] base parameters, then the offsets")
-      .def_property_readonly("std", [sum](const I& i) { return to_numpy(sum(i).stddev); })
-      .def_property_readonly("covariance",
-                             [sum](const I& i) { return to_numpy(sum(i).covariance); })
+      .def_property_readonly("std", [sum](const I& i) { return sum(i).stddev; })
+      .def_property_readonly("covariance", [sum](const I& i) { return sum(i).covariance; })
       .def_property_readonly("correlation",
                              [sum](const I& i) {
                                const Eigen::MatrixXd& C = sum(i).covariance;
                                const Eigen::VectorXd d = C.diagonal().cwiseSqrt();
                                Eigen::MatrixXd R = C.array() / (d * d.transpose()).array();
-                               return to_numpy(R);
+                               return R;
                              })
       .def_property_readonly("offset",
                              [sum](const I& i) {
@@ -163,24 +162,18 @@ void bind_identify(py::module_& m) {
       .def_property_readonly("condition_number",
                              [sum](const I& i) { return sum(i).condition_number; })
       .def_property_readonly("chi2_per_dof", [sum](const I& i) { return sum(i).chi2_per_dof; })
-      .def_property_readonly("sigma",
-                             [sum](const I& i) { return to_numpy(Eigen::VectorXd(sum(i).sigma)); })
+      .def_property_readonly("sigma", [sum](const I& i) { return sum(i).sigma; })
       .def_property_readonly("sigma_estimated",
                              [sum](const I& i) { return sum(i).sigma_estimated; })
       .def_property_readonly("samples", [sum](const I& i) { return sum(i).samples; })
+      .def_property_readonly("residual_rms", [sum](const I& i) { return sum(i).residual_rms; })
+      .def_property_readonly("residual_max", [sum](const I& i) { return sum(i).residual_max; })
+      .def_property_readonly("q", [](const I& i) { return i.samples.q; })
+      .def_property_readonly("gravity", [](const I& i) { return i.samples.gravity; })
+      .def_property_readonly("wrench", [](const I& i) { return i.samples.wrench; })
+      .def_property_readonly("fitted", [](const I& i) { return i.fitted; })
       .def_property_readonly(
-          "residual_rms",
-          [sum](const I& i) { return to_numpy(Eigen::VectorXd(sum(i).residual_rms)); })
-      .def_property_readonly(
-          "residual_max",
-          [sum](const I& i) { return to_numpy(Eigen::VectorXd(sum(i).residual_max)); })
-      .def_property_readonly("q", [](const I& i) { return to_numpy(i.samples.q); })
-      .def_property_readonly("gravity", [](const I& i) { return to_numpy(i.samples.gravity); })
-      .def_property_readonly("wrench", [](const I& i) { return to_numpy(i.samples.wrench); })
-      .def_property_readonly("fitted", [](const I& i) { return to_numpy(i.fitted); })
-      .def_property_readonly(
-          "residuals",
-          [](const I& i) { return to_numpy(Eigen::MatrixXd(i.samples.wrench - i.fitted)); })
+          "residuals", [](const I& i) { return Eigen::MatrixXd(i.samples.wrench - i.fitted); })
       .def_property_readonly("lines",
                              [](const I& i) {
                                py::array_t<long> a(static_cast<py::ssize_t>(i.samples.line.size()));
@@ -220,10 +213,8 @@ void bind_identify(py::module_& m) {
                                }
                              })
       .def_property_readonly("drift_names", [sum](const I& i) { return sum(i).drift_names; })
-      .def_property_readonly("drift_values",
-                             [sum](const I& i) { return to_numpy(sum(i).drift_value); })
-      .def_property_readonly("drift_std",
-                             [sum](const I& i) { return to_numpy(sum(i).drift_stddev); })
+      .def_property_readonly("drift_values", [sum](const I& i) { return sum(i).drift_value; })
+      .def_property_readonly("drift_std", [sum](const I& i) { return sum(i).drift_stddev; })
       .def_readonly("warnings", &I::warnings)
       .def(
           "report",

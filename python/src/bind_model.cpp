@@ -1,7 +1,6 @@
 // Model, base parameters and regressors (massid/model.hpp, base_parameters.hpp,
 // regressor.hpp, base_regressor.hpp).
 #include <fmt/format.h>
-#include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
 #include <cmath>
@@ -103,8 +102,7 @@ void bind_model(py::module_& m) {
       .def_property_readonly("joint_type", [](const Link& l) { return joint_type_name(l.type); })
       .def_readonly("mass", &Link::mass, "nominal mass from the URDF, kg")
       .def_property_readonly(
-          "com", [](const Link& l) { return to_numpy(Eigen::VectorXd(l.com)); },
-          "nominal centre of mass in the link frame, m")
+          "com", [](const Link& l) { return l.com; }, "nominal centre of mass in the link frame, m")
       .def("__repr__", [](const Link& l) { return fmt::format("Link('{}')", l.name); });
 
   py::class_<Model>(m, "Model",
@@ -129,8 +127,7 @@ void bind_model(py::module_& m) {
                                return n;
                              })
       .def(
-          "nominal_parameters",
-          [](const Model& mo) { return to_numpy(nominal_standard_parameters(mo)); },
+          "nominal_parameters", [](const Model& mo) { return nominal_standard_parameters(mo); },
           "[4 L] the URDF's inertials as standard parameters: m, mx, my, mz per link")
       .def("__repr__", [](const Model& mo) {
         return fmt::format("Model('{}', sensor_link='{}', {} links, {} joints)", mo.name,
@@ -196,7 +193,7 @@ void bind_model(py::module_& m) {
       .def_property_readonly("offset", [](const PyBase& b) { return b.base.offset; })
       .def_property_readonly("num_unknowns", [](const PyBase& b) { return b.base.num_unknowns(); })
       .def_property_readonly(
-          "K", [](const PyBase& b) { return to_numpy(b.base.K); },
+          "K", [](const PyBase& b) { return b.base.K; },
           "[num_mass x 4 L]: base values = K @ standard parameters");
 
   m.def(

@@ -5,6 +5,7 @@
 
 #include "bindings.hpp"
 #include "convert.hpp"
+#include "massid/atomic_file.hpp"
 #include "massid/errors.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
@@ -34,16 +35,16 @@ struct PyPredictor {
   Predictor predictor;
   PredictorData data;
 
-  PyPredictor(Model m, const BaseParameters& base, const Eigen::VectorXd& values)
-      : model(std::move(m)), predictor(compile_predictor(model, base, values)), data(predictor) {}
+  PyPredictor(Model m, Predictor p)
+      : model(std::move(m)), predictor(std::move(p)), data(predictor) {}
 
-  py::array_t<double> operator()(const py::object& q, const py::object& gravity) {
+  py::object operator()(const py::object& q, const py::object& gravity) {
     const auto [Q, G] = poses_of(model, q, gravity);
     Eigen::MatrixXd W(Q.rows(), 6);
     predict(predictor, data, Q, G, W);
     const py::object ndim = py::module_::import("numpy").attr("ndim");
     const bool single = ndim(q).cast<int>() == 1 && ndim(gravity).cast<int>() == 1;
-    return single ? to_numpy(Eigen::VectorXd(W.row(0).transpose())) : to_numpy(W);
+    return single ? py::cast(Eigen::VectorXd(W.row(0).transpose())) : py::cast(std::move(W));
   }
 };
 
@@ -56,7 +57,8 @@ std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::o
         throw InputError(
             fmt::format("robot '{}' is not the identified robot '{}'", check.name, id.model.name));
     }
-    return std::make_unique<PyPredictor>(id.model, id.base, id.summary.value);
+    return std::make_unique<PyPredictor>(id.model,
+                                         compile_predictor(id.model, id.base, id.summary.value));
   }
   const ParamsFile file = py::isinstance<ParamsFile>(params) ? params.cast<ParamsFile>()
                           : is_path(params)                  ? read_params(path_of(params))
@@ -64,16 +66,12 @@ std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::o
                                                                    "params: expected a params file path, "
                                                                                     "massid.Params or massid.Identification");
   Model model = model_for(robot, file.sensor_link, file.held);
-  BaseParameterOptions bopts;
-  bopts.offset = file.has_offset;
-  const BaseParameters base = find_base_parameters(model, bopts);
-  const Eigen::VectorXd values = values_in_basis(file, model, base);
-  return std::make_unique<PyPredictor>(std::move(model), base, values);
+  Predictor predictor = compile_predictor(model, file);
+  return std::make_unique<PyPredictor>(std::move(model), std::move(predictor));
 }
 
-py::object optional_wrench(bool present, const Wrench& w) {
-  if (!present) return py::none();
-  return to_numpy(Eigen::VectorXd(w));
+std::optional<Wrench> optional_wrench(bool present, const Wrench& w) {
+  return present ? std::optional<Wrench>(w) : std::nullopt;
 }
 
 }  // namespace
@@ -109,9 +107,7 @@ void bind_predict(py::module_& m) {
           "offset_std",
           [](const ParamsFile& p) { return optional_wrench(p.has_offset, p.offset_std); })
       .def_readonly("condition_number", &ParamsFile::condition_number)
-      .def_property_readonly(
-          "residual_rms",
-          [](const ParamsFile& p) { return to_numpy(Eigen::VectorXd(p.residual_rms)); })
+      .def_property_readonly("residual_rms", [](const ParamsFile& p) { return p.residual_rms; })
       .def("__repr__", [](const ParamsFile& p) {
         return fmt::format("Params('{}', total_mass={:.6g}, {} base parameters)", p.source,
                            p.total_mass, p.base_parameters.size());
@@ -143,7 +139,7 @@ void bind_predict(py::module_& m) {
         const Samples s = samples_of(p->model, data, WrenchColumns::Optional);
         Eigen::MatrixXd W(s.size(), 6);
         predict(p->predictor, p->data, s.q, s.gravity, W);
-        return to_numpy(W);
+        return W;
       },
       py::arg("robot"), py::arg("params"), py::arg("data"),
       "[N, 6] predicted gravity wrench at every row of data: a CSV path or columns by name "
@@ -182,8 +178,7 @@ void bind_predict(py::module_& m) {
         const py::module_ np = py::module_::import("numpy");
         for (const auto& [k, v] : in)
           out[k] = np.attr("repeat")(np.attr("asarray")(v, "float64"), repeat);
-        for (int k = 0; k < 6; ++k)
-          out[py::str(kWrenchColumns[k])] = to_numpy(Eigen::VectorXd(W.col(k)));
+        for (int k = 0; k < 6; ++k) out[py::str(kWrenchColumns[k])] = Eigen::VectorXd(W.col(k));
         return out;
       },
       py::arg("robot"), py::arg("plan"), py::kw_only(), py::arg("noise_force") = 0.0,
@@ -192,6 +187,15 @@ void bind_predict(py::module_& m) {
       "The plan's columns (each repeated `repeat` times) with the wrenches fx ... mz that the "
       "URDF's inertials would produce, plus Gaussian noise (N, N m) and a constant offset: a "
       "data set for identify.");
+
+  // For massid.report: the CLI's atomic write (InputError naming the path).
+  m.def(
+      "_write_file_atomically",
+      [](const py::object& path, const std::string& text) {
+        write_file_atomically(path_of(path), text);
+      },
+      py::arg("path"), py::arg("text"),
+      "Writes text to a temporary file beside path and renames it over path.");
 
   m.def(
       "read_csv", [](const py::object& path) { return csv_columns(read_csv(path_of(path))); },

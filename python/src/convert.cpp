@@ -39,20 +39,6 @@ Eigen::MatrixXd to_matrix(const py::handle& array, int cols, const std::string& 
   return m;
 }
 
-py::array_t<double> to_numpy(const Eigen::MatrixXd& m) {
-  py::array_t<double> a({m.rows(), m.cols()});
-  auto r = a.mutable_unchecked<2>();
-  for (Eigen::Index i = 0; i < m.rows(); ++i)
-    for (Eigen::Index j = 0; j < m.cols(); ++j) r(i, j) = m(i, j);
-  return a;
-}
-
-py::array_t<double> to_numpy(const Eigen::VectorXd& v) {
-  py::array_t<double> a(v.size());
-  std::copy(v.data(), v.data() + v.size(), a.mutable_data());
-  return a;
-}
-
 bool is_path(const py::handle& obj) {
   return py::isinstance<py::str>(obj) || py::hasattr(obj, "__fspath__");
 }

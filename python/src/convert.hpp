@@ -1,9 +1,11 @@
 // Conversions between Python arguments and massid's types, shared by the
-// bindings: arrays (numpy, any array-like) to Eigen and back, a robot argument
+// bindings: arrays (numpy, any array-like) to Eigen with checked shapes
+// (results go back through pybind11's Eigen casters), a robot argument
 // (URDF path or Model), a data argument (CSV path or columns by name).
 // Errors are massid::InputError, which Python sees as massid.InputError.
 #pragma once
 
+#include <pybind11/eigen.h>  // Eigen results return as new numpy arrays
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -25,10 +27,6 @@ namespace py = pybind11;
 // [N x cols] from an array-like of shape (N, cols), or (cols,) as one row.
 // `what` names the argument and its columns in errors: "q (joints j1, j2)".
 Eigen::MatrixXd to_matrix(const py::handle& array, int cols, const std::string& what);
-// Eigen matrix -> a new float64 numpy array of the same shape.
-py::array_t<double> to_numpy(const Eigen::MatrixXd& m);
-py::array_t<double> to_numpy(const Eigen::VectorXd& v);
-
 // os.fspath(obj) for str and os.PathLike.
 std::string path_of(const py::handle& obj);
 bool is_path(const py::handle& obj);

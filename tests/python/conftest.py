@@ -34,6 +34,15 @@ def _import_massid() -> Any:
     return massid
 
 
+def massid_cli() -> str:
+    """The massid executable: MASSID_CLI (ctest sets it), else the one of the build tree
+    whose python directory holds the imported package (<build>/python/massid)."""
+    exe = os.environ.get("MASSID_CLI")
+    if exe:
+        return exe
+    return str(Path(_import_massid().__file__).resolve().parents[2] / "massid")
+
+
 def write_csv(path: Path, columns: Mapping[str, Any], comment: str = "") -> Path:
     """Write columns as a CSV (header on line 1 unless a comment line precedes it)."""
     names = list(columns)

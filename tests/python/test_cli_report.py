@@ -2,12 +2,11 @@
 writes the HTML next to its usual outputs, unchanged by the report."""
 
 import base64
-import os
 import pathlib
 import re
 import subprocess
 
-import massid
+from conftest import massid_cli
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 PUMA = REPO / "examples" / "puma260" / "puma260.urdf"
@@ -15,12 +14,8 @@ PLAN = REPO / "examples" / "puma260" / "plan.csv"
 HOLDOUT = REPO / "examples" / "puma260" / "holdout.csv"
 
 
-def cli() -> str:
-    return os.environ.get("MASSID_CLI") or str(pathlib.Path(massid.__file__).resolve().parents[2] / "massid")
-
-
 def run(*args):
-    return subprocess.run([cli(), *map(str, args)], capture_output=True, text=True)
+    return subprocess.run([massid_cli(), *map(str, args)], capture_output=True, text=True)
 
 
 def images(html: str):

@@ -6,7 +6,6 @@ Run: PYTHONPATH=<build>/python /usr/bin/python3 -m pytest tests/python
 
 import ast
 import json
-import os
 import pathlib
 import subprocess
 import warnings
@@ -16,6 +15,7 @@ import numpy as np
 import pytest
 
 import massid
+from conftest import massid_cli, write_csv
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 PUMA = REPO / "examples" / "puma260" / "puma260.urdf"
@@ -25,15 +25,8 @@ UR_PLAN = REPO / "examples" / "ur_like" / "plan.csv"
 BRANCHING = REPO / "examples" / "branching" / "branching.urdf"
 
 
-def cli() -> str:
-    exe = os.environ.get("MASSID_CLI")
-    if exe:
-        return exe
-    return str(pathlib.Path(massid.__file__).resolve().parents[2] / "massid")
-
-
 def run_cli(*args, check=True):
-    r = subprocess.run([cli(), *map(str, args)], capture_output=True, text=True)
+    r = subprocess.run([massid_cli(), *map(str, args)], capture_output=True, text=True)
     if check and r.returncode != 0:
         raise AssertionError(f"massid {' '.join(map(str, args))}: {r.returncode}\n{r.stderr}")
     return r
@@ -290,12 +283,7 @@ def test_errors_carry_the_clis_messages(tmp_path, puma_data):
     _, data, _ = puma_data
     cols = massid.read_csv(data)
     cols["joint3"] = np.zeros_like(cols["joint3"])
-    stuck = tmp_path / "stuck.csv"
-    names = list(cols)
-    with open(stuck, "w") as f:
-        f.write(",".join(names) + "\n")
-        for i in range(len(cols["fx"])):
-            f.write(",".join(repr(float(cols[n][i])) for n in names) + "\n")
+    stuck = write_csv(tmp_path / "stuck.csv", cols)
     r = run_cli("identify", PUMA, stuck, "-o", tmp_path / "p.json", check=False)
     assert r.returncode == 3
     with pytest.raises(massid.IdentifiabilityError) as e:
