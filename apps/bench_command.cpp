@@ -13,6 +13,7 @@
 #include "massid/base_parameters.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/csv.hpp"
+#include "massid/motion_predictor.hpp"
 #include "massid/predictor.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
@@ -28,7 +29,7 @@ void add_bench_command(CLI::App& app, BenchCommand& c) {
   c.app->add_option("--rows", c.rows, "Samples for the identification timings (default 100000)")
       ->check(CLI::Range(1000, 100000000));
   c.app->add_flag("--json", c.json,
-                  "Print JSON (predict_ns, regressor_ns, identify_rows_per_s, "
+                  "Print JSON (predict_ns, predict_dynamic_ns, regressor_ns, identify_rows_per_s, "
                   "identify_csv_rows_per_s)");
 }
 
@@ -89,6 +90,26 @@ int run_bench(const BenchCommand& c) {
   double sink = 0.0;
   const double predict_s = time_per_call(
       [&](int i) { sink += predict(pred, pdata, q.col(i), Eigen::Vector3d(g.col(i)))[4]; });
+  // The wrench in motion (motion_predictor.hpp) from dynamic base parameters,
+  // at random joint rates and accelerations.
+  BaseParameterOptions dynamic_options;
+  dynamic_options.layout = ParameterLayout::full();
+  const BaseParameters dynamic_base = find_base_parameters(model, dynamic_options);
+  const MotionPredictor mpred = compile_motion_predictor(
+      model, dynamic_base, Eigen::VectorXd::Ones(dynamic_base.num_unknowns()));
+  MotionPredictorData mdata(mpred);
+  Eigen::MatrixXd qd(q.rows(), 1024), qdd(q.rows(), 1024);  // time_per_call: i < 1024
+  {
+    std::mt19937_64 rng(2);
+    std::normal_distribution<double> n;
+    for (Eigen::Index i = 0; i < qd.size(); ++i)
+      qd.data()[i] = 2 * n(rng), qdd.data()[i] = 5 * n(rng);
+  }
+  const double predict_dynamic_s = time_per_call([&](int i) {
+    const Eigen::Index k = i % q.cols();
+    sink += predict_motion(mpred, mdata, q.col(k).data(), qd.col(i).data(), qdd.col(i).data(),
+                           Eigen::Vector3d(g.col(k)))[4];
+  });
   RegressorData rdata(model, base);
   const double regressor_s = time_per_call([&](int i) {
     base_regressor(model, base, rdata, q.col(i), Eigen::Vector3d(g.col(i)));
@@ -137,6 +158,7 @@ int run_bench(const BenchCommand& c) {
     j["joints"] = model.num_joints();
     j["base_parameters"] = base.num_unknowns();
     j["predict_ns"] = 1e9 * predict_s;
+    j["predict_dynamic_ns"] = 1e9 * predict_dynamic_s;
     j["regressor_ns"] = 1e9 * regressor_s;
     j["rows"] = c.rows;
     j["identify_rows_per_s"] = rows / identify_s;
@@ -148,6 +170,8 @@ int run_bench(const BenchCommand& c) {
                            model.num_joints(), base.num_unknowns());
   std::cout << fmt::format("  predict (gravity wrench, identified parameters)  {:10.1f} ns/call\n",
                            1e9 * predict_s);
+  std::cout << fmt::format("  predict in motion (weight and inertial forces)   {:10.1f} ns/call\n",
+                           1e9 * predict_dynamic_s);
   std::cout << fmt::format(
       "  base regressor                                   {:10.1f} ns/sample\n", 1e9 * regressor_s);
   std::cout << fmt::format("  identify, {} samples in memory              {:10.3g} rows/s\n",

@@ -8,6 +8,7 @@
 #include "massid/csv.hpp"
 #include "massid/design.hpp"
 #include "massid/errors.hpp"
+#include "massid/excitation.hpp"
 #include "massid/report.hpp"
 #include "options.hpp"
 
@@ -54,7 +55,80 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
       ->check(CLI::Range(10, 1000000));
   d->add_option("--evaluate", c.evaluate,
                 "Print the figures of an existing plan or data file instead");
+  d->add_flag("--dynamic", c.dynamic,
+              "An exciting trajectory for identification in motion (finite Fourier series, at "
+              "rest at both ends) instead of static poses");
+  d->add_option("--duration", c.duration, "With --dynamic: length, s (default 30)")
+      ->check(CLI::PositiveNumber);
+  d->add_option("--rate", c.rate, "With --dynamic: samples per second written (default 1000)")
+      ->check(CLI::PositiveNumber);
+  d->add_option("--period", c.period, "With --dynamic: Fourier period, s (default 10)")
+      ->check(CLI::PositiveNumber);
+  d->add_option("--harmonics", c.harmonics, "With --dynamic: harmonics per joint (default 5)")
+      ->check(CLI::Range(1, 50));
+  d->add_option("--velocity-limit", c.velocity_limits,
+                "With --dynamic: JOINT=V (rad/s or m/s; default the URDF's, else 1); repeatable");
+  d->add_option("--acceleration-limit", c.acceleration_limits,
+                "With --dynamic: JOINT=A (rad/s^2 or m/s^2; default 4); repeatable");
 }
+
+namespace {
+
+int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterOptions& bo_in) {
+  if (c.output.empty()) throw InputError("design --dynamic: -o TRAJ.csv is required");
+  ExcitationOptions o;
+  o.harmonics = c.harmonics;
+  o.period = c.period;
+  o.duration = c.duration;
+  o.rate = c.rate;
+  o.seed = c.seed;
+  if (c.candidates > 0) o.candidates = c.candidates;
+  o.noise_force = c.noise_force;
+  o.noise_moment = c.noise_moment;
+  if (!c.gravity.empty()) o.gravity = parse_numbers<3>(c.gravity, "--gravity", "gx,gy,gz");
+  for (const std::string& v : c.velocity_limits) {
+    const auto [joint, value] = parse_assignment(v, "--velocity-limit");
+    const int j = model.find_joint(joint);
+    if (j < 0) throw InputError(fmt::format("--velocity-limit: no movable joint '{}'", joint));
+    model.joints[j].velocity_limit = parse_number(value, "--velocity-limit " + joint);
+  }
+  o.limits.joint_acceleration.assign(model.num_joints(), 0.0);
+  for (const std::string& v : c.acceleration_limits) {
+    const auto [joint, value] = parse_assignment(v, "--acceleration-limit");
+    const int j = model.find_joint(joint);
+    if (j < 0) throw InputError(fmt::format("--acceleration-limit: no movable joint '{}'", joint));
+    o.limits.joint_acceleration[j] = parse_number(value, "--acceleration-limit " + joint);
+  }
+  BaseParameterOptions bo = bo_in;
+  bo.layout = ParameterLayout::full();
+  bo.fixed_gravity = true;
+  bo.gravity = o.gravity;
+  const BaseParameters base = find_base_parameters(model, bo);
+  const ExcitationSummary s = design_excitation(model, base, o);
+  if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);
+  write_trajectory(c.output, model, sample_trajectory(s.trajectory, o.duration, o.rate, o.gravity));
+  std::cout << fmt::format(
+      "exciting trajectory for {} (sensor link '{}'): {} harmonics, period {:.6g} s, {:.6g} s at "
+      "{:.6g} Hz, the best of {} random Fourier trajectories (seed {})\n",
+      model.name, model.sensor_link(), o.harmonics, o.period, o.duration, o.rate, o.candidates,
+      o.seed);
+  std::cout << fmt::format(
+      "condition number (all rows, columns scaled, noise-weighted): {:.4g}\n"
+      "predicted std at {} N / {} N m noise, {} dynamic base parameters{}:\n",
+      s.condition_number, o.noise_force, o.noise_moment, base.num_mass(),
+      base.offset ? " and the offsets" : "");
+  for (int i = 0; i < base.num_unknowns(); ++i) {
+    const bool mass = i < base.num_mass();
+    std::cout << fmt::format("  {:<10} {:>10.2g} {:<6} {}\n", base.unknown_name(i),
+                             s.predicted_std[i],
+                             mass ? base.params[i].unit : (i - base.num_mass() < 3 ? "N" : "N m"),
+                             mass ? base.params[i].expression : "sensor offset");
+  }
+  std::cout << "wrote " << c.output << "\n";
+  return 0;
+}
+
+}  // namespace
 
 int run_design(const DesignCommand& c) {
   const Model urdf = load_urdf(c.urdf, c.sensor);
@@ -68,6 +142,7 @@ int run_design(const DesignCommand& c) {
   const Model model = hold_joints(urdf, held);
   BaseParameterOptions bo;
   bo.offset = c.offset;
+  if (c.dynamic) return run_design_dynamic(c, model, bo);
   const BaseParameters base = find_base_parameters(model, bo);
 
   DesignOptions o;

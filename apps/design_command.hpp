@@ -15,6 +15,11 @@ struct DesignCommand {
   double tilt_max_deg = 0.0, min_height = 0.0, noise_force = 0.05, noise_moment = 0.005;
   bool offset = false;
   unsigned long long seed = 1;
+  // --dynamic: an exciting trajectory (excitation.hpp)
+  bool dynamic = false;
+  double duration = 30.0, rate = 1000.0, period = 10.0;
+  int harmonics = 5;
+  std::vector<std::string> velocity_limits, acceleration_limits;
 };
 
 void add_design_command(CLI::App& app, DesignCommand& cmd);

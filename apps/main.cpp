@@ -13,10 +13,12 @@
 #include "emulate_command.hpp"
 #include "massid/atomic_file.hpp"
 #include "massid/base_parameters.hpp"
+#include "massid/base_regressor.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/identify_file.hpp"
+#include "massid/motion_data.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
 #include "massid/report.hpp"
@@ -50,15 +52,55 @@ struct OutputTable {
   }
 };
 
+// The rows of `table` at the given file lines (in order), for output.
+CsvTable keep_lines(CsvTable table, const std::vector<int>& lines) {
+  CsvTable out = std::move(table);
+  std::vector<std::vector<std::string>> rows;
+  std::vector<int> kept;
+  size_t k = 0;
+  for (int r = 0; r < out.num_rows() && k < lines.size(); ++r)
+    if (out.line[r] == lines[k]) {
+      rows.push_back(std::move(out.rows[r]));
+      kept.push_back(out.line[r]);
+      ++k;
+    }
+  out.rows = std::move(rows);
+  out.line = std::move(kept);
+  out.column_offset.clear();
+  return out;
+}
+
 struct Common {
   std::string urdf, sensor;
   std::vector<std::string> fixed;  // --fixed JOINT=VALUE (model, identify)
   Model load() const { return hold_joints(load_urdf(urdf, sensor), parse_held(fixed)); }
 };
 
-int run_model(const Common& c, bool offset, bool as_json) {
+// --dynamic and its motion options (model, simulate, identify, predict).
+struct MotionFlags {
+  bool dynamic = false;
+  double cutoff = 0.0;              // --cutoff HZ (0: the default for the log's rate)
+  std::string root_gravity;         // --root-gravity gx,gy,gz
+  std::string gravity = "varying";  // model --dynamic: --gravity level|varying
+  bool sensor_moving = false;       // model --dynamic --moving-sensor
+  MotionDataOptions data() const {
+    MotionDataOptions o;
+    o.filter.cutoff = cutoff;
+    if (!root_gravity.empty())
+      o.samples.root_gravity = parse_numbers<3>(root_gravity, "--root-gravity", "gx,gy,gz");
+    return o;
+  }
+};
+
+int run_model(const Common& c, bool offset, bool as_json, const MotionFlags& motion) {
   const Model model = c.load();
   BaseParameterOptions opts;
+  if (motion.dynamic) {
+    opts.layout = ParameterLayout::full();
+    opts.fixed_gravity = motion.gravity == "level";
+    opts.sensor_moving = motion.sensor_moving;
+    if (!motion.root_gravity.empty()) opts.gravity = motion.data().samples.root_gravity;
+  }
   opts.offset = offset;
   const BaseParameters base = find_base_parameters(model, opts);
   std::cout << (as_json ? params_json(model, base, nullptr) : model_report(model, base));
@@ -66,11 +108,21 @@ int run_model(const Common& c, bool offset, bool as_json) {
 }
 
 int run_simulate(const Common& c, const std::string& plan_path, const std::string& out,
-                 const SimulateOptions& opts) {
+                 const SimulateOptions& opts, const MotionFlags& motion) {
   const Model model = load_urdf(c.urdf, c.sensor);
   const CsvTable table = read_csv(plan_path);
-  const Samples plan = read_samples(model, table, WrenchColumns::Optional);
+  const Samples plan = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
   if (plan.gravity_from_force) throw InputError(plan_path + ": simulate needs gx,gy,gz columns");
+  if (opts.dynamic) {
+    if (model.num_joints() > 0 && plan.qd.cols() != model.num_joints())
+      throw InputError(fmt::format(
+          "{}: simulate --dynamic needs the trajectory's velocities and accelerations: columns "
+          "JOINT_vel and JOINT_acc for every joint (massid design --dynamic writes them)",
+          plan_path));
+    if (plan.q_upstream.cols() > 0 && plan.qd_upstream.cols() == 0 && !plan.has_sensor_motion())
+      throw InputError(fmt::format(
+          "{}: simulate --dynamic needs the upstream joints' _vel and _acc columns", plan_path));
+  }
   const Eigen::MatrixXd W = simulate_wrenches(model, plan, opts);
   OutputTable t(table);
   if (opts.repeat > 1) {
@@ -116,7 +168,8 @@ std::vector<std::string> identify_report_args(const Common& c, const std::string
 }
 
 int run_identify(const Common& c, const std::string& data_path, const std::string& out, bool offset,
-                 const IdentifyOptions& opts, bool checks, const std::string& report) {
+                 const IdentifyOptions& opts, bool checks, const std::string& report,
+                 const MotionFlags& motion) {
   if (!report.empty()) check_report_tools();  // before any work
   const Model model = c.load();
   // Before any work: wrong signs, units, frames or columns (the first 20 000
@@ -124,11 +177,28 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   // identifiability diagnosis below, which names it with the fix.
   SetupCheckOptions sopts;
   sopts.constant_joints = false;
+  sopts.motion = motion.dynamic;
   if (checks && !report_setup(check_setup_file(model, data_path, sopts))) return 2;
   BaseParameterOptions bopts;
   bopts.offset = offset || opts.drift != Drift::None;  // a drifting offset is an offset
-  const BaseParameters base = find_base_parameters(model, bopts);
-  const IdentifySummary summary = identify_file(model, base, data_path, opts);
+  BaseParameters base;
+  IdentifySummary summary;
+  if (motion.dynamic) {
+    MotionDataReport mr;
+    const Samples samples =
+        read_motion_samples(model, data_path, WrenchColumns::Required, motion.data(), &mr);
+    if (mr.derived)
+      std::cout << fmt::format(
+          "velocities and accelerations derived from t and the positions: zero-phase low-pass "
+          "at {:.3g} Hz (--cutoff), {} samples at each end dropped, every {} filtered sample "
+          "kept: {} of {} rows\n",
+          mr.kernels.cutoff, mr.kernels.half_width, mr.decimation, samples.size(), mr.rows);
+    base = find_base_parameters(model, motion_base_options(samples, bopts.offset));
+    summary = identify(model, base, samples, opts);
+  } else {
+    base = find_base_parameters(model, bopts);
+    summary = identify_file(model, base, data_path, opts);
+  }
   if (summary.gravity_from_force)
     std::cerr << fmt::format(
         "massid: note: {} has no gx,gy,gz columns: gravity is taken along the measured force "
@@ -144,20 +214,47 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
 }
 
 int run_predict(const std::string& urdf, const std::string& params_path,
-                const std::string& data_path, const std::string& out, const std::string& report) {
+                const std::string& data_path, const std::string& out, const std::string& report,
+                const MotionFlags& motion) {
   if (!report.empty()) check_report_tools();  // before any work
   const ParamsFile params = read_params(params_path);
   const Model model = hold_joints(load_urdf(urdf, params.sensor_link), params.held);
-  const Predictor predictor = compile_predictor(model, params);
-  PredictorData data(predictor);
 
-  const CsvTable table = read_csv(data_path);
-  const Samples samples = read_samples(model, table, WrenchColumns::Optional);
-  Eigen::MatrixXd P(samples.size(), 6);
-  for (int i = 0; i < samples.size(); ++i)
-    P.row(i) =
-        predict(predictor, data, samples.q.row(i).transpose(), samples.gravity.row(i).transpose())
-            .transpose();
+  CsvTable table = read_csv(data_path);
+  Samples samples;
+  Eigen::MatrixXd P;
+  if (params.dynamic) {
+    // The full wrench, weight and motion, from the dynamic base parameters.
+    MotionDataReport mr;
+    MotionDataOptions mopts = motion.data();
+    mopts.filter.decimation = 1;  // a prediction for every row the filter keeps
+    samples = prepare_motion_samples(
+        model, read_samples(model, table, WrenchColumns::Optional, mopts.samples), mopts, &mr);
+    if (mr.derived) {
+      std::cout << fmt::format(
+          "velocities and accelerations derived from t and the positions: zero-phase low-pass "
+          "at {:.3g} Hz, the {} rows at each end dropped\n",
+          mr.kernels.cutoff, mr.kernels.half_width);
+      table = keep_lines(std::move(table), samples.line);
+    }
+    const BaseParameters base = find_base_parameters(model, base_parameter_options(params));
+    const Eigen::VectorXd values = values_in_basis(params, model, base);
+    RegressorData rd(model, base);
+    P.resize(samples.size(), 6);
+    for (int i = 0; i < samples.size(); ++i) {
+      base_regressor(model, base, rd, samples, i);
+      P.row(i) = (rd.base.leftCols(base.num_mass()) * values.head(base.num_mass())).transpose();
+    }
+  } else {
+    const Predictor predictor = compile_predictor(model, params);
+    PredictorData data(predictor);
+    samples = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
+    P.resize(samples.size(), 6);
+    for (int i = 0; i < samples.size(); ++i)
+      P.row(i) =
+          predict(predictor, data, samples.q.row(i).transpose(), samples.gravity.row(i).transpose())
+              .transpose();
+  }
   if (!out.empty()) {
     OutputTable t(table);
     for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_pred", P.col(k));
@@ -180,7 +277,8 @@ int run_predict(const std::string& urdf, const std::string& params_path,
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches"};
+      "massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches "
+      "and in motion"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "massid 0.1.0");
 
@@ -192,6 +290,19 @@ int main(int argc, char** argv) {
   std::string drift_text, report;
   bool no_checks = false;
   double sigma_force = 0, sigma_moment = 0;
+  MotionFlags motion;
+  auto add_motion = [&](CLI::App* sub, bool filter) {
+    sub->add_flag("--dynamic", motion.dynamic,
+                  "Motion: the full wrench (weight and motion) over ten parameters per link");
+    sub->add_option("--root-gravity", motion.root_gravity,
+                    "Gravity in the URDF root frame, gx,gy,gz (default 0,0,-9.80665): with "
+                    "--sensor below movable joints whose columns the file has");
+    if (filter)
+      sub->add_option("--cutoff", motion.cutoff,
+                      "Motion log without JOINT_vel/_acc: zero-phase low-pass cutoff, Hz, for the "
+                      "derivatives and the wrench alike (default: min(10, rate/20))")
+          ->check(CLI::PositiveNumber);
+  };
 
   auto add_sensor = [&](CLI::App* sub) {
     sub->add_option("--sensor", common.sensor, "Sensor link (default: the URDF root link)");
@@ -204,6 +315,14 @@ int main(int argc, char** argv) {
   model->add_option("--fixed", common.fixed,
                     "Joint held still: JOINT=VALUE (rad or m); repeatable");
   model->add_flag("--json", as_json, "Print JSON (the params file's base_parameters, no values)");
+  add_motion(model, false);
+  model
+      ->add_option("--gravity", motion.gravity,
+                   "With --dynamic: 'varying' (a tilting platform; default) or 'level' (the "
+                   "same gravity in every sample, along --root-gravity)")
+      ->check(CLI::IsMember({"level", "varying"}));
+  model->add_flag("--moving-sensor", motion.sensor_moving,
+                  "With --dynamic: the sensor frame itself moves (platform, upstream joints)");
 
   CLI::App* simulate =
       app.add_subcommand("simulate", "Wrenches the URDF's inertials would produce");
@@ -222,6 +341,7 @@ int main(int argc, char** argv) {
                    "Samples per plan row, each with its own noise (a log taken while the "
                    "pose is held; default 1)")
       ->check(CLI::Range(1, 1000000));
+  add_motion(simulate, false);
 
   CLI::App* ident = app.add_subcommand("identify", "Estimate the base parameters from a data CSV");
   ident->add_option("robot", common.urdf, "Robot URDF")->required();
@@ -250,6 +370,7 @@ int main(int argc, char** argv) {
 
   ident->add_option("--report", report,
                     "Also write an HTML report (plots; needs Python with matplotlib)");
+  add_motion(ident, true);
 
   CLI::App* pred = app.add_subcommand("predict", "Gravity wrench predicted at every row of a CSV");
   pred->add_option("robot", common.urdf, "Robot URDF")->required();
@@ -258,6 +379,11 @@ int main(int argc, char** argv) {
   pred->add_option("-o,--output", out, "CSV to write: input plus *_pred (and *_comp)");
   pred->add_option("--report", report,
                    "Also write an HTML report (plots; needs Python with matplotlib)");
+  pred->add_option("--root-gravity", motion.root_gravity,
+                   "Gravity in the URDF root frame, gx,gy,gz (sensor below movable joints)");
+  pred->add_option("--cutoff", motion.cutoff,
+                   "Dynamic params, log without JOINT_vel/_acc: low-pass cutoff, Hz")
+      ->check(CLI::PositiveNumber);
 
   DesignCommand design;
   add_design_command(app, design);
@@ -278,19 +404,20 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*model) return run_model(common, offset, as_json);
+    if (*model) return run_model(common, offset, as_json, motion);
     if (*simulate) {
       if (!offset_text.empty())
         sim.offset = parse_numbers<6>(offset_text, "--offset", "fx,fy,fz,mx,my,mz");
-      return run_simulate(common, plan, out, sim);
+      sim.dynamic = motion.dynamic;
+      return run_simulate(common, plan, out, sim, motion);
     }
     if (*ident) {
       if (ident->count("--sigma-force")) idopts.sigma_force = sigma_force;
       if (ident->count("--sigma-moment")) idopts.sigma_moment = sigma_moment;
       if (!drift_text.empty()) idopts.drift = parse_drift(drift_text);
-      return run_identify(common, data, out, offset, idopts, !no_checks, report);
+      return run_identify(common, data, out, offset, idopts, !no_checks, report, motion);
     }
-    if (*pred) return run_predict(common.urdf, params, data, out, report);
+    if (*pred) return run_predict(common.urdf, params, data, out, report, motion);
     if (*design.app) return run_design(design);
     if (*emulate.app) return run_emulate(emulate);
     if (*bench.app) return run_bench(bench);

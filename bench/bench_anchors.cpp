@@ -9,12 +9,21 @@
 //   BM_MujocoWrench   MuJoCo with the joints held: mj_kinematics, mj_comPos,
 //                     mj_sensorAcc on a force/torque sensor at the sensor link
 //
+// and for the full wrench in motion (weight and inertial forces; joints with
+// random velocities and accelerations), against massid's motion predictor:
+//
+//   BM_PredictMotionAnchor  massid predict_motion (motion_predictor.hpp) from
+//                     the dynamic base parameters of the URDF's inertials
+//   BM_KdlRneMotionWrench   KDL's ChainIdSolver_RNE on the same chain behind
+//                     the six virtual root joints, held (q = qd = qdd = 0),
+//                     the robot's joints moving: their torques are the wrench
+//
 // The KDL chain is built from the URDF (through massid::Model, which urdfdom
 // loads) as kdl_parser does: one segment per link, the joint at the segment's
 // origin, the link's inertia in the segment's tip frame. Serial robots only
 // (KDL chains). Each benchmark first checks that its wrench equals massid's
-// (simulate_wrenches from the URDF's inertials) to 1e-9 relative, and reports
-// an error instead of a time if not.
+// (simulate_wrenches from the URDF's inertials, at rest or in motion) to 1e-9
+// relative, and reports an error instead of a time if not.
 #include <benchmark/benchmark.h>
 #include <mujoco/mujoco.h>
 
@@ -25,8 +34,10 @@
 #include <random>
 #include <string>
 
+#include "massid/base_parameters.hpp"
 #include "massid/emulator/mujoco_plant.hpp"
 #include "massid/model.hpp"
+#include "massid/motion_predictor.hpp"
 #include "massid/simulate.hpp"
 
 namespace {
@@ -80,7 +91,8 @@ KDL::Chain kdl_chain(const Model& model, bool virtual_root) {
 
 struct Fixture {
   Model model;
-  std::vector<Eigen::VectorXd> q;  // 1024 random joint positions
+  std::vector<Eigen::VectorXd> q;        // 1024 random joint positions
+  std::vector<Eigen::VectorXd> qd, qdd;  // and velocities, accelerations (motion anchors)
   explicit Fixture(int robot) : model(load_urdf(kSerialRobots[robot])) {
     std::mt19937_64 rng(1);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -89,20 +101,35 @@ struct Fixture {
       for (int j = 0; j < model.num_joints(); ++j) v[j] = model.joints[j].generic_position(u(rng));
       q.push_back(v);
     }
+    std::normal_distribution<double> n;
+    for (int i = 0; i < 1024; ++i) {
+      Eigen::VectorXd v(model.num_joints()), a(model.num_joints());
+      for (int j = 0; j < model.num_joints(); ++j) v[j] = 2.0 * n(rng), a[j] = 5.0 * n(rng);
+      qd.push_back(v);
+      qdd.push_back(a);
+    }
   }
-  Wrench truth(int i) const {
+  Wrench truth(int i, bool motion) const {
+    const auto k = static_cast<std::size_t>(i);
     Samples s;
-    s.q = q[static_cast<std::size_t>(i)].transpose();
+    s.q = q[k].transpose();
     s.gravity = kGravity.transpose();
-    return simulate_wrenches(model, s).row(0).transpose();
+    SimulateOptions o;
+    if (motion) {
+      s.qd = qd[k].transpose();
+      s.qdd = qdd[k].transpose();
+      o.dynamic = true;
+    }
+    return simulate_wrenches(model, s, o).row(0).transpose();
   }
   // Checks an anchor against massid on 16 samples; false (and the error set) if off.
   template <typename F>
-  bool agrees(benchmark::State& state, F&& wrench) const {
+  bool agrees(benchmark::State& state, F&& wrench, bool motion = false) const {
     for (int i = 0; i < 16; ++i) {
-      const Wrench expected = truth(i), got = wrench(i);
+      const Wrench expected = truth(i, motion), got = wrench(i);
       if ((got - expected).norm() > 1e-9 * expected.norm()) {
-        state.SkipWithError("anchor disagrees with massid's gravity wrench");
+        state.SkipWithError(motion ? "anchor disagrees with massid's wrench in motion"
+                                   : "anchor disagrees with massid's gravity wrench");
         return false;
       }
     }
@@ -169,6 +196,55 @@ void BM_KdlRneWrench(benchmark::State& state) {
   state.SetLabel(kSerialNames[state.range(0)]);
 }
 BENCHMARK(BM_KdlRneWrench)->DenseRange(0, 1);
+
+void BM_PredictMotionAnchor(benchmark::State& state) {
+  const Fixture fx(static_cast<int>(state.range(0)));
+  BaseParameterOptions o;
+  o.layout = ParameterLayout::full();
+  const BaseParameters base = find_base_parameters(fx.model, o);
+  const MotionPredictor pred =
+      compile_motion_predictor(fx.model, base, base.K * o.layout.nominal(fx.model));
+  MotionPredictorData data(pred);
+  const auto wrench = [&](int i) {
+    const auto k = static_cast<std::size_t>(i);
+    return predict_motion(pred, data, fx.q[k].data(), fx.qd[k].data(), fx.qdd[k].data(), kGravity);
+  };
+  if (!fx.agrees(state, wrench, true)) return;
+  int i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(wrench(i));
+    i = (i + 1) & 1023;
+  }
+  state.SetLabel(kSerialNames[state.range(0)]);
+}
+BENCHMARK(BM_PredictMotionAnchor)->DenseRange(0, 1);
+
+void BM_KdlRneMotionWrench(benchmark::State& state) {
+  const Fixture fx(static_cast<int>(state.range(0)));
+  const KDL::Chain chain = kdl_chain(fx.model, true);
+  const unsigned n = chain.getNrOfJoints();
+  KDL::ChainIdSolver_RNE solver(chain, kdl(kGravity));
+  KDL::JntArray q(n), qd(n), qdd(n), tau(n);
+  KDL::Wrenches external(chain.getNrOfSegments(), KDL::Wrench::Zero());
+  const auto wrench = [&](int i) {
+    const auto k = static_cast<std::size_t>(i);
+    to_kdl(fx.q[k], q, 6);
+    to_kdl(fx.qd[k], qd, 6);
+    to_kdl(fx.qdd[k], qdd, 6);
+    solver.CartToJnt(q, qd, qdd, external, tau);
+    Wrench w;  // the support wrench is minus the load's wrench on the sensor
+    for (int c = 0; c < 6; ++c) w[c] = -tau(static_cast<unsigned>(c));
+    return w;
+  };
+  if (!fx.agrees(state, wrench, true)) return;
+  int i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(wrench(i));
+    i = (i + 1) & 1023;
+  }
+  state.SetLabel(kSerialNames[state.range(0)]);
+}
+BENCHMARK(BM_KdlRneMotionWrench)->DenseRange(0, 1);
 
 void BM_MujocoWrench(benchmark::State& state) {
   const Fixture fx(static_cast<int>(state.range(0)));

@@ -10,6 +10,7 @@
 #include "massid/csv.hpp"
 #include "massid/design.hpp"
 #include "massid/estimation.hpp"
+#include "massid/motion_predictor.hpp"
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
@@ -73,6 +74,47 @@ void BM_PredictChain(benchmark::State& state) {
       benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_PredictChain)->Arg(3)->Arg(6)->Arg(12)->Arg(24);
+
+// predict_motion() on 1024 random samples (positions, velocities,
+// accelerations, gravity) of a model, in turn: the wrench in motion.
+void time_predict_motion(benchmark::State& state, const Model& model) {
+  BaseParameterOptions o;
+  o.layout = ParameterLayout::full();
+  const BaseParameters base = find_base_parameters(model, o);
+  const MotionPredictor pred =
+      compile_motion_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns()));
+  MotionPredictorData data(pred);
+  const Samples s = random_samples(model, 1024, 1);
+  std::mt19937_64 rng(2);
+  std::normal_distribution<double> n;
+  const Eigen::MatrixXd q = s.q.transpose(), g = s.gravity.transpose();  // a column per sample
+  Eigen::MatrixXd qd(q.rows(), q.cols()), qdd(q.rows(), q.cols());
+  for (Eigen::Index i = 0; i < qd.size(); ++i)
+    qd.data()[i] = 2 * n(rng), qdd.data()[i] = 5 * n(rng);
+  int i = 0;
+  for (auto _ : state) {
+    const Wrench w = predict_motion(pred, data, q.col(i).data(), qd.col(i).data(),
+                                    qdd.col(i).data(), Eigen::Vector3d(g.col(i)));
+    benchmark::DoNotOptimize(w);
+    i = (i + 1) & 1023;
+  }
+}
+
+void BM_PredictMotion(benchmark::State& state) {
+  time_predict_motion(state, load_urdf(kRobots[state.range(0)]));
+  state.SetLabel(kNames[state.range(0)]);
+}
+BENCHMARK(BM_PredictMotion)->DenseRange(0, 2);
+
+void BM_PredictMotionChain(benchmark::State& state) {
+  const Model model = bench::chain_robot(static_cast<int>(state.range(0)));
+  time_predict_motion(state, model);
+  state.counters["joints"] = static_cast<double>(model.num_joints());
+  state.counters["ns_per_joint"] = benchmark::Counter(
+      static_cast<double>(model.num_joints()),
+      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_PredictMotionChain)->Arg(3)->Arg(6)->Arg(12)->Arg(24);
 
 void BM_StandardRegressor(benchmark::State& state) {
   const Model model = load_urdf(kRobots[state.range(0)]);

@@ -5,6 +5,9 @@
 # report), compares them
 # with the paper's, predicts the gravity wrench at 200 held-out poses, and flies
 # the space emulator in simulation with parameters identified from the robot as built.
+# Last, identification in motion (docs/motion.md): the UR5-like arm moving on its
+# base sensor, the same from positions only, and a tool on a wrist sensor
+# (examples/motion/run.sh, 20 s of trajectory at 500 Hz per log).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh
@@ -47,3 +50,9 @@ echo "   measured 1 s per pose at 1 kHz, identified, then flown on a 50 kg space
 "$M" identify $EX/puma260.urdf "$OUT/lab.csv" -o "$OUT/lab_params.json" | grep "total mass"
 "$M" emulate $EX/puma260.urdf "$OUT/lab_params.json" --plant $EX/puma260_as_built.urdf \
   -o "$OUT/trace.csv" --summary "$OUT/summary.json" --gravity 0,0,9.80665
+
+echo
+echo "== identification in motion: the UR5-like arm's inertias from its base wrench while it moves"
+echo "   (design --dynamic, simulate --dynamic, identify --dynamic, predict on another trajectory),"
+echo "   the same from positions only, and a tool on a wrist sensor (docs/motion.md)"
+MASSID="$M" examples/motion/run.sh "$OUT/motion"

@@ -12,13 +12,6 @@
 namespace massid {
 namespace {
 
-// Column j of Y' (the M_t-reparametrised regressor) from the standard one.
-void reparametrise(int num_links, const Eigen::Ref<const Eigen::MatrixXd>& Y,
-                   Eigen::Ref<Eigen::MatrixXd> Yp) {
-  Yp = Y;
-  for (int l = 1; l < num_links; ++l) Yp.col(kParamsPerLink * l + kMass) -= Y.col(kMass);
-}
-
 // Round-off cleaning: a coefficient within 1e-12 (relative) of a decimal with
 // at most 9 significant digits is snapped to it (0.19800000000000003 -> 0.198),
 // |c| < 1e-11 becomes 0; anything else (0.7071067811865476) is kept exact.
@@ -38,44 +31,93 @@ std::string BaseParameters::unknown_name(int i) const {
 }
 
 bool BaseParameters::is_moment_unknown(int i) const {
-  if (i < num_mass()) return i != total_mass;
+  if (i < num_mass()) return motion() || i != total_mass;
   return i - num_mass() >= 3;
 }
 
-BaseParameters find_base_parameters(const Model& model, const BaseParameterOptions& options) {
-  const int L = model.num_links();
-  const int n = num_standard_parameters(model);
-  const int S = options.samples > 0 ? options.samples : std::max(40, 2 * n);
+namespace {
 
-  // Y' stacked over random configurations and gravity directions.
+// Y' stacked over the reduction's random configurations (header).
+Eigen::MatrixXd random_regressor(const Model& model, const BaseParameterOptions& options, int S) {
+  const ParameterLayout& layout = options.layout;
+  const int n = layout.size(model), nj = model.num_joints();
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
   KinematicsData kin(model);
   Eigen::MatrixXd Y(6, n), Ys(6 * S, n);
-  Eigen::VectorXd q(model.num_joints());
+  Eigen::VectorXd q(nj), qd(nj), qdd(nj);
   for (int s = 0; s < S; ++s) {
-    for (int j = 0; j < model.num_joints(); ++j)
-      q[j] = model.joints[j].generic_position(uniform(rng));
+    for (int j = 0; j < nj; ++j) q[j] = model.joints[j].generic_position(uniform(rng));
     Eigen::Vector3d g(normal(rng), normal(rng), normal(rng));
     g *= kStandardGravity / g.norm();
-    forward_kinematics(model, kin, q);
-    standard_regressor(model, kin, g, Y);
-    reparametrise(L, Y, Ys.middleRows(6 * s, 6));
+    if (!layout.inertia()) {
+      forward_kinematics(model, kin, q);
+      standard_regressor(model, kin, g, Y);
+    } else {
+      for (int j = 0; j < nj; ++j) {
+        qd[j] = 2.0 * normal(rng);
+        qdd[j] = 5.0 * normal(rng);
+      }
+      FrameMotion sensor;
+      if (options.sensor_moving)
+        for (int k = 0; k < 3; ++k) {
+          sensor.omega[k] = normal(rng);
+          sensor.omega_dot[k] = 3.0 * normal(rng);
+          sensor.accel[k] = 3.0 * normal(rng);
+        }
+      if (options.fixed_gravity) g = options.gravity;
+      forward_kinematics(model, kin, q, qd, qdd, g, sensor);
+      motion_regressor(model, kin, Y);
+    }
+    // Y'(m_l) = Y(m_l) - Y(m_sensor): the sensor link's mass column stands for M_t.
+    auto Yp = Ys.middleRows(6 * s, 6);
+    Yp = Y;
+    for (int l = 1; l < model.num_links(); ++l) Yp.col(layout.index(l, kMass)) -= Y.col(kMass);
   }
+  return Ys;
+}
 
-  // Order of preference: M_t, first moments from the sensor outwards, masses.
+}  // namespace
+
+BaseParameters find_base_parameters(const Model& model, const BaseParameterOptions& options) {
+  const ParameterLayout& layout = options.layout;
+  const int L = model.num_links();
+  const int P = layout.per_link();
+  const int n = layout.size(model);
+  const int S = options.samples > 0 ? options.samples : std::max(40, 2 * n);
+  const Eigen::MatrixXd Ys = random_regressor(model, options, S);
+
+  // Order of preference: M_t, first moments from the sensor outwards, (in
+  // motion: then the link's inertia), the other masses.
   std::vector<int> order{kMass};
   for (int l = 0; l < L; ++l)
-    for (int k = kMx; k <= kMz; ++k) order.push_back(kParamsPerLink * l + k);
-  for (int l = 1; l < L; ++l) order.push_back(kParamsPerLink * l + kMass);
+    for (int k = kMx; k < P; ++k) order.push_back(layout.index(l, k));
+  for (int l = 1; l < L; ++l) order.push_back(layout.index(l, kMass));
 
-  // Greedy Gram-Schmidt (twice, for orthogonality) on unit-norm columns.
+  // In motion with offsets and a fixed gravity, constant columns are offsets:
+  // the offsets' columns come first, and what they span is not identifiable.
+  const int rows = static_cast<int>(Ys.rows());
+  const bool offsets_first = layout.inertia() && options.offset && options.fixed_gravity;
+  Eigen::MatrixXd O = Eigen::MatrixXd::Zero(rows, offsets_first ? 6 : 0);
+  for (int c = 0; c < O.cols(); ++c)
+    for (int s = 0; s < S; ++s) O(6 * s + c, c) = 1.0;
+
+  // Greedy Gram-Schmidt (twice, for orthogonality) on unit-norm columns; a
+  // column whose norm is round-off against the largest is zero (in motion,
+  // the columns' scales differ: judged against the largest, not itself).
+  double largest = 0.0;
+  for (int c = 0; c < n; ++c) largest = std::max(largest, Ys.col(c).norm());
+  const double zero = layout.inertia() ? 1e-10 * largest : 0.0;
   std::vector<int> kept, dependent;
-  Eigen::MatrixXd Q(6 * S, 0);
+  Eigen::MatrixXd Q(rows, 0);
+  for (int c = 0; c < O.cols(); ++c) {
+    Q.conservativeResize(Eigen::NoChange, Q.cols() + 1);
+    Q.col(Q.cols() - 1) = O.col(c) / O.col(c).norm();
+  }
   for (int c : order) {
     const double norm = Ys.col(c).norm();
-    if (norm == 0.0) {
+    if (norm <= zero) {
       dependent.push_back(c);
       continue;
     }
@@ -91,15 +133,17 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
     }
   }
 
-  // Y'_D = Y'_B beta.
+  // Y'_D = [Y'_B O] beta (O's coefficients are what the offsets absorb).
   const int nb = static_cast<int>(kept.size());
-  Eigen::MatrixXd YB(6 * S, nb), YD(6 * S, dependent.size());
+  const int no = static_cast<int>(O.cols());
+  Eigen::MatrixXd YB(rows, nb + no), YD(rows, dependent.size());
   for (int i = 0; i < nb; ++i) YB.col(i) = Ys.col(kept[i]);
+  if (no > 0) YB.rightCols(no) = O;
   for (size_t i = 0; i < dependent.size(); ++i) YD.col(i) = Ys.col(dependent[i]);
   // (No dependent column: nothing to solve; Eigen's solve would bind a
   // reference to the empty matrix's null data.)
-  const Eigen::MatrixXd beta =
-      YD.cols() > 0 ? Eigen::MatrixXd(YB.colPivHouseholderQr().solve(YD)) : Eigen::MatrixXd(nb, 0);
+  const Eigen::MatrixXd beta = YD.cols() > 0 ? Eigen::MatrixXd(YB.colPivHouseholderQr().solve(YD))
+                                             : Eigen::MatrixXd(nb + no, 0);
 
   // K' in pi' coordinates, then K = K' P with M_t = sum of the masses.
   Eigen::MatrixXd Kp = Eigen::MatrixXd::Zero(nb, n);
@@ -108,35 +152,40 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
     for (size_t d = 0; d < dependent.size(); ++d) Kp(i, dependent[d]) = clean(beta(i, d));
   }
   Eigen::MatrixXd K = Kp;
-  for (int l = 1; l < L; ++l) K.col(kParamsPerLink * l + kMass) += Kp.col(kMass);
+  for (int l = 1; l < L; ++l) K.col(layout.index(l, kMass)) += Kp.col(kMass);
 
-  // Names: first moments from the most distal link inwards (p1 = mx of the
-  // last link, as in the paper), then moving masses, M last.
+  // Names: first moments (and inertias) from the most distal link inwards (p1
+  // = mx of the last link, as in the paper), then moving masses, M last.
   std::vector<int> rank(nb);
   for (int i = 0; i < nb; ++i) rank[i] = i;
   auto key = [&](int i) {
-    const int c = kept[i], link = c / kParamsPerLink, k = c % kParamsPerLink;
+    const int c = kept[i], link = layout.link_of(c), k = layout.kind_of(c);
     if (c == kMass) return std::pair{2, 0};
     if (k == kMass) return std::pair{1, link};
-    return std::pair{0, (L - link) * kParamsPerLink + k};
+    return std::pair{0, (L - link) * P + k};
   };
   std::stable_sort(rank.begin(), rank.end(), [&](int a, int b) { return key(a) < key(b); });
 
   BaseParameters base;
   base.offset = options.offset;
   base.rank_tolerance = options.rank_tolerance;
+  base.layout = layout;
+  base.sensor_moving = options.sensor_moving;
+  base.fixed_gravity = options.fixed_gravity;
+  if (options.fixed_gravity) base.gravity = options.gravity;
+  base.total_mass = -1;
   base.K.resize(nb, n);
   for (int r = 0; r < nb; ++r) {
     const int i = rank[r];
     const int c = kept[i];
     BaseParameter p;
     p.name = c == kMass ? "M" : "p" + std::to_string(r + 1);
-    p.unit = (c % kParamsPerLink == kMass) ? "kg" : "kg m";
+    p.unit = ParameterLayout::kind_unit(layout.kind_of(c));
     // The representative first, then the other terms in column order.
-    p.terms.push_back({c / kParamsPerLink, c % kParamsPerLink, K(i, c)});
+    p.terms.push_back({layout.link_of(c), layout.kind_of(c), K(i, c)});
     for (int j = 0; j < n; ++j)
       if (j != c && K(i, j) != 0.0)
-        p.terms.push_back({j / kParamsPerLink, j % kParamsPerLink, K(i, j)});
+        p.terms.push_back({layout.link_of(j), layout.kind_of(j), K(i, j)});
     p.expression = format_expression(model, p.terms);
     if (c == kMass) base.total_mass = r;
     base.params.push_back(std::move(p));

@@ -19,22 +19,15 @@ Eigen::MatrixXd stacked_regressor(const Model& model, const BaseParameters& base
   RegressorData data(model, base);
   Eigen::MatrixXd A(6 * samples.size(), base.num_unknowns());
   for (int i = 0; i < samples.size(); ++i) {
-    base_regressor(model, base, data, samples.q.row(i).transpose(),
-                   samples.gravity.row(i).transpose());
+    base_regressor(model, base, data, samples, i);
     A.middleRows(6 * i, 6) = data.base;  // eq. 33
   }
   return A;
 }
 
-double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd& A) {
-  std::vector<int> cols;
-  for (int c = 0; c < base.num_unknowns(); ++c)
-    if (base.is_moment_unknown(c)) cols.push_back(c);
-  const int N = static_cast<int>(A.rows() / 6);
-  Eigen::MatrixXd M(3 * N, cols.size());
-  for (int i = 0; i < N; ++i)
-    for (size_t k = 0; k < cols.size(); ++k)
-      M.block<3, 1>(3 * i, k) = A.block<3, 1>(6 * i + 3, cols[k]);
+namespace {
+// The condition number of M from the small triangular factor of its QR.
+double condition_number(const Eigen::MatrixXd& M) {
   if (M.cols() == 0) return 1.0;
   Eigen::MatrixXd R = M;
   if (M.rows() > M.cols()) {
@@ -44,6 +37,29 @@ double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(R);
   const auto& s = svd.singularValues();
   return s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
+}
+}  // namespace
+
+double scaled_condition_number(const Eigen::MatrixXd& A) {
+  Eigen::VectorXd scale(A.cols());
+  for (Eigen::Index c = 0; c < A.cols(); ++c) {
+    const double n = A.col(c).norm();
+    scale[c] = n > 0 ? 1.0 / n : 1.0;
+  }
+  return condition_number(A * scale.asDiagonal());
+}
+
+double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd& A) {
+  if (base.motion()) return scaled_condition_number(A);
+  std::vector<int> cols;
+  for (int c = 0; c < base.num_unknowns(); ++c)
+    if (base.is_moment_unknown(c)) cols.push_back(c);
+  const int N = static_cast<int>(A.rows() / 6);
+  Eigen::MatrixXd M(3 * N, cols.size());
+  for (int i = 0; i < N; ++i)
+    for (size_t k = 0; k < cols.size(); ++k)
+      M.block<3, 1>(3 * i, k) = A.block<3, 1>(6 * i + 3, cols[k]);
+  return condition_number(M);
 }
 
 namespace {
@@ -366,8 +382,7 @@ Eigen::MatrixXd fitted_wrenches(const Model& model, const BaseParameters& base,
   Eigen::MatrixXd W(N, 6);
   RegressorData data(model, base);
   for (int i = 0; i < N; ++i) {
-    base_regressor(model, base, data, samples.q.row(i).transpose(),
-                   samples.gravity.row(i).transpose());
+    base_regressor(model, base, data, samples, i);
     W.row(i) = (data.base * summary.value).transpose();  // eq. 29
   }
   if (summary.drift == Drift::Linear && summary.drift_value.size() == 6) {

@@ -34,7 +34,23 @@ Eigen::MatrixXd perturbed_rows(const Model& model, const BaseParameters& base,
         q[j] = model.joints[j].generic_position(uniform(rng));
     if (random_gravity)
       g = g.norm() * Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
-    base_regressor(model, base, data, q, g);
+    if (base.motion()) {
+      // Moving a joint: at the sample's velocity and acceleration, or random ones.
+      const Eigen::Index nj = q.size();
+      Eigen::VectorXd qd = samples.qd.cols() == nj ? Eigen::VectorXd(samples.qd.row(s).transpose())
+                                                   : Eigen::VectorXd::Zero(nj);
+      Eigen::VectorXd qdd = samples.qdd.cols() == nj
+                                ? Eigen::VectorXd(samples.qdd.row(s).transpose())
+                                : Eigen::VectorXd::Zero(nj);
+      for (int j = 0; j < model.num_joints(); ++j)
+        if (random_joint == kAllJoints || j == random_joint) {
+          qd[j] = 2.0 * normal(rng);
+          qdd[j] = 5.0 * normal(rng);
+        }
+      base_regressor(model, base, data, q, qd, qdd, g, sensor_motion(samples, s));
+    } else {
+      base_regressor(model, base, data, q, g);
+    }
     rows.middleRows(6 * i, 6) = data.base;
   }
   return rows;
@@ -101,9 +117,11 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
   }
   std::string fix;
   if (!report.joints_to_move.empty()) {
-    fix = fmt::format("move joint{} {} over a wider range of positions",
-                      report.joints_to_move.size() > 1 ? "s" : "",
-                      fmt::join(report.joints_to_move, " or "));
+    fix = fmt::format(
+        fmt::runtime(base.motion() ? "move joint{} {} faster and over a wider range "
+                                     "(higher velocities and accelerations, a longer log)"
+                                   : "move joint{} {} over a wider range of positions"),
+        report.joints_to_move.size() > 1 ? "s" : "", fmt::join(report.joints_to_move, " or "));
     // A joint that never moves may have been held on purpose (the paper held the wrist).
     for (const std::string& name : report.joints_to_move) {
       const auto col = samples.q.col(model.find_joint(name));
@@ -119,8 +137,7 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
   if (report.tilt_would_help) {
     std::string tilt =
         "tilt the platform: record poses with gravity in more directions of the sensor frame";
-    if (base.offset)
-      tilt += " (with the offsets estimated, at least three different directions)";
+    if (base.offset) tilt += " (with the offsets estimated, at least three different directions)";
     fix = fix.empty() ? tilt : fix + ", or " + tilt;
   }
   if (fix.empty()) fix = "both move the joints and tilt the platform to more directions";

@@ -3,28 +3,106 @@
 #include <Eigen/Geometry>
 
 namespace massid {
+namespace {
 
-KinematicsData::KinematicsData(const Model& model)
-    : rotation(model.links.size(), Eigen::Matrix3d::Identity()),
-      position(model.links.size(), Eigen::Vector3d::Zero()) {}
+// One joint of the recursion: the child's pose in its parent (R, t) at q.
+struct JointPose {
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+};
 
-void forward_kinematics(const Model& model, KinematicsData& data,
-                        const Eigen::Ref<const Eigen::VectorXd>& q) {
+JointPose joint_pose(JointType type, const Eigen::Isometry3d& origin, const Eigen::Vector3d& axis,
+                     double q) {
+  JointPose j{origin.linear(), origin.translation()};
+  if (type == JointType::Revolute)
+    j.R = j.R * Eigen::AngleAxisd(q, axis).toRotationMatrix();
+  else if (type == JointType::Prismatic)
+    j.t += j.R * (q * axis);
+  return j;
+}
+
+// The child's motion from its parent's (header: the forward recursion).
+void propagate_motion(JointType type, const Eigen::Vector3d& s, const JointPose& j, double qd,
+                      double qdd, const Eigen::Vector3d& wp, const Eigen::Vector3d& dwp,
+                      const Eigen::Vector3d& ap, Eigen::Vector3d& w, Eigen::Vector3d& dw,
+                      Eigen::Vector3d& a) {
+  const Eigen::Matrix3d Rt = j.R.transpose();
+  w = Rt * wp;
+  dw = Rt * dwp;
+  a = Rt * (ap + dwp.cross(j.t) + wp.cross(wp.cross(j.t)));
+  if (type == JointType::Revolute) {
+    w += s * qd;
+    dw += s * qdd + w.cross(s * qd);
+  } else if (type == JointType::Prismatic) {
+    a += s * qdd + 2.0 * w.cross(s * qd);
+  }
+}
+
+template <bool kMotion>
+void recursion(const Model& model, KinematicsData& data, const Eigen::Ref<const Eigen::VectorXd>& q,
+               const double* qd, const double* qdd) {
   data.rotation[0].setIdentity();
   data.position[0].setZero();
   for (int l = 1; l < model.num_links(); ++l) {
     const Link& link = model.links[l];
-    const Eigen::Matrix3d& Rp = data.rotation[link.parent];
-    Eigen::Matrix3d R = Rp * link.origin.linear();
-    Eigen::Vector3d p = data.position[link.parent] + Rp * link.origin.translation();
-    if (link.type == JointType::Revolute) {
-      R = R * Eigen::AngleAxisd(q[link.joint_index], link.axis).toRotationMatrix();
-    } else if (link.type == JointType::Prismatic) {
-      p += R * (q[link.joint_index] * link.axis);
-    }
-    data.rotation[l] = R;
-    data.position[l] = p;
+    const int p = link.parent, j = link.joint_index;
+    const JointPose jp = joint_pose(link.type, link.origin, link.axis, j >= 0 ? q[j] : 0.0);
+    const Eigen::Matrix3d& Rp = data.rotation[p];
+    data.rotation[l] = Rp * jp.R;
+    data.position[l] = data.position[p] + Rp * jp.t;
+    if constexpr (kMotion)
+      propagate_motion(link.type, link.axis, jp, j >= 0 ? qd[j] : 0.0, j >= 0 ? qdd[j] : 0.0,
+                       data.omega[p], data.omega_dot[p], data.accel[p], data.omega[l],
+                       data.omega_dot[l], data.accel[l]);
   }
+}
+
+}  // namespace
+
+KinematicsData::KinematicsData(const Model& model)
+    : rotation(model.links.size(), Eigen::Matrix3d::Identity()),
+      position(model.links.size(), Eigen::Vector3d::Zero()),
+      omega(model.links.size(), Eigen::Vector3d::Zero()),
+      omega_dot(model.links.size(), Eigen::Vector3d::Zero()),
+      accel(model.links.size(), Eigen::Vector3d::Zero()) {}
+
+void forward_kinematics(const Model& model, KinematicsData& data,
+                        const Eigen::Ref<const Eigen::VectorXd>& q) {
+  recursion<false>(model, data, q, nullptr, nullptr);
+}
+
+void forward_kinematics(const Model& model, KinematicsData& data,
+                        const Eigen::Ref<const Eigen::VectorXd>& q,
+                        const Eigen::Ref<const Eigen::VectorXd>& qd,
+                        const Eigen::Ref<const Eigen::VectorXd>& qdd,
+                        const Eigen::Vector3d& gravity, const FrameMotion& sensor) {
+  data.omega[0] = sensor.omega;
+  data.omega_dot[0] = sensor.omega_dot;
+  data.accel[0] = sensor.accel - gravity;
+  recursion<true>(model, data, q, qd.data(), qdd.data());
+}
+
+SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,
+                               const Eigen::Ref<const Eigen::VectorXd>& qdu,
+                               const Eigen::Ref<const Eigen::VectorXd>& qddu) {
+  SensorPose out;
+  const bool moving = qdu.size() > 0;
+  Eigen::Vector3d w = Eigen::Vector3d::Zero(), dw = w, a = w;
+  for (const ChainStep& step : model.upstream) {
+    const int j = step.joint_index;
+    const JointPose jp = joint_pose(step.type, step.origin, step.axis, j >= 0 ? qu[j] : 0.0);
+    out.rotation = out.rotation * jp.R;
+    if (moving) {
+      Eigen::Vector3d wc, dwc, ac;
+      propagate_motion(step.type, step.axis, jp, j >= 0 ? qdu[j] : 0.0, j >= 0 ? qddu[j] : 0.0, w,
+                       dw, a, wc, dwc, ac);
+      w = wc;
+      dw = dwc;
+      a = ac;
+    }
+  }
+  out.motion = {w, dw, a};
+  return out;
 }
 
 }  // namespace massid

@@ -48,7 +48,16 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
   if (s) {
     j["gravity_from"] = s->gravity_from_force ? "force" : "columns";
     j["samples"] = s->samples;
-    j["total_mass"] = s->value[base.total_mass];
+    if (base.total_mass >= 0) j["total_mass"] = s->value[base.total_mass];
+  }
+  if (base.motion()) {
+    j["model"] = "dynamic";
+    json motion;
+    motion["gravity"] = base.fixed_gravity ? "fixed" : "varying";
+    if (base.fixed_gravity)
+      motion["gravity_vector"] = json::array({base.gravity[0], base.gravity[1], base.gravity[2]});
+    motion["sensor_moving"] = base.sensor_moving;
+    j["motion"] = motion;
   }
   json list = json::array();
   for (int i = 0; i < base.num_mass(); ++i) {
@@ -154,7 +163,21 @@ ParamsFile read_params(const std::string& path) {
         fail(fmt::format("\"samples\" must be a non-negative integer, not {}", n.dump()));
       p.samples = n.get<int>();
     }
-    p.total_mass = j.at("total_mass").get<double>();
+    if (j.contains("model")) {
+      const std::string model = j["model"].get<std::string>();
+      if (model != "static" && model != "dynamic")
+        fail(fmt::format("\"model\" must be \"static\" or \"dynamic\", not \"{}\"", model));
+      p.dynamic = model == "dynamic";
+    }
+    if (p.dynamic && j.contains("motion")) {
+      const json& m = j["motion"];
+      p.fixed_gravity = m.value("gravity", "varying") == "fixed";
+      if (p.fixed_gravity)
+        for (int k = 0; k < 3; ++k) p.gravity[k] = m.at("gravity_vector").at(k).get<double>();
+      p.sensor_moving = m.value("sensor_moving", false);
+    }
+    p.total_mass = p.dynamic && !j.contains("total_mass") ? std::numeric_limits<double>::quiet_NaN()
+                                                          : j.at("total_mass").get<double>();
     for (const auto& e : j.at("base_parameters")) {
       ParamsFile::Entry entry;
       entry.name = e.at("name").get<std::string>();
@@ -186,7 +209,8 @@ ParamsFile read_params(const std::string& path) {
 
 Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
                                 const BaseParameters& base) {
-  const int n = num_standard_parameters(model);
+  const ParameterLayout& layout = base.layout;
+  const int n = layout.size(model);
   const int nf = static_cast<int>(params.base_parameters.size());
   Eigen::MatrixXd Kf = Eigen::MatrixXd::Zero(nf, n);
   Eigen::VectorXd vf(nf);
@@ -200,14 +224,12 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
             fmt::format("{}: base parameter '{}' refers to link '{}', which is not "
                         "a measured link of {} below '{}'",
                         params.source, e.name, t.link, model.source, model.sensor_link()));
-      int k = -1;
-      for (int c = 0; c < kParamsPerLink; ++c)
-        if (t.param == standard_parameter_kind(c)) k = c;
-      if (k < 0)
-        throw InputError(
-            fmt::format("{}: base parameter '{}': unknown parameter '{}' (m, mx, my, mz)",
-                        params.source, e.name, t.param));
-      Kf(i, kParamsPerLink * l + k) += t.coef;
+      const int k = ParameterLayout::kind_from_name(t.param);
+      if (k < 0 || k >= layout.per_link())
+        throw InputError(fmt::format(
+            "{}: base parameter '{}': unknown parameter '{}' ({})", params.source, e.name, t.param,
+            layout.inertia() ? "m, mx, my, mz, ixx, ixy, ixz, iyy, iyz, izz" : "m, mx, my, mz"));
+      Kf(i, layout.index(l, k)) += t.coef;
     }
   }
   // K = A Kf: solve A^T from Kf^T A^T = K^T, then check the fit.
@@ -224,10 +246,20 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
   return v;
 }
 
-Predictor compile_predictor(const Model& model, const ParamsFile& params) {
+BaseParameterOptions base_parameter_options(const ParamsFile& params) {
   BaseParameterOptions options;
   options.offset = params.has_offset;
-  const BaseParameters base = find_base_parameters(model, options);
+  if (params.dynamic) {
+    options.layout = ParameterLayout::full();
+    options.fixed_gravity = params.fixed_gravity;
+    options.gravity = params.gravity;
+    options.sensor_moving = params.sensor_moving;
+  }
+  return options;
+}
+
+Predictor compile_predictor(const Model& model, const ParamsFile& params) {
+  const BaseParameters base = find_base_parameters(model, base_parameter_options(params));
   return compile_predictor(model, base, values_in_basis(params, model, base));
 }
 

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cstring>
 
+#include "massid/errors.hpp"
 #include "massid/regressor.hpp"
 #include "sincos.hpp"
 
@@ -77,6 +78,10 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     bodies.push_back(b);
     in_body[l].linear() = C.transpose();  // link frame in the axis-aligned body frame
   }
+  if (base.motion())
+    throw InputError(
+        "the gravity predictor takes static (first-moment) base parameters; a dynamic params "
+        "file needs the motion predictor (motion_predictor.hpp)");
   // Base parameter i stands for column base.column[i] of Y' (base_parameters.hpp).
   for (int i = 0; i < base.num_mass(); ++i) {
     const int c = base.column[i];

@@ -1,26 +1,28 @@
 #include "massid/regressor.hpp"
 
-#include <fmt/format.h>
-
 namespace massid {
-
-const char* standard_parameter_kind(int param) {
-  static const char* const kinds[] = {"m", "mx", "my", "mz"};
-  return kinds[param];
+namespace {
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return S;
 }
+// L(v) with I v = L(v) [ixx, ixy, ixz, iyy, iyz, izz].
+Eigen::Matrix<double, 3, 6> inertia_map(const Eigen::Vector3d& v) {
+  Eigen::Matrix<double, 3, 6> L;
+  L << v.x(), v.y(), v.z(), 0, 0, 0,  //
+      0, v.x(), 0, v.y(), v.z(), 0,   //
+      0, 0, v.x(), 0, v.y(), v.z();
+  return L;
+}
+}  // namespace
 
 std::string standard_parameter_name(const Model& model, int index) {
-  return fmt::format("{}({})", standard_parameter_kind(index % kParamsPerLink),
-                     model.links[index / kParamsPerLink].name);
+  return ParameterLayout::first_moments().name(model, index);
 }
 
 Eigen::VectorXd nominal_standard_parameters(const Model& model) {
-  Eigen::VectorXd pi = Eigen::VectorXd::Zero(num_standard_parameters(model));
-  for (int l = 0; l < model.num_links(); ++l) {
-    pi[kParamsPerLink * l + kMass] = model.links[l].mass;
-    pi.segment<3>(kParamsPerLink * l + kMx) = model.links[l].mass * model.links[l].com;
-  }
-  return pi;
+  return ParameterLayout::first_moments().nominal(model);
 }
 
 void standard_regressor(const Model& model, const KinematicsData& data, const Eigen::Vector3d& g,
@@ -33,6 +35,30 @@ void standard_regressor(const Model& model, const KinematicsData& data, const Ei
     Y.block<3, 1>(3, c + kMass) = data.position[l].cross(g);
     // first-moment columns: moment (R_l e_k) x g
     for (int k = 0; k < 3; ++k) Y.block<3, 1>(3, c + kMx + k) = data.rotation[l].col(k).cross(g);
+  }
+}
+
+Eigen::Matrix<double, 6, 10> body_regressor(const Eigen::Vector3d& w, const Eigen::Vector3d& dw,
+                                            const Eigen::Vector3d& a) {
+  Eigen::Matrix<double, 6, 10> B = Eigen::Matrix<double, 6, 10>::Zero();
+  const Eigen::Matrix3d W = skew(w);
+  B.block<3, 1>(0, kMass) = a;                                    // m a
+  B.block<3, 3>(0, kMx) = skew(dw) + W * W;                       // dw x h + w x (w x h)
+  B.block<3, 3>(3, kMx) = -skew(a);                               // h x a
+  B.block<3, 6>(3, kIxx) = inertia_map(dw) + W * inertia_map(w);  // I dw + w x (I w)
+  return B;
+}
+
+void motion_regressor(const Model& model, const KinematicsData& data,
+                      Eigen::Ref<Eigen::MatrixXd> Y) {
+  constexpr int P = 10;
+  for (int l = 0; l < model.num_links(); ++l) {
+    const Eigen::Matrix<double, 6, 10> B =
+        body_regressor(data.omega[l], data.omega_dot[l], data.accel[l]);
+    const Eigen::Matrix3d& R = data.rotation[l];
+    const Eigen::Matrix<double, 3, 10> f = R * B.topRows<3>();
+    Y.block<3, P>(0, P * l) = -f;
+    Y.block<3, P>(3, P * l) = -(R * B.bottomRows<3>() + skew(data.position[l]) * f);
   }
 }
 

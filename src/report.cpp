@@ -53,7 +53,14 @@ std::string model_report(const Model& model, const BaseParameters& base) {
     if (j.limited) out += fmt::format(" [{:.6g}, {:.6g}]", j.lower, j.upper);
     out += "\n";
   }
-  out += fmt::format("standard parameters: {} (m, mx, my, mz per link)\n", 4 * model.num_links());
+  if (base.motion())
+    out += fmt::format(
+        "standard parameters: {} (m, mx, my, mz, ixx, ixy, ixz, iyy, iyz, izz per link; inertia "
+        "about the link origin)\nmotion: gravity {}{}\n",
+        base.layout.size(model), base.fixed_gravity ? "fixed (level platform)" : "varying",
+        base.sensor_moving ? ", sensor frame moving" : ", sensor frame at rest");
+  else
+    out += fmt::format("standard parameters: {} (m, mx, my, mz per link)\n", 4 * model.num_links());
   out += fmt::format("base parameters: {}", base.num_mass());
   if (base.offset) out += fmt::format(" + 6 sensor offsets = {} unknowns", base.num_unknowns());
   out += "\n";
@@ -128,18 +135,25 @@ std::string identify_report(const Model& model, const BaseParameters& base,
       "identified from {} samples of {} (gravity from {}), sensor link '{}'\n", s.samples,
       data_source, s.gravity_from_force ? "the measured force direction, eq. 37" : "gx,gy,gz",
       model.sensor_link());
-  out += fmt::format("  {:<10} {:>14} {:>12} {:<5} {}\n", "name", "value", "std", "unit",
+  const int uw = base.motion() ? 6 : 5;  // "kg m^2"
+  out += fmt::format("  {:<10} {:>14} {:>12} {:<{}} {}\n", "name", "value", "std", "unit", uw,
                      "expression");
   for (int i = 0; i < base.num_unknowns(); ++i) {
     const bool mass = i < base.num_mass();
-    out += fmt::format("  {:<10} {:>14.6g} {:>12.2g} {:<5} {}\n", base.unknown_name(i), s.value[i],
+    out += fmt::format("  {:<10} {:>14.6g} {:>12.2g} {:<{}} {}\n", base.unknown_name(i), s.value[i],
                        s.stddev[i],
-                       mass ? base.params[i].unit : (i - base.num_mass() < 3 ? "N" : "N m"),
+                       mass ? base.params[i].unit : (i - base.num_mass() < 3 ? "N" : "N m"), uw,
                        mass ? base.params[i].expression : "sensor offset");
   }
-  out += fmt::format("total mass: {:.6g} kg +- {:.2g}\n", s.value[base.total_mass],
-                     s.stddev[base.total_mass]);
-  out += fmt::format("condition number (eq. 36, moment rows): {:.4g}\n", s.condition_number);
+  if (base.total_mass >= 0)
+    out += fmt::format("total mass: {:.6g} kg +- {:.2g}\n", s.value[base.total_mass],
+                       s.stddev[base.total_mass]);
+  else
+    out += "total mass: not identifiable (constant gravity with offsets: it joins offset fz)\n";
+  if (base.motion())
+    out += fmt::format("condition number (all rows, columns scaled): {:.4g}\n", s.condition_number);
+  else
+    out += fmt::format("condition number (eq. 36, moment rows): {:.4g}\n", s.condition_number);
   out += "residual RMS:";
   for (int k = 0; k < 6; ++k)
     out += fmt::format("  {} {:.3g}", kWrenchColumns[k], s.residual_rms[k]);

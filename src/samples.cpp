@@ -9,6 +9,7 @@
 
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
+#include "massid/kinematics.hpp"
 
 namespace massid {
 
@@ -97,16 +98,80 @@ Eigen::MatrixXd joint_columns(const Model& model, const Columns& table) {
   return q;
 }
 
+// Columns NAME + suffix for every joint, or none: [N x joints] (0 columns when none).
+template <class Columns>
+Eigen::MatrixXd optional_joint_columns(const std::vector<Joint>& joints, const Columns& table,
+                                       const char* suffix) {
+  std::vector<int> idx;
+  std::vector<std::string> missing;
+  for (const Joint& j : joints) {
+    idx.push_back(table.find(j.name + suffix));
+    if (idx.back() < 0) missing.push_back(j.name + suffix);
+  }
+  if (missing.size() == joints.size()) return Eigen::MatrixXd(table.rows(), 0);
+  if (!missing.empty())
+    throw InputError(
+        fmt::format("{}: column(s) {} missing (the header has {} columns for some "
+                    "joints but not all)",
+                    table.header_where(), fmt::join(missing, ","), suffix));
+  Eigen::MatrixXd m(table.rows(), static_cast<Eigen::Index>(joints.size()));
+  for (int r = 0; r < table.rows(); ++r)
+    for (size_t j = 0; j < joints.size(); ++j) m(r, j) = table.number(r, idx[j]);
+  return m;
+}
+
+// Positions of `joints` (by name, or NAME_deg), or 0 columns when none is present.
+template <class Columns>
+Eigen::MatrixXd optional_positions(const std::vector<Joint>& joints, const Columns& table) {
+  size_t found = 0;
+  for (const Joint& j : joints)
+    if (table.find(j.name) >= 0 || table.find(j.name + "_deg") >= 0) ++found;
+  if (found == 0) return Eigen::MatrixXd(table.rows(), 0);
+  Model chain;
+  chain.joints = joints;
+  return joint_columns(chain, table);
+}
+
 template <class Columns>
 Samples samples_of(const Model& model, const Columns& table, const std::string& source,
-                   WrenchColumns wrench, double g0) {
+                   WrenchColumns wrench, const SampleOptions& options) {
+  const double g0 = options.g0;
   Samples s;
   s.source = source;
+  s.root_gravity = options.root_gravity;
   const int N = table.rows();
   s.line.resize(N);
   for (int r = 0; r < N; ++r) s.line[r] = table.line(r);
 
   s.q = joint_columns(model, table);
+  // Motion: velocities and accelerations, the sensor frame's motion.
+  s.qd = optional_joint_columns(model.joints, table, "_vel");
+  s.qdd = optional_joint_columns(model.joints, table, "_acc");
+  if (s.qd.cols() != s.qdd.cols())
+    throw InputError(fmt::format(
+        "{}: the header has joint {} columns but no {} columns: give "
+        "both, or neither (derived from t and the positions)",
+        table.header_where(), s.qd.cols() ? "_vel" : "_acc", s.qd.cols() ? "_acc" : "_vel"));
+  if (model.num_joints() == 0) {
+    s.qd.resize(N, 0);
+    s.qdd.resize(N, 0);
+  }
+  if (const std::vector<int> m =
+          column_group(table, {"wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az"});
+      !m.empty()) {
+    s.sensor_motion.resize(N, 9);
+    for (int r = 0; r < N; ++r)
+      for (int k = 0; k < 9; ++k) s.sensor_motion(r, k) = table.number(r, m[k]);
+  }
+  // Joints above the sensor link.
+  s.q_upstream = optional_positions(model.upstream_joints, table);
+  if (s.q_upstream.cols() > 0) {
+    s.qd_upstream = optional_joint_columns(model.upstream_joints, table, "_vel");
+    s.qdd_upstream = optional_joint_columns(model.upstream_joints, table, "_acc");
+    if (s.qd_upstream.cols() != s.qdd_upstream.cols())
+      throw InputError(fmt::format("{}: the upstream joints have _vel or _acc columns but not both",
+                                   table.header_where()));
+  }
 
   const std::vector<int> w = column_group(table, {"fx", "fy", "fz", "mx", "my", "mz"});
   if (w.empty() && wrench == WrenchColumns::Required)
@@ -138,6 +203,10 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
   if (!g.empty()) {
     for (int r = 0; r < N; ++r)
       for (int k = 0; k < 3; ++k) s.gravity(r, k) = table.number(r, g[k]);
+    resolve_upstream(model, s);
+  } else if (s.q_upstream.cols() > 0) {
+    s.gravity_from_upstream = true;
+    resolve_upstream(model, s);
   } else if (s.has_wrench()) {
     s.gravity_from_force = true;
     for (int r = 0; r < N; ++r) {
@@ -158,12 +227,41 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
 
 }  // namespace
 
+void resolve_upstream(const Model& model, Samples& s) {
+  if (s.q_upstream.cols() == 0 || model.num_upstream_joints() == 0) return;
+  const bool moving = s.qd_upstream.cols() > 0 && s.sensor_motion.cols() == 0;
+  if (!s.gravity_from_upstream && !moving) return;
+  if (moving) s.sensor_motion.resize(s.size(), 9);
+  const Eigen::VectorXd none(0);
+  for (int i = 0; i < s.size(); ++i) {
+    const Eigen::VectorXd qu = s.q_upstream.row(i).transpose();
+    const SensorPose pose = moving
+                                ? upstream_kinematics(model, qu, s.qd_upstream.row(i).transpose(),
+                                                      s.qdd_upstream.row(i).transpose())
+                                : upstream_kinematics(model, qu, none, none);
+    if (s.gravity_from_upstream)
+      s.gravity.row(i) = (pose.rotation.transpose() * s.root_gravity).transpose();
+    if (moving) {
+      s.sensor_motion.block<1, 3>(i, 0) = pose.motion.omega.transpose();
+      s.sensor_motion.block<1, 3>(i, 3) = pose.motion.omega_dot.transpose();
+      s.sensor_motion.block<1, 3>(i, 6) = pose.motion.accel.transpose();
+    }
+  }
+}
+
 Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table) {
   return joint_columns(model, TableColumns{table});
 }
 
 Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench, double g0) {
-  return samples_of(model, TableColumns{table}, table.source, wrench, g0);
+  SampleOptions options;
+  options.g0 = g0;
+  return samples_of(model, TableColumns{table}, table.source, wrench, options);
+}
+
+Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench,
+                     const SampleOptions& options) {
+  return samples_of(model, TableColumns{table}, table.source, wrench, options);
 }
 
 Samples samples_from_columns(const Model& model, const std::vector<std::string>& names,
@@ -180,7 +278,9 @@ Samples samples_from_columns(const Model& model, const std::vector<std::string>&
     if (std::count(names.begin(), names.end(), names[c]) > 1)
       throw InputError(fmt::format("{}: column '{}' appears twice", source, names[c]));
   }
-  return samples_of(model, ArrayColumns{source, names, columns}, source, wrench, g0);
+  SampleOptions options;
+  options.g0 = g0;
+  return samples_of(model, ArrayColumns{source, names, columns}, source, wrench, options);
 }
 
 }  // namespace massid

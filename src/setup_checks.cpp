@@ -523,7 +523,7 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
   if (!samples.gravity_from_force) {
     check_gravity_magnitude(c);
     const Centred k = centre(c);
-    if (!force_broken && !check_sign(c, k)) check_rotation(c, k);
+    if (!force_broken && !options.motion && !check_sign(c, k)) check_rotation(c, k);
   }
   check_force_units(c);
   check_moment_units(c);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <random>
 
+#include "massid/base_regressor.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/regressor.hpp"
 
@@ -10,7 +11,11 @@ namespace massid {
 
 Eigen::MatrixXd simulate_wrenches(const Model& model, const Samples& plan,
                                   const SimulateOptions& options) {
-  const Eigen::VectorXd pi = nominal_standard_parameters(model);
+  const ParameterLayout layout =
+      options.dynamic ? ParameterLayout::full() : ParameterLayout::first_moments();
+  const Eigen::VectorXd pi = layout.nominal(model);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_joints());
+  const bool velocities = plan.qd.cols() == model.num_joints() && plan.qd.rows() == plan.size();
   KinematicsData kin(model);
   Eigen::MatrixXd Y(6, pi.size());
   const int repeat = std::max(1, options.repeat);
@@ -18,8 +23,16 @@ Eigen::MatrixXd simulate_wrenches(const Model& model, const Samples& plan,
   std::mt19937_64 rng(options.seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   for (int i = 0; i < plan.size(); ++i) {
-    forward_kinematics(model, kin, plan.q.row(i).transpose());
-    standard_regressor(model, kin, plan.gravity.row(i).transpose(), Y);
+    if (options.dynamic) {
+      forward_kinematics(model, kin, plan.q.row(i).transpose(),
+                         velocities ? Eigen::VectorXd(plan.qd.row(i).transpose()) : zero,
+                         velocities ? Eigen::VectorXd(plan.qdd.row(i).transpose()) : zero,
+                         plan.gravity.row(i).transpose(), sensor_motion(plan, i));
+      motion_regressor(model, kin, Y);
+    } else {
+      forward_kinematics(model, kin, plan.q.row(i).transpose());
+      standard_regressor(model, kin, plan.gravity.row(i).transpose(), Y);
+    }
     const Wrench exact = Y * pi + options.offset;
     for (int r = 0; r < repeat; ++r) {
       Wrench w = exact;

@@ -194,6 +194,51 @@ Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   return t;
 }
 
+JointType joint_type(const urdf::JointConstSharedPtr& j, const std::string& source, int line) {
+  if (j->mimic)
+    throw InputError(
+        fmt::format("{}:{}: joint '{}' is a mimic joint; massid supports independent revolute, "
+                    "continuous, prismatic and fixed joints only",
+                    source, line, j->name));
+  switch (j->type) {
+    case urdf::Joint::FIXED:
+      return JointType::Fixed;
+    case urdf::Joint::REVOLUTE:
+    case urdf::Joint::CONTINUOUS:
+      return JointType::Revolute;
+    case urdf::Joint::PRISMATIC:
+      return JointType::Prismatic;
+    default:
+      throw InputError(
+          fmt::format("{}:{}: joint '{}' is of an unsupported type (floating, planar or unknown); "
+                      "massid supports revolute, continuous, prismatic and fixed joints",
+                      source, line, j->name));
+  }
+}
+
+Eigen::Vector3d joint_axis(const urdf::JointConstSharedPtr& j, const std::string& source,
+                           int line) {
+  const Eigen::Vector3d axis(j->axis.x, j->axis.y, j->axis.z);
+  if (axis.norm() < 1e-12)
+    throw InputError(fmt::format("{}:{}: joint '{}' has a zero axis", source, line, j->name));
+  return axis.normalized();
+}
+
+Joint make_joint(const urdf::JointConstSharedPtr& j, JointType type, int link) {
+  Joint joint;
+  joint.name = j->name;
+  joint.type = type;
+  joint.continuous = j->type == urdf::Joint::CONTINUOUS;
+  if (j->limits && !joint.continuous && j->limits->upper > j->limits->lower) {
+    joint.limited = true;
+    joint.lower = j->limits->lower;
+    joint.upper = j->limits->upper;
+  }
+  if (j->limits && j->limits->velocity > 0) joint.velocity_limit = j->limits->velocity;
+  joint.link = link;
+  return joint;
+}
+
 }  // namespace
 
 Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
@@ -238,6 +283,31 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   Model model;
   model.name = urdf->getName();
   model.source = source;
+  model.root_link = urdf->getRoot()->name;
+  // The chain above the sensor link, walked up and then reversed (root first).
+  // A chain with a joint massid cannot model (mimic, floating, planar) is
+  // dropped: the sensor frame's gravity must then come from gx,gy,gz columns.
+  try {
+    for (urdf::LinkConstSharedPtr at = root; at->parent_joint; at = at->getParent()) {
+      const urdf::JointConstSharedPtr j = at->parent_joint;
+      const int line = element_line(doc, "joint", j->name);
+      check_name(doc, source, "joint", j->name);
+      ChainStep step;
+      step.joint = j->name;
+      step.origin = to_isometry(j->parent_to_joint_origin_transform);
+      step.type = joint_type(j, source, line);
+      if (step.type != JointType::Fixed) step.axis = joint_axis(j, source, line);
+      model.upstream.insert(model.upstream.begin(), step);
+    }
+    for (ChainStep& step : model.upstream) {
+      if (step.type == JointType::Fixed) continue;
+      step.joint_index = model.num_upstream_joints();
+      model.upstream_joints.push_back(make_joint(urdf->getJoint(step.joint), step.type, -1));
+    }
+  } catch (const InputError&) {
+    model.upstream.clear();
+    model.upstream_joints.clear();
+  }
 
   // Depth-first from the sensor link; children in the order urdfdom keeps them.
   struct Pending {
@@ -273,45 +343,11 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
       check_name(doc, source, "joint", j->name);
       link.joint = j->name;
       link.origin = to_isometry(j->parent_to_joint_origin_transform);
-      if (j->mimic)
-        throw InputError(
-            fmt::format("{}:{}: joint '{}' is a mimic joint; massid supports independent revolute, "
-                        "continuous, prismatic and fixed joints only",
-                        source, line, j->name));
-      switch (j->type) {
-        case urdf::Joint::FIXED:
-          link.type = JointType::Fixed;
-          break;
-        case urdf::Joint::REVOLUTE:
-        case urdf::Joint::CONTINUOUS:
-          link.type = JointType::Revolute;
-          break;
-        case urdf::Joint::PRISMATIC:
-          link.type = JointType::Prismatic;
-          break;
-        default:
-          throw InputError(fmt::format(
-              "{}:{}: joint '{}' is of an unsupported type (floating, planar or unknown); "
-              "massid supports revolute, continuous, prismatic and fixed joints",
-              source, line, j->name));
-      }
+      link.type = joint_type(j, source, line);
       if (link.type != JointType::Fixed) {
-        Eigen::Vector3d axis(j->axis.x, j->axis.y, j->axis.z);
-        if (axis.norm() < 1e-12)
-          throw InputError(fmt::format("{}:{}: joint '{}' has a zero axis", source, line, j->name));
-        link.axis = axis.normalized();
-        Joint joint;
-        joint.name = j->name;
-        joint.type = link.type;
-        joint.continuous = j->type == urdf::Joint::CONTINUOUS;
-        if (j->limits && !joint.continuous && j->limits->upper > j->limits->lower) {
-          joint.limited = true;
-          joint.lower = j->limits->lower;
-          joint.upper = j->limits->upper;
-        }
-        joint.link = model.num_links();
+        link.axis = joint_axis(j, source, line);
         link.joint_index = model.num_joints();
-        model.joints.push_back(joint);
+        model.joints.push_back(make_joint(j, link.type, model.num_links()));
       }
     }
     const int index = model.num_links();

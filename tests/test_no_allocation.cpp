@@ -1,6 +1,6 @@
 // The real-time paths never allocate: a counting allocator (malloc itself,
 // interposed, so that Eigen's aligned_malloc and operator new are both seen)
-// around predict() and the emulator's control_step().
+// around predict(), predict_motion() and the emulator's control_step().
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -9,6 +9,7 @@
 
 #include "massid/base_parameters.hpp"
 #include "massid/emulator/controller.hpp"
+#include "massid/motion_predictor.hpp"
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
 #include "test_support.hpp"
@@ -80,6 +81,37 @@ TEST_P(NoAllocation, PredictSingleAndBatch) {
   Wrench sum = Wrench::Zero();
   for (int k = 0; k < 100; ++k) sum += predict(pred, data, q, g);
   predict(pred, data, Q, G, W);
+  EXPECT_EQ(allocations() - before, 0);
+  EXPECT_TRUE(sum.allFinite());
+  EXPECT_TRUE(W.allFinite());
+}
+
+TEST_P(NoAllocation, PredictMotionSingleAndBatch) {
+  const Model model = load_urdf(GetParam().urdf);
+  BaseParameterOptions bo;
+  bo.layout = ParameterLayout::full();
+  bo.offset = true;
+  const BaseParameters base = find_base_parameters(model, bo);
+  const MotionPredictor pred =
+      compile_motion_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns()));
+  MotionPredictorData data(pred);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  const Eigen::Index nj = model.num_joints();
+  Eigen::MatrixXd Q(64, nj), Qd(64, nj), Qdd(64, nj), G(64, 3), W(64, 6);
+  for (Eigen::MatrixXd* m : {&Q, &Qd, &Qdd, &G})
+    for (Eigen::Index i = 0; i < m->size(); ++i) m->data()[i] = u(rng);
+  const Eigen::VectorXd q = Q.row(0).transpose(), qd = Qd.row(0).transpose(),
+                        qdd = Qdd.row(0).transpose();
+  const Eigen::Vector3d g = G.row(0).transpose();
+  FrameMotion sensor;
+  sensor.omega = Eigen::Vector3d(0.1, 0.2, 0.3);
+  sensor.accel = Eigen::Vector3d(1.0, 0.0, 0.5);
+  const long before = allocations();
+  Wrench sum = Wrench::Zero();
+  for (int k = 0; k < 100; ++k)
+    sum += predict_motion(pred, data, q.data(), qd.data(), qdd.data(), g, sensor);
+  predict_motion(pred, data, Q, Qd, Qdd, G, W);
   EXPECT_EQ(allocations() - before, 0);
   EXPECT_TRUE(sum.allFinite());
   EXPECT_TRUE(W.allFinite());

@@ -25,23 +25,38 @@
 #include <vector>
 
 #include "massid/model.hpp"
+#include "massid/parameters.hpp"
 
 namespace massid {
 
 struct Term {
   int link = 0;   // index in Model::links
-  int param = 0;  // StandardParam: 0 m, 1 mx, 2 my, 3 mz
+  int param = 0;  // ParamKind: 0 m, 1 mx, 2 my, 3 mz, 4 ixx ... 9 izz
   double coef = 0.0;
 };
 
 struct BaseParameter {
   std::string name;         // "p1", ..., "M" for the total mass
   std::string expression;   // "mx(link2) + 0.198 m(link3)"
-  std::string unit;         // "kg" or "kg m"
+  std::string unit;         // "kg", "kg m" or "kg m^2"
   std::vector<Term> terms;  // base value = sum coef * standard parameter
 };
 
+// What the data can show: the parameter layout and the excitation that the
+// random configurations of the reduction imitate.
+//   Rest (first-moment layout): random q and gravity directions, as above.
+//   Motion (full layout): random q, qd, qdd; gravity in random directions, or
+//   fixed (`gravity`: a level platform, whose data cannot tell some constants
+//   from the offsets); the sensor frame at rest unless `sensor_moving`.
+// In motion the preference order is M_t, each link's first moments and
+// inertia (from the sensor outwards), then the other masses; with offsets and a fixed
+// gravity, columns in the span of the offsets are not identifiable and join
+// them (M_t then too: total_mass is -1).
 struct BaseParameterOptions {
+  ParameterLayout layout = ParameterLayout::first_moments();
+  bool sensor_moving = false;  // motion: the sensor frame moves (platform, upstream joints)
+  bool fixed_gravity = false;  // motion: gravity is `gravity` in every sample
+  Eigen::Vector3d gravity{0.0, 0.0, -9.80665};
   bool offset = false;            // six sensor offsets join the unknowns
   double rank_tolerance = 1e-8;   // on unit-norm columns, see above
   int samples = 0;                // random configurations; 0: max(40, 2 * standard)
@@ -52,11 +67,16 @@ struct BaseParameters {
   std::vector<BaseParameter> params;  // mass base parameters, named p1.. (distal first), then M
   Eigen::MatrixXd K;                  // [num_mass x num_standard] pi_b = K pi
   std::vector<int> column;            // [num_mass] column of Y' each one stands for
-  int total_mass = 0;                 // index of M in params
-  bool offset = false;                // unknowns = params, then fx fy fz mx my mz offsets
+  ParameterLayout layout = ParameterLayout::first_moments();  // standard parameters (K's columns)
+  bool sensor_moving = false;  // the reduction's assumptions (BaseParameterOptions)
+  bool fixed_gravity = false;
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  int total_mass = 0;   // index of M in params; -1 when not identifiable
+  bool offset = false;  // unknowns = params, then fx fy fz mx my mz offsets
   double rank_tolerance = 0.0;
 
   int num_mass() const { return static_cast<int>(params.size()); }
+  bool motion() const { return layout.inertia(); }
   int num_unknowns() const { return num_mass() + (offset ? 6 : 0); }
   // Name of unknown i: a base parameter name or "offset_fx" ... "offset_mz".
   std::string unknown_name(int i) const;

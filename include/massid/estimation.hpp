@@ -50,10 +50,11 @@ struct Outlier {
 };
 
 struct IdentifySummary {
-  Eigen::VectorXd value;                     // [num_unknowns] base parameters, then offsets
-  Eigen::VectorXd stddev;                    // [num_unknowns] standard deviations
-  Eigen::MatrixXd covariance;                // [num_unknowns x num_unknowns]
-  double condition_number = 0;               // eq. 36: moment rows over moment unknowns, unscaled
+  Eigen::VectorXd value;        // [num_unknowns] base parameters, then offsets
+  Eigen::VectorXd stddev;       // [num_unknowns] standard deviations
+  Eigen::MatrixXd covariance;   // [num_unknowns x num_unknowns]
+  double condition_number = 0;  // eq. 36: moment rows over moment unknowns, unscaled (in motion:
+                                // every row, columns scaled to unit norm)
   Eigen::Matrix<double, 6, 1> residual_rms;  // fx fy fz mx my mz, unweighted
   Eigen::Matrix<double, 6, 1> residual_max;  // largest |residual| per axis
   Eigen::Matrix<double, 6, 1> sigma;         // noise per axis used as weights
@@ -97,7 +98,10 @@ Eigen::MatrixXd stacked_regressor(const Model& model, const BaseParameters& base
                                   const Samples& samples);
 
 // The paper's eq. 36 figure for a stacked regressor A: the condition number of
-// its moment rows over the moment unknowns, unscaled.
+// its moment rows over the moment unknowns, unscaled. In motion (every row
+// involves most unknowns, of different units): scaled_condition_number(A).
 double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd& A);
+// The condition number of A with its columns scaled to unit norm.
+double scaled_condition_number(const Eigen::MatrixXd& A);
 
 }  // namespace massid

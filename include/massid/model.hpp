@@ -36,11 +36,21 @@ struct Joint {
   bool continuous = false;
   double lower = 0.0, upper = 0.0;  // URDF limits (rad or m); unlimited when !limited
   bool limited = false;
-  int link = -1;  // the child link it moves, index in Model::links
+  double velocity_limit = 0.0;  // URDF <limit velocity>, rad/s or m/s; 0 when not given
+  int link = -1;                // the child link it moves, index in Model::links
 
   // Position at fraction u in [0, 1] of the joint's generic range: a full turn
   // [-pi, pi] for revolute joints, the limits (else [-1, 1] m) for prismatic ones.
   double generic_position(double u) const;
+};
+
+// One joint of the chain from the URDF root link down to the sensor link.
+struct ChainStep {
+  std::string joint;  // URDF joint name
+  JointType type = JointType::Fixed;
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // parent frame -> joint frame, q = 0
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();           // unit joint axis, joint frame
+  int joint_index = -1;  // index in Model::upstream_joints, -1 when fixed
 };
 
 struct Model {
@@ -50,13 +60,21 @@ struct Model {
   std::vector<Joint> joints;  // movable joints, in the order of their links
   // Joints held still at a position (hold_joints): fixed in this model.
   std::vector<std::pair<std::string, double>> held;
+  // Above the sensor link (a wrist sensor): the chain from the URDF root link,
+  // root first, whose last step's child is the sensor link, and its movable
+  // joints (Joint::link = -1). Empty when the sensor link is the URDF root.
+  // They give the sensor frame's orientation and motion (kinematics.hpp).
+  std::string root_link;  // the URDF root link
+  std::vector<ChainStep> upstream;
+  std::vector<Joint> upstream_joints;
 
   int num_links() const { return static_cast<int>(links.size()); }
   int num_joints() const { return static_cast<int>(joints.size()); }
   const std::string& sensor_link() const { return links.front().name; }
   int find_link(const std::string& name) const;   // -1 if absent
   int find_joint(const std::string& name) const;  // -1 if absent
-  double nominal_total_mass() const;              // sum of the URDF link masses
+  int num_upstream_joints() const { return static_cast<int>(upstream_joints.size()); }
+  double nominal_total_mass() const;  // sum of the URDF link masses
 };
 
 // Loads a URDF file. `sensor_link` empty means the URDF root link. Throws

@@ -27,9 +27,16 @@ struct ParamsFile {
   std::string sensor_link;
   std::vector<std::string> joints;
   std::vector<std::pair<std::string, double>> held;  // joints held still (hold_joints)
-  std::string gravity_from;                          // "columns" or "force"
+  std::string gravity_from;                          // "columns", "force" or "upstream joints"
+  // "model": "dynamic" (ten parameters per link, identified in motion) with
+  // the assumptions of its base-parameter reduction; absent or "static": the
+  // first-moment model.
+  bool dynamic = false;
+  bool fixed_gravity = false;  // every sample had this gravity (sensor frame)
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  bool sensor_moving = false;
   int samples = 0;
-  double total_mass = 0.0;
+  double total_mass = 0.0;  // NaN when not identifiable (dynamic, level, with offsets)
   std::vector<Entry> base_parameters;
   bool has_offset = false;
   Wrench offset = Wrench::Zero(), offset_std = Wrench::Zero();
@@ -44,6 +51,10 @@ std::string params_json(const Model& model, const BaseParameters& base,
 
 // Reads and checks a params file; InputError names file:line:column.
 ParamsFile read_params(const std::string& path);
+
+// The base-parameter reduction a params file was identified with (its layout,
+// offsets and, in motion, gravity and sensor assumptions).
+BaseParameterOptions base_parameter_options(const ParamsFile& params);
 
 // The file's values expressed in `base` (num_unknowns, offsets last). The
 // file's terms may use another basis of the same space; InputError when the

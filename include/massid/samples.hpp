@@ -12,18 +12,36 @@ namespace massid {
 
 constexpr double kStandardGravity = 9.80665;  // m/s^2
 
+// One sample type for rest and motion. Optional parts have 0 columns when absent.
 struct Samples {
   std::string source;
-  Eigen::MatrixXd q;        // [N x num_joints] joint positions, rad or m (Model::joints order)
-  Eigen::MatrixXd gravity;  // [N x 3] gravity acceleration in the sensor frame, m/s^2
-  Eigen::MatrixXd wrench;   // [N x 6] fx fy fz mx my mz; 0 columns when absent
-  std::vector<int> line;    // [N] file line of each sample
-  Eigen::VectorXd time;     // [N] column t, s (0 rows when absent)
-  std::vector<int> block;   // [N] column block: sensor re-zeroed between blocks (empty when absent)
-  bool gravity_from_force = false;  // gravity taken from the force direction (eq. 37)
+  // Joint stage (Model::joints order; Model::upstream_joints for the *_upstream ones).
+  Eigen::MatrixXd q;    // [N x num_joints] joint positions, rad or m
+  Eigen::MatrixXd qd;   // [N x num_joints] velocities (JOINT_vel), rad/s or m/s; 0 cols at rest
+  Eigen::MatrixXd qdd;  // [N x num_joints] accelerations (JOINT_acc); 0 cols at rest
+  Eigen::MatrixXd
+      q_upstream;  // [N x num_upstream] joints above the sensor link; 0 cols when absent
+  Eigen::MatrixXd qd_upstream;   // [N x num_upstream] their velocities; 0 cols when absent
+  Eigen::MatrixXd qdd_upstream;  // [N x num_upstream] their accelerations; 0 cols when absent
+  // Sensor-frame stage (sensor frame coordinates).
+  Eigen::MatrixXd gravity;        // [N x 3] gravity acceleration, m/s^2
+  Eigen::MatrixXd sensor_motion;  // [N x 9] wx wy wz, dwx dwy dwz (rad/s, rad/s^2), ax ay az
+                                  // (origin acceleration without gravity, m/s^2); 0 cols: at rest
+  // Measurement.
+  Eigen::MatrixXd wrench;  // [N x 6] fx fy fz mx my mz; 0 columns when absent
+  std::vector<int> line;   // [N] file line of each sample
+  Eigen::VectorXd time;    // [N] column t, s (0 rows when absent)
+  std::vector<int> block;  // [N] column block: sensor re-zeroed between blocks (empty when absent)
+  bool gravity_from_force = false;     // gravity taken from the force direction (eq. 37)
+  bool gravity_from_upstream = false;  // gravity from the upstream joints and the root gravity
+  bool derivatives_filtered = false;   // qd, qdd derived from positions (motion_filter.hpp)
+  Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};  // root frame, for the upstream joints
 
   int size() const { return static_cast<int>(q.rows()); }
   bool has_wrench() const { return wrench.cols() == 6; }
+  // Joint velocities and accelerations present (a motion log).
+  bool has_motion() const { return qd.cols() > 0 || sensor_motion.cols() > 0; }
+  bool has_sensor_motion() const { return sensor_motion.cols() == 9; }
 };
 
 enum class WrenchColumns { Required, Optional };
@@ -40,6 +58,28 @@ Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wr
 Samples samples_from_columns(const Model& model, const std::vector<std::string>& names,
                              const std::vector<Eigen::VectorXd>& columns, WrenchColumns wrench,
                              const std::string& source = "data", double g0 = kStandardGravity);
+
+// What a reader takes from a file beyond positions, gravity and wrench.
+struct SampleOptions {
+  double g0 = kStandardGravity;  // |g| for gravity from the force direction (eq. 37)
+  // Gravity in the URDF root frame, for a sensor below movable joints whose
+  // columns the file has (used when the file has no gx,gy,gz).
+  Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};
+};
+
+Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench,
+                     const SampleOptions& options);
+
+// Columns read beside the static ones: JOINT_vel and JOINT_acc (all joints or
+// none; no _deg form), the sensor motion wx..wz, dwx..dwz, ax..az (all nine or
+// none), and the joints above the sensor link (Model::upstream_joints, all or
+// none, with their _vel/_acc). Without gx,gy,gz but with the upstream joints,
+// gravity is root_gravity turned into the sensor frame (gravity_from_upstream);
+// with their velocities, the sensor motion follows from them too.
+
+// Gravity and sensor motion from the upstream joints (as read_samples does;
+// again after their derivatives were filtered or derived).
+void resolve_upstream(const Model& model, Samples& samples);
 
 // [N x num_joints] joint columns (named as the joint, or JOINT_deg in degrees).
 Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table);

@@ -42,6 +42,11 @@ struct SetupCheckOptions {
   // Report joints that never move. `identify` turns this off: its
   // identifiability check already names such a joint (exit 3) and the fix.
   bool constant_joints = true;
+  // A motion log: the force is the weight minus the rate of change of
+  // momentum, not M g, so the checks that compare each sample's force with
+  // its gravity (wrench-sign, frame-rotation) are not made; the unit, column
+  // and gravity checks are.
+  bool motion = false;
 };
 
 // The checks on samples read with read_samples (WrenchColumns::Required).

@@ -1,5 +1,8 @@
-// Measurements that the URDF's own inertials would produce: w = Y(q, g) pi_URDF
-// + offset + Gaussian noise. The reference for tests and for planning.
+// Measurements that the URDF's own inertials would produce: w = Y pi_URDF
+// + offset + Gaussian noise (regressor.hpp: at rest Y(q, g) over the first
+// moments; with `dynamic`, Y(q, qd, qdd, g, sensor motion) over the ten
+// parameters per link, the inertias about the link origins). The reference
+// for tests and for planning.
 #pragma once
 
 #include <Eigen/Core>
@@ -16,7 +19,8 @@ struct SimulateOptions {
   double noise_moment = 0.0;  // N m
   Wrench offset = Wrench::Zero();
   std::uint64_t seed = 1;
-  int repeat = 1;  // samples per plan row (a logger recording while the pose is held)
+  int repeat = 1;        // samples per plan row (a logger recording while the pose is held)
+  bool dynamic = false;  // the wrench in motion: needs the plan's velocities and accelerations
 };
 
 // [N repeat x 6] wrenches at the plan's joint positions and gravity vectors:

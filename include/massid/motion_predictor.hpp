@@ -1,0 +1,112 @@
+// Real-time prediction of the full wrench in motion (weight and inertial
+// forces) from identified dynamic base parameters alone (never from the
+// URDF's inertials): the dynamic counterpart of predictor.hpp.
+//
+// Representatives. A motion base (base_parameters.hpp, ParameterLayout::full)
+// is mapped onto standard parameters by its representatives: pi'_c = value of
+// the base parameter that stands for column c of Y', every other pi' zero,
+// gives the same Y_b pi_b. Back to standard coordinates (M_t = sum_l m_l):
+//   m_sensor = M_t - sum_{l != sensor} m_l          (M_t = 0 when total_mass is -1)
+//
+// Bodies. Links joined by fixed joints are folded into one rigid body b, whose
+// frame is its joint frame turned so that the joint axis is z (C e_z = s). A
+// link with parameters (m, h, I_O) and pose (R, t) in its body's frame adds
+//   m_b += m,   h_b += R h + m t,
+//   I_b += R I_O R^T - ([t][R h] + [R h][t]) + m [t]^T [t]
+// (I about the origin, [v] the cross-product matrix; a point mass m at x:
+// m [x]^T [x] = m (|x|^2 1 - x x^T)).
+//
+// Newton-Euler in body frames (bodies numbered depth first, 0 the sensor
+// body). Body k with parent p, joint frame (A_k, t_k) in p's frame at q = 0:
+//   B_k = A_k Rz(theta_k),   r_k = t_k + d_k A_k e_z
+// theta_k = q_k for a revolute joint (else 0), d_k = q_k for a prismatic one
+// (else 0). B_k, r_k and the joint rates are computed four bodies at a time
+// (sin and cos together), off the dependent chains.
+// Forward pass (w, dw, a: angular velocity, angular acceleration, origin
+// acceleration minus gravity, each in its body's frame), seeded with the
+// sensor frame's motion: w_0 = omega, dw_0 = omega_dot, a_0 = accel - g:
+//   u_k  = a_p + dw_p x r_k + w_p x (w_p x r_k)
+//   w_k  = B_k^T w_p + z qd_k                                 (revolute)
+//   dw_k = B_k^T dw_p + z qdd_k + (B_k^T w_p) x z qd_k        (revolute)
+//   a_k  = B_k^T u_k + z qdd_k + 2 w_k x z qd_k               (prismatic)
+// Body wrenches (what body b needs to move as it does, about its origin),
+// four bodies at a time (structure of arrays):
+//   f_b = m_b a_b + dw_b x h_b + w_b x (w_b x h_b)
+//   n_b = I_b dw_b + w_b x (I_b w_b) + h_b x a_b
+// Backward pass, k = n .. 1, subtree sums (F, N) = (f, n) to start with:
+//   F_p += B_k F_k,   N_p += B_k N_k + r_k x (B_k F_k)
+// and the mechanism's wrench on the sensor is -(F_0, N_0) (regressor.hpp:
+// this is Y pi for the representatives, the inertia about the link origins).
+//
+// MotionPredictor is immutable and compiled once; MotionPredictorData is the
+// workspace. No allocation, no branch on the joint type (flags multiply).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "massid/base_parameters.hpp"
+#include "massid/kinematics.hpp"
+#include "massid/model.hpp"
+#include "massid/predictor.hpp"
+
+namespace massid {
+
+// Per-body arrays come in blocks of four bodies, structure of arrays within
+// a block: in an array of C components per body, component c of body k is at
+// [4 C (k / 4) + 4 c + k % 4]. Bodies 0..num_bodies-1,
+// then padding to `lanes` (a multiple of 4: no mass, the identity, no joint).
+struct MotionPredictor {
+  int num_joints = 0;
+  int num_bodies = 1;              // n + 1: the sensor body and one per movable joint
+  int lanes = 4;                   // num_bodies padded to a multiple of 4
+  std::vector<int> parent;         // [num_bodies] parent body p (-1 for body 0)
+  std::vector<int> joint;          // [lanes] index into q of body k's joint (0: none)
+  std::vector<double> revolute;    // [lanes] 1 for a revolute joint, else 0
+  std::vector<double> prismatic;   // [lanes] 1 for a prismatic joint, else 0
+  std::vector<double> axes;        // [lanes x 9] A_k, row-major: A(i, j) is component 3 i + j
+  std::vector<double> origin;      // [lanes x 3] t_k
+  std::vector<double> inertial;    // [lanes x 10] m, hx, hy, hz, ixx, ixy, ixz, iyy, iyz, izz
+  Wrench offset = Wrench::Zero();  // f_0, m_0 (zero without offsets)
+  bool four_lanes = false;         // AVX2 and FMA path (set when the CPU has them)
+};
+
+// values: [num_unknowns] base parameters of a motion base (base.motion()),
+// then the six offsets when base.offset. InputError for a static base or a
+// wrong size.
+MotionPredictor compile_motion_predictor(const Model& model, const BaseParameters& base,
+                                         const Eigen::Ref<const Eigen::VectorXd>& values);
+
+// Workspace of predict_motion(), sized once; [lanes x C] blocked as in MotionPredictor.
+struct MotionPredictorData {
+  explicit MotionPredictorData(const MotionPredictor& predictor);
+  // Joint stage:
+  std::vector<double> rotation;     // [lanes x 9] B_k = A_k Rz(theta_k), row-major
+  std::vector<double> translation;  // [lanes x 3] r_k = t_k + d_k A_k e_z, parent frame
+  // [lanes x 4] qd_k, qdd_k of a revolute joint, 2 qd_k, qdd_k of a prismatic one (else 0)
+  std::vector<double> joint_rates;
+  // Forward stage, body frames:
+  std::vector<double> motion;  // [lanes x 9] w_k (rad/s), dw_k (rad/s^2), a_k (m/s^2, minus g)
+  // Wrench stage: the body wrenches (f_b N, n_b N m about the body origin); the
+  // backward stage adds the shares of the children that join at a branch.
+  std::vector<double> wrench;  // [lanes x 6]
+};
+
+// The mechanism's wrench on the sensor (fx..mz, sensor frame, moment about its
+// origin), WITHOUT the offset: weight and motion. q, qd, qdd: [num_joints];
+// g: gravity in the sensor frame; sensor: the sensor frame's own motion.
+Wrench predict_motion(const MotionPredictor& predictor, MotionPredictorData& data, const double* q,
+                      const double* qd, const double* qdd, const Eigen::Vector3d& g,
+                      const FrameMotion& sensor = {});
+
+// Batch form, the sensor at rest: row i of wrenches [N x 6] from row i of q,
+// qd, qdd [N x num_joints] and gravity [N x 3]; the same bits as single calls.
+// Does not allocate.
+void predict_motion(const MotionPredictor& predictor, MotionPredictorData& data,
+                    const Eigen::Ref<const Eigen::MatrixXd>& q,
+                    const Eigen::Ref<const Eigen::MatrixXd>& qd,
+                    const Eigen::Ref<const Eigen::MatrixXd>& qdd,
+                    const Eigen::Ref<const Eigen::MatrixXd>& gravity,
+                    Eigen::Ref<Eigen::MatrixXd> wrenches);
+
+}  // namespace massid

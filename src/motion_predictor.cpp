@@ -1,0 +1,429 @@
+#include "massid/motion_predictor.hpp"
+
+#include <Eigen/Geometry>
+#include <cstring>
+#include <string>
+
+#include "massid/errors.hpp"
+#include "sincos.hpp"
+
+// The four-lane helpers below pass 32-byte vectors by value; they are always
+// inlined into the AVX2 function, so GCC's note that such a call's ABI depends
+// on -mavx concerns no real call.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace massid {
+
+namespace {
+
+// A rotation C with C e_z = axis (unit): the joint frame turned so that its
+// axis is z.
+Eigen::Matrix3d axis_to_z(const Eigen::Vector3d& axis) {
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis.normalized())
+      .toRotationMatrix();
+}
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return S;
+}
+
+// Where body k's components start in an array of C per body (header).
+constexpr int body_slot(int k, int C) { return (k >> 2) * 4 * C + (k & 3); }
+
+// A rigid body before depth-first numbering.
+struct Body {
+  int parent = -1, joint = 0;
+  JointType type = JointType::Fixed;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // A_k
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();   // t_k
+  double mass = 0.0;
+  Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about the body origin
+  std::vector<int> children;
+};
+
+std::vector<int> depth_first(const std::vector<Body>& bodies) {
+  std::vector<int> order, stack{0};
+  while (!stack.empty()) {
+    const int b = stack.back();
+    stack.pop_back();
+    order.push_back(b);
+    for (auto c = bodies[b].children.rbegin(); c != bodies[b].children.rend(); ++c)
+      stack.push_back(*c);
+  }
+  return order;
+}
+
+}  // namespace
+
+MotionPredictor compile_motion_predictor(const Model& model, const BaseParameters& base,
+                                         const Eigen::Ref<const Eigen::VectorXd>& values) {
+  if (!base.motion())
+    throw InputError(
+        "the motion predictor takes dynamic (full-layout) base parameters; a static params file "
+        "needs the gravity predictor (predictor.hpp)");
+  if (values.size() != base.num_unknowns())
+    throw InputError("the motion predictor takes " + std::to_string(base.num_unknowns()) +
+                     " values (base parameters, then offsets), not " +
+                     std::to_string(values.size()));
+  MotionPredictor pred;
+  pred.num_joints = model.num_joints();
+  const ParameterLayout& layout = base.layout;
+
+  // Rigid bodies: a link joined by a fixed joint belongs to its parent's body.
+  // in_body[l]: link l's frame in its body's frame (axis-aligned, see header).
+  std::vector<Body> bodies(1);
+  std::vector<int> body_of(model.num_links(), 0);
+  std::vector<Eigen::Isometry3d> in_body(model.num_links(), Eigen::Isometry3d::Identity());
+  for (int l = 1; l < model.num_links(); ++l) {
+    const Link& link = model.links[l];
+    const Eigen::Isometry3d to_joint = in_body[link.parent] * link.origin;
+    if (link.type == JointType::Fixed) {
+      body_of[l] = body_of[link.parent];
+      in_body[l] = to_joint;
+      continue;
+    }
+    const Eigen::Matrix3d C = axis_to_z(link.axis);
+    Body b;
+    b.parent = body_of[link.parent];
+    b.joint = link.joint_index;
+    b.type = link.type;
+    b.rotation = to_joint.linear() * C;
+    b.translation = to_joint.translation();
+    body_of[l] = static_cast<int>(bodies.size());
+    bodies[b.parent].children.push_back(body_of[l]);
+    bodies.push_back(b);
+    in_body[l].linear() = C.transpose();  // link frame in the axis-aligned body frame
+  }
+
+  // Representatives: pi'_c = value, back to standard coordinates (header).
+  std::vector<Eigen::Matrix<double, 10, 1>> standard(model.num_links(),
+                                                     Eigen::Matrix<double, 10, 1>::Zero());
+  for (int i = 0; i < base.num_mass(); ++i) {
+    const int c = base.column[i];
+    const int l = layout.link_of(c), k = layout.kind_of(c);
+    standard[l][k] += values[i];
+    if (k == kMass && l != 0) standard[0][kMass] -= values[i];  // Y'(m_l) = Y(m_l) - Y(m_sensor)
+  }
+  // Fold each link into its body (header).
+  for (int l = 0; l < model.num_links(); ++l) {
+    const Eigen::Matrix<double, 10, 1>& p = standard[l];
+    Body& b = bodies[body_of[l]];
+    const Eigen::Matrix3d& R = in_body[l].linear();
+    const Eigen::Vector3d& t = in_body[l].translation();
+    const double m = p[kMass];
+    const Eigen::Vector3d Rh = R * p.segment<3>(kMx);
+    Eigen::Matrix3d I;
+    I << p[kIxx], p[kIxy], p[kIxz], p[kIxy], p[kIyy], p[kIyz], p[kIxz], p[kIyz], p[kIzz];
+    const Eigen::Matrix3d T = skew(t), H = skew(Rh);
+    b.mass += m;
+    b.first_moment += Rh + m * t;
+    b.inertia += R * I * R.transpose() - (T * H + H * T) - m * T * T;
+  }
+
+  // Depth-first numbering, then the structure of arrays.
+  const std::vector<int> order = depth_first(bodies);
+  std::vector<int> number(bodies.size());
+  for (std::size_t k = 0; k < order.size(); ++k) number[order[k]] = static_cast<int>(k);
+  const int nb = static_cast<int>(bodies.size());
+  const int L = (nb + 3) / 4 * 4;
+  pred.num_bodies = nb;
+  pred.lanes = L;
+  pred.parent.assign(nb, -1);
+  pred.joint.assign(L, 0);
+  pred.revolute.assign(L, 0.0);
+  pred.prismatic.assign(L, 0.0);
+  pred.axes.assign(9 * L, 0.0);
+  pred.origin.assign(3 * L, 0.0);
+  pred.inertial.assign(10 * L, 0.0);
+  for (int k = 0; k < L; ++k)
+    for (int i = 0; i < 3; ++i) pred.axes[body_slot(k, 9) + 4 * (4 * i)] = 1.0;  // identity
+  for (int k = 0; k < nb; ++k) {
+    const Body& b = bodies[order[k]];
+    if (k > 0) {
+      pred.parent[k] = number[b.parent];
+      pred.joint[k] = b.joint;
+      pred.revolute[k] = b.type == JointType::Revolute ? 1.0 : 0.0;
+      pred.prismatic[k] = b.type == JointType::Prismatic ? 1.0 : 0.0;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) pred.axes[body_slot(k, 9) + 4 * (3 * i + j)] = b.rotation(i, j);
+        pred.origin[body_slot(k, 3) + 4 * i] = b.translation[i];
+      }
+    }
+    const double inertial[10] = {
+        b.mass,          b.first_moment.x(), b.first_moment.y(), b.first_moment.z(),
+        b.inertia(0, 0), b.inertia(0, 1),    b.inertia(0, 2),    b.inertia(1, 1),
+        b.inertia(1, 2), b.inertia(2, 2)};
+    for (int i = 0; i < 10; ++i) pred.inertial[body_slot(k, 10) + 4 * i] = inertial[i];
+  }
+  if (base.offset) pred.offset = values.tail<6>();
+  pred.four_lanes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return pred;
+}
+
+MotionPredictorData::MotionPredictorData(const MotionPredictor& p)
+    : rotation(p.axes),
+      translation(p.origin),
+      joint_rates(4 * p.lanes, 0.0),
+      motion(9 * p.lanes, 0.0),
+      wrench(6 * p.lanes, 0.0) {}
+
+namespace {
+
+using detail::Lanes;
+using detail::Lanes4;
+
+// T is double or a vector of doubles (lanes of bodies).
+template <class T>
+[[gnu::always_inline]] inline T load(const double* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+template <class T>
+[[gnu::always_inline]] inline void store(double* p, const T& v) {
+  std::memcpy(p, &v, sizeof v);
+}
+
+template <class T>
+struct Vec3 {
+  T x, y, z;
+};
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> operator+(const Vec3<T>& a, const Vec3<T>& b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> operator*(const T& s, const Vec3<T>& a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+// Components c, c + 1, c + 2 from a body's (or a block's) slot: stride 4.
+template <class T>
+[[gnu::always_inline]] inline Vec3<T> load3(const double* p, int c) {
+  return {load<T>(p + 4 * c), load<T>(p + 4 * c + 4), load<T>(p + 4 * c + 8)};
+}
+template <class T>
+[[gnu::always_inline]] inline void store3(double* p, int c, const Vec3<T>& v) {
+  store(p + 4 * c, v.x);
+  store(p + 4 * c + 4, v.y);
+  store(p + 4 * c + 8, v.z);
+}
+
+// B v and B^T v, B row-major at a body's slot.
+[[gnu::always_inline]] inline Vec3<double> rotate(const double* B, const Vec3<double>& v) {
+  const auto b = [&](int i, int j) { return B[4 * (3 * i + j)]; };
+  return {(b(0, 0) * v.x + b(0, 1) * v.y) + b(0, 2) * v.z,
+          (b(1, 0) * v.x + b(1, 1) * v.y) + b(1, 2) * v.z,
+          (b(2, 0) * v.x + b(2, 1) * v.y) + b(2, 2) * v.z};
+}
+[[gnu::always_inline]] inline Vec3<double> rotate_back(const double* B, const Vec3<double>& v) {
+  const auto b = [&](int i, int j) { return B[4 * (3 * i + j)]; };
+  return {(b(0, 0) * v.x + b(1, 0) * v.y) + b(2, 0) * v.z,
+          (b(0, 1) * v.x + b(1, 1) * v.y) + b(2, 1) * v.z,
+          (b(0, 2) * v.x + b(1, 2) * v.y) + b(2, 2) * v.z};
+}
+
+// q of the joints of V's lanes of bodies, built in registers (a vector
+// written lane by lane through memory and read whole stalls the load).
+template <class V>
+[[gnu::always_inline]] inline V gather(const double* q, const int* joint, Eigen::Index stride) {
+  if constexpr (sizeof(V) == 4 * sizeof(double))
+    return V{q[joint[0] * stride], q[joint[1] * stride], q[joint[2] * stride],
+             q[joint[3] * stride]};
+  else
+    return V{q[joint[0] * stride], q[joint[1] * stride]};
+}
+
+// Joint stage, V's lanes of bodies at a time: theta_k and d_k, their sines
+// and cosines, B_k and r_k.
+template <class V>
+[[gnu::always_inline]] inline void joint_stage(const MotionPredictor& p, MotionPredictorData& d,
+                                               const double* q, const double* qd, const double* qdd,
+                                               const Eigen::Index* stride) {
+  constexpr int W = sizeof(V) / sizeof(double);
+  for (int k = 0; k < p.lanes; k += W) {
+    const int* joint = p.joint.data() + k;
+    const V qk = gather<V>(q, joint, stride[0]), qdk = gather<V>(qd, joint, stride[1]);
+    const V qddk = gather<V>(qdd, joint, stride[2]);
+    const V revolute = load<V>(p.revolute.data() + k), prismatic = load<V>(p.prismatic.data() + k);
+    const V theta = revolute * qk, slide = prismatic * qk;
+    double* rates = d.joint_rates.data() + body_slot(k, 4);
+    store(rates, revolute * qdk);
+    store(rates + 4, revolute * qddk);
+    store(rates + 8, (prismatic + prismatic) * qdk);
+    store(rates + 12, prismatic * qddk);
+    V s, c;
+    detail::sincos_lanes(theta, s, c);
+    const double* A = p.axes.data() + body_slot(k, 9);
+    double* B = d.rotation.data() + body_slot(k, 9);
+    const double* t0 = p.origin.data() + body_slot(k, 3);
+    double* r = d.translation.data() + body_slot(k, 3);
+    for (int i = 0; i < 3; ++i) {
+      const V a0 = load<V>(A + 4 * (3 * i)), a1 = load<V>(A + 4 * (3 * i + 1));
+      const V a2 = load<V>(A + 4 * (3 * i + 2));
+      store(B + 4 * (3 * i), a0 * c + a1 * s);
+      store(B + 4 * (3 * i + 1), a1 * c - a0 * s);
+      store(r + 4 * i, load<V>(t0 + 4 * i) + slide * a2);
+    }
+  }
+}
+
+// Forward pass, one body after the other (header). Along a serial run the
+// parent's motion stays in registers.
+[[gnu::always_inline]] inline void forward_stage(const MotionPredictor& p, MotionPredictorData& d,
+                                                 const Eigen::Vector3d& g,
+                                                 const FrameMotion& sensor) {
+  double* motion = d.motion.data();
+  Vec3<double> w{sensor.omega.x(), sensor.omega.y(), sensor.omega.z()};
+  Vec3<double> dw{sensor.omega_dot.x(), sensor.omega_dot.y(), sensor.omega_dot.z()};
+  Vec3<double> a{sensor.accel.x() - g.x(), sensor.accel.y() - g.y(), sensor.accel.z() - g.z()};
+  store3(motion, 0, w);
+  store3(motion, 3, dw);
+  store3(motion, 6, a);
+  for (int k = 1; k < p.num_bodies; ++k) {
+    const int pa = p.parent[k];
+    if (pa != k - 1) {  // a branch: the parent's motion from memory
+      const double* m = motion + body_slot(pa, 9);
+      w = load3<double>(m, 0), dw = load3<double>(m, 3), a = load3<double>(m, 6);
+    }
+    const double* B = d.rotation.data() + body_slot(k, 9);
+    const Vec3<double> r = load3<double>(d.translation.data() + body_slot(k, 3), 0);
+    const Vec3<double> u = a + (cross(dw, r) + cross(w, cross(w, r)));
+    const Vec3<double> wr = rotate_back(B, w), dwr = rotate_back(B, dw), ar = rotate_back(B, u);
+    const double* j = d.joint_rates.data() + body_slot(k, 4);
+    const double spin = j[0], spin_acc = j[4], slide = j[8], slide_acc = j[12];
+    w = {wr.x, wr.y, wr.z + spin};
+    dw = {dwr.x + wr.y * spin, dwr.y - wr.x * spin, dwr.z + spin_acc};
+    a = {ar.x + w.y * slide, ar.y - w.x * slide, ar.z + slide_acc};
+    double* m = motion + body_slot(k, 9);
+    store3(m, 0, w);
+    store3(m, 3, dw);
+    store3(m, 6, a);
+  }
+}
+
+// Body wrenches, V's lanes of bodies at a time (header).
+template <class V>
+[[gnu::always_inline]] inline void wrench_stage(const MotionPredictor& p, MotionPredictorData& d) {
+  constexpr int W = sizeof(V) / sizeof(double);
+  for (int k = 0; k < p.lanes; k += W) {
+    const double* in = p.inertial.data() + body_slot(k, 10);
+    const V m = load<V>(in);
+    const Vec3<V> h = load3<V>(in, 1);
+    const V ixx = load<V>(in + 16), ixy = load<V>(in + 20), ixz = load<V>(in + 24);
+    const V iyy = load<V>(in + 28), iyz = load<V>(in + 32), izz = load<V>(in + 36);
+    const auto I = [&](const Vec3<V>& v) {
+      return Vec3<V>{ixx * v.x + ixy * v.y + ixz * v.z, ixy * v.x + iyy * v.y + iyz * v.z,
+                     ixz * v.x + iyz * v.y + izz * v.z};
+    };
+    const double* mo = d.motion.data() + body_slot(k, 9);
+    const Vec3<V> w = load3<V>(mo, 0), dw = load3<V>(mo, 3), a = load3<V>(mo, 6);
+    const Vec3<V> f = m * a + (cross(dw, h) + cross(w, cross(w, h)));
+    const Vec3<V> n = I(dw) + (cross(w, I(w)) + cross(h, a));
+    double* out = d.wrench.data() + body_slot(k, 6);
+    store3(out, 0, f);
+    store3(out, 3, n);
+  }
+}
+
+// Backward pass: subtree sums into the parents, from the last body to body 1.
+// Along a serial run the child's share stays in registers (carry); where a
+// branch joins, it is added to the parent's slot.
+[[gnu::always_inline]] inline void backward_stage(const MotionPredictor& p, MotionPredictorData& d,
+                                                  double* out) {
+  double* wrench = d.wrench.data();
+  Vec3<double> F{0.0, 0.0, 0.0}, N{0.0, 0.0, 0.0};  // carry: child k + 1's share, body k's frame
+  for (int k = p.num_bodies - 1; k >= 1; --k) {
+    const double* own = wrench + body_slot(k, 6);
+    const double* B = d.rotation.data() + body_slot(k, 9);
+    const Vec3<double> r = load3<double>(d.translation.data() + body_slot(k, 3), 0);
+    const Vec3<double> bf = rotate(B, load3<double>(own, 0) + F);
+    const Vec3<double> bn = rotate(B, load3<double>(own, 3) + N);
+    F = bf;
+    N = bn + cross(r, bf);
+    const int pa = p.parent[k];
+    if (pa != k - 1) {  // a branch joins its parent
+      double* to = wrench + body_slot(pa, 6);
+      store3(to, 0, load3<double>(to, 0) + F);
+      store3(to, 3, load3<double>(to, 3) + N);
+      F = N = {0.0, 0.0, 0.0};
+    }
+  }
+  const Vec3<double> F0 = load3<double>(wrench, 0) + F, N0 = load3<double>(wrench, 3) + N;
+  out[0] = -F0.x, out[1] = -F0.y, out[2] = -F0.z;
+  out[3] = -N0.x, out[4] = -N0.y, out[5] = -N0.z;
+}
+
+template <class V>
+[[gnu::always_inline]] inline void run(const MotionPredictor& p, MotionPredictorData& d,
+                                       const double* q, const double* qd, const double* qdd,
+                                       const Eigen::Index* stride, const Eigen::Vector3d& g,
+                                       const FrameMotion& sensor, double* out) {
+  joint_stage<V>(p, d, q, qd, qdd, stride);
+  forward_stage(p, d, g, sensor);
+  wrench_stage<V>(p, d);
+  backward_stage(p, d, out);
+}
+
+void run_sse2(const MotionPredictor& p, MotionPredictorData& d, const double* q, const double* qd,
+              const double* qdd, const Eigen::Index* stride, const Eigen::Vector3d& g,
+              const FrameMotion& sensor, double* out) {
+  run<Lanes>(p, d, q, qd, qdd, stride, g, sensor, out);
+}
+
+[[gnu::target("avx2,fma")]] void run_avx2(const MotionPredictor& p, MotionPredictorData& d,
+                                          const double* q, const double* qd, const double* qdd,
+                                          const Eigen::Index* stride, const Eigen::Vector3d& g,
+                                          const FrameMotion& sensor, double* out) {
+  run<Lanes4>(p, d, q, qd, qdd, stride, g, sensor, out);
+}
+
+// One function for both forms, so that they give the same bits.
+void run_any(const MotionPredictor& p, MotionPredictorData& d, const double* q, const double* qd,
+             const double* qdd, const Eigen::Index* stride, const Eigen::Vector3d& g,
+             const FrameMotion& sensor, double* out) {
+  static const double kNoJoints = 0.0;  // what bodies without a joint read
+  static const Eigen::Index kNoStride[3] = {0, 0, 0};
+  if (p.num_joints == 0) q = qd = qdd = &kNoJoints, stride = kNoStride;
+  if (p.four_lanes)
+    run_avx2(p, d, q, qd, qdd, stride, g, sensor, out);
+  else
+    run_sse2(p, d, q, qd, qdd, stride, g, sensor, out);
+}
+
+}  // namespace
+
+Wrench predict_motion(const MotionPredictor& p, MotionPredictorData& d, const double* q,
+                      const double* qd, const double* qdd, const Eigen::Vector3d& g,
+                      const FrameMotion& sensor) {
+  static const Eigen::Index kUnitStride[3] = {1, 1, 1};
+  Wrench w;
+  run_any(p, d, q, qd, qdd, kUnitStride, g, sensor, w.data());
+  return w;
+}
+
+void predict_motion(const MotionPredictor& p, MotionPredictorData& d,
+                    const Eigen::Ref<const Eigen::MatrixXd>& q,
+                    const Eigen::Ref<const Eigen::MatrixXd>& qd,
+                    const Eigen::Ref<const Eigen::MatrixXd>& qdd,
+                    const Eigen::Ref<const Eigen::MatrixXd>& gravity,
+                    Eigen::Ref<Eigen::MatrixXd> wrenches) {
+  const FrameMotion rest;
+  const Eigen::Index stride[3] = {q.outerStride(), qd.outerStride(), qdd.outerStride()};
+  const bool joints = p.num_joints > 0;  // else the data may be null: run_any ignores them
+  for (Eigen::Index i = 0; i < q.rows(); ++i) {
+    const Eigen::Vector3d g = gravity.row(i).transpose();
+    double w[6];
+    run_any(p, d, joints ? q.data() + i : nullptr, joints ? qd.data() + i : nullptr,
+            joints ? qdd.data() + i : nullptr, stride, g, rest, w);
+    for (int k = 0; k < 6; ++k) wrenches(i, k) = w[k];
+  }
+}
+
+}  // namespace massid

@@ -1,0 +1,301 @@
+// The compiled motion predictor against the motion base regressor
+// (w = Y_b pi_b + offset) for arbitrary parameter values and motions, against
+// the standard regressor for the URDF's inertials, and at rest against the
+// static gravity predictor.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "massid/base_parameters.hpp"
+#include "massid/base_regressor.hpp"
+#include "massid/errors.hpp"
+#include "massid/motion_predictor.hpp"
+#include "massid/predictor.hpp"
+#include "massid/regressor.hpp"
+#include "test_support.hpp"
+
+namespace massid {
+namespace {
+
+// A random motion sample: joints within their generic range, rates and
+// accelerations, a tilted gravity and (when `moving`) the sensor frame's motion.
+struct Motion {
+  Eigen::VectorXd q, qd, qdd;
+  Eigen::Vector3d g;
+  FrameMotion sensor;
+};
+
+Motion random_motion(const Model& model, std::mt19937_64& rng, bool moving) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n;
+  const int nj = model.num_joints();
+  Motion m{Eigen::VectorXd(nj), Eigen::VectorXd(nj), Eigen::VectorXd(nj), {}, {}};
+  for (int j = 0; j < nj; ++j) {
+    m.q[j] = model.joints[j].generic_position(u(rng));
+    m.qd[j] = 2.0 * n(rng);
+    m.qdd[j] = 5.0 * n(rng);
+  }
+  m.g = kStandardGravity * Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  if (moving)
+    for (int k = 0; k < 3; ++k) {
+      m.sensor.omega[k] = n(rng);
+      m.sensor.omega_dot[k] = 3.0 * n(rng);
+      m.sensor.accel[k] = 3.0 * n(rng);
+    }
+  return m;
+}
+
+Wrench predict(const MotionPredictor& p, MotionPredictorData& d, const Motion& m) {
+  return predict_motion(p, d, m.q.data(), m.qd.data(), m.qdd.data(), m.g, m.sensor);
+}
+
+BaseParameters motion_base(const Model& model, bool offset, bool moving, bool fixed_gravity) {
+  BaseParameterOptions o;
+  o.layout = ParameterLayout::full();
+  o.offset = offset;
+  o.sensor_moving = moving;
+  o.fixed_gravity = fixed_gravity;
+  return find_base_parameters(model, o);
+}
+
+struct Case {
+  test::Example example;
+  bool offset, moving;
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  for (const test::Example& e : test::examples())
+    for (bool offset : {false, true})
+      for (bool moving : {false, true}) out.push_back({e, offset, moving});
+  return out;
+}
+
+class MotionPredictorTest : public ::testing::TestWithParam<Case> {};
+
+// Y_b values (+ offsets) for random values of every unknown, and for values
+// K pi of random standard parameters, at random motions.
+TEST_P(MotionPredictorTest, EqualsTheBaseRegressor) {
+  const Case& c = GetParam();
+  const Model model = load_urdf(c.example.urdf);
+  const BaseParameters base = motion_base(model, c.offset, c.moving, false);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n;
+  RegressorData reg(model, base);
+  for (int trial = 0; trial < 12; ++trial) {
+    Eigen::VectorXd values(base.num_unknowns());
+    if (trial % 2 == 0) {
+      for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
+    } else {
+      Eigen::VectorXd pi(base.layout.size(model));
+      for (int i = 0; i < pi.size(); ++i) pi[i] = n(rng);
+      values.head(base.num_mass()) = base.K * pi;
+      for (int i = base.num_mass(); i < values.size(); ++i) values[i] = n(rng);
+    }
+    const MotionPredictor pred = compile_motion_predictor(model, base, values);
+    MotionPredictorData data(pred);
+    for (int k = 0; k < 20; ++k) {
+      const Motion m = random_motion(model, rng, c.moving);
+      base_regressor(model, base, reg, m.q, m.qd, m.qdd, m.g, m.sensor);
+      const Wrench expected = reg.base * values;
+      const Wrench got = predict(pred, data, m) + pred.offset;
+      EXPECT_LE((got - expected).norm(), 1e-10 * expected.norm())
+          << "trial " << trial << " sample " << k << "\n"
+          << got.transpose() << "\n"
+          << expected.transpose();
+    }
+  }
+}
+
+// Y_b K pi = Y pi: the URDF's inertials through the base parameters give the
+// standard regressor's wrench.
+TEST_P(MotionPredictorTest, NominalParametersGiveTheStandardRegressor) {
+  const Case& c = GetParam();
+  const Model model = load_urdf(c.example.urdf);
+  const BaseParameters base = motion_base(model, c.offset, c.moving, false);
+  const Eigen::VectorXd pi = ParameterLayout::full().nominal(model);
+  Eigen::VectorXd values = Eigen::VectorXd::Zero(base.num_unknowns());
+  values.head(base.num_mass()) = base.K * pi;
+  const MotionPredictor pred = compile_motion_predictor(model, base, values);
+  MotionPredictorData data(pred);
+  KinematicsData kin(model);
+  Eigen::MatrixXd Y(6, pi.size());
+  std::mt19937_64 rng(5);
+  for (int k = 0; k < 50; ++k) {
+    const Motion m = random_motion(model, rng, c.moving);
+    forward_kinematics(model, kin, m.q, m.qd, m.qdd, m.g, m.sensor);
+    motion_regressor(model, kin, Y);
+    const Wrench expected = Y * pi;
+    EXPECT_LE((predict(pred, data, m) - expected).norm(), 1e-10 * expected.norm())
+        << "sample " << k;
+  }
+}
+
+// The batch form computes row by row exactly what single calls compute.
+TEST_P(MotionPredictorTest, BatchEqualsSingleCalls) {
+  const Case& c = GetParam();
+  const Model model = load_urdf(c.example.urdf);
+  const BaseParameters base = motion_base(model, c.offset, c.moving, false);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n;
+  Eigen::VectorXd values(base.num_unknowns());
+  for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
+  const MotionPredictor pred = compile_motion_predictor(model, base, values);
+  MotionPredictorData data(pred);
+  const int N = 37, nj = model.num_joints();
+  // qd inside a taller matrix: each input has its own stride.
+  Eigen::MatrixXd Q(N, nj), Qd_storage(N + 5, nj), Qdd(N, nj), G(N, 3), W(N, 6);
+  for (Eigen::Index i = 0; i < Q.size(); ++i) {
+    Q.data()[i] = 3 * n(rng);
+    Qdd.data()[i] = 5 * n(rng);
+  }
+  for (Eigen::Index i = 0; i < Qd_storage.size(); ++i) Qd_storage.data()[i] = 2 * n(rng);
+  const auto Qd = Qd_storage.bottomRows(N);
+  for (Eigen::Index i = 0; i < G.size(); ++i) G.data()[i] = 9.81 * n(rng);
+  predict_motion(pred, data, Q, Qd, Qdd, G, W);
+  for (int i = 0; i < N; ++i) {
+    const Eigen::VectorXd q = Q.row(i).transpose(), qd = Qd.row(i).transpose(),
+                          qdd = Qdd.row(i).transpose();
+    const Wrench single =
+        predict_motion(pred, data, q.data(), qd.data(), qdd.data(), G.row(i).transpose());
+    EXPECT_EQ(W.row(i).transpose(), single) << "row " << i;
+  }
+}
+
+// The two-lane (SSE2) path, for CPUs without AVX2 and FMA, agrees with the
+// four-lane one to round-off (fused multiply-adds round differently).
+TEST_P(MotionPredictorTest, TwoLanesAgreeWithFour) {
+  const Case& c = GetParam();
+  const Model model = load_urdf(c.example.urdf);
+  const BaseParameters base = motion_base(model, c.offset, c.moving, false);
+  std::mt19937_64 rng(13);
+  std::normal_distribution<double> n;
+  Eigen::VectorXd values(base.num_unknowns());
+  for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
+  MotionPredictor two = compile_motion_predictor(model, base, values), four = two;
+  two.four_lanes = false;
+  MotionPredictorData data2(two), data4(four);
+  for (int k = 0; k < 50; ++k) {
+    const Motion m = random_motion(model, rng, c.moving);
+    const Wrench w2 = predict(two, data2, m), w4 = predict(four, data4, m);
+    EXPECT_LE((w2 - w4).norm(), 1e-12 * w4.norm()) << "sample " << k;
+  }
+}
+
+// At rest (qd = qdd = 0, sensor at rest) the wrench is the gravity wrench:
+// the static predictor's for the same standard parameters (a base for a
+// moving sensor holds at rest too).
+TEST_P(MotionPredictorTest, AtRestEqualsTheStaticPredictor) {
+  const Case& c = GetParam();
+  const Model model = load_urdf(c.example.urdf);
+  const BaseParameters base = motion_base(model, c.offset, c.moving, false);
+  BaseParameterOptions so;
+  so.offset = c.offset;
+  const BaseParameters static_base = find_base_parameters(model, so);
+  std::mt19937_64 rng(17);
+  std::normal_distribution<double> n;
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::VectorXd pi = ParameterLayout::full().nominal(model);
+    if (trial > 0)  // random standard parameters
+      for (int i = 0; i < pi.size(); ++i) pi[i] = n(rng);
+    Eigen::VectorXd pi_first(ParameterLayout::first_moments().size(model));
+    for (int l = 0; l < model.num_links(); ++l) pi_first.segment<4>(4 * l) = pi.segment<4>(10 * l);
+    Eigen::VectorXd values = Eigen::VectorXd::Zero(base.num_unknowns());
+    Eigen::VectorXd static_values = Eigen::VectorXd::Zero(static_base.num_unknowns());
+    values.head(base.num_mass()) = base.K * pi;
+    static_values.head(static_base.num_mass()) = static_base.K * pi_first;
+    const MotionPredictor pred = compile_motion_predictor(model, base, values);
+    MotionPredictorData data(pred);
+    const Predictor rest = compile_predictor(model, static_base, static_values);
+    PredictorData rest_data(rest);
+    for (int k = 0; k < 20; ++k) {
+      Motion m = random_motion(model, rng, false);
+      m.qd.setZero();
+      m.qdd.setZero();
+      const Wrench expected = massid::predict(rest, rest_data, m.q, m.g);
+      EXPECT_LE((predict(pred, data, m) - expected).norm(), 1e-10 * expected.norm())
+          << "trial " << trial << " sample " << k;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, MotionPredictorTest, ::testing::ValuesIn(cases()),
+                         [](const auto& info) {
+                           return info.param.example.name + (info.param.offset ? "_offset" : "") +
+                                  (info.param.moving ? "_moving" : "_rest");
+                         });
+
+// A level platform with offsets: constants join the offsets and the total
+// mass is not identifiable (total_mass -1, M_t = 0 in the representatives).
+TEST(MotionPredictor, FixedGravityWithOffsets) {
+  int without_total_mass = 0;
+  for (const test::Example& e : test::examples()) {
+    const Model model = load_urdf(e.urdf);
+    const BaseParameters base = motion_base(model, true, false, true);
+    without_total_mass += base.total_mass < 0;
+    std::mt19937_64 rng(19);
+    std::normal_distribution<double> n;
+    RegressorData reg(model, base);
+    Eigen::VectorXd values(base.num_unknowns());
+    for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
+    const MotionPredictor pred = compile_motion_predictor(model, base, values);
+    MotionPredictorData data(pred);
+    for (int k = 0; k < 20; ++k) {
+      Motion m = random_motion(model, rng, false);
+      m.g = base.gravity;
+      base_regressor(model, base, reg, m.q, m.qd, m.qdd, m.g, m.sensor);
+      const Wrench expected = reg.base * values;
+      EXPECT_LE((predict(pred, data, m) + pred.offset - expected).norm(), 1e-10 * expected.norm())
+          << e.name << " sample " << k;
+    }
+  }
+  EXPECT_EQ(without_total_mass, static_cast<int>(test::examples().size()));
+}
+
+// Every standard parameter as its own "base parameter" (column c of Y' for
+// c = 0 .. 10 L - 1, M_t first): the representatives are then all of pi, so
+// every link's mass, first moment and inertia is folded into its body (links
+// behind fixed joints at an offset and rotated) and must give Y pi.
+TEST(MotionPredictor, FoldsEveryStandardParameterIntoItsBody) {
+  for (const test::Example& e : test::examples()) {
+    const Model model = load_urdf(e.urdf);
+    BaseParameters all;
+    all.layout = ParameterLayout::full();
+    const int n = all.layout.size(model);
+    all.params.resize(static_cast<std::size_t>(n));
+    for (int c = 0; c < n; ++c) all.column.push_back(c);
+    all.K = Eigen::MatrixXd::Identity(n, n);
+    std::mt19937_64 rng(23);
+    std::normal_distribution<double> normal;
+    Eigen::VectorXd pi(n);
+    for (int i = 0; i < n; ++i) pi[i] = normal(rng);
+    Eigen::VectorXd values = pi;  // pi' = pi with M_t for m_sensor
+    for (int l = 1; l < model.num_links(); ++l) values[kMass] += pi[all.layout.index(l, kMass)];
+    const MotionPredictor pred = compile_motion_predictor(model, all, values);
+    MotionPredictorData data(pred);
+    KinematicsData kin(model);
+    Eigen::MatrixXd Y(6, n);
+    for (int k = 0; k < 20; ++k) {
+      const Motion m = random_motion(model, rng, true);
+      forward_kinematics(model, kin, m.q, m.qd, m.qdd, m.g, m.sensor);
+      motion_regressor(model, kin, Y);
+      const Wrench expected = Y * pi;
+      EXPECT_LE((predict(pred, data, m) - expected).norm(), 1e-10 * expected.norm())
+          << e.name << " sample " << k;
+    }
+  }
+}
+
+TEST(MotionPredictor, RejectsStaticBasesAndWrongSizes) {
+  const Model model = load_urdf(test::examples()[0].urdf);
+  const BaseParameters rest = find_base_parameters(model);
+  EXPECT_THROW(compile_motion_predictor(model, rest, Eigen::VectorXd::Ones(rest.num_unknowns())),
+               InputError);
+  const BaseParameters base = motion_base(model, false, false, false);
+  EXPECT_THROW(
+      compile_motion_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns() + 1)),
+      InputError);
+}
+
+}  // namespace
+}  // namespace massid
