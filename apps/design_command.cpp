@@ -76,6 +76,28 @@ namespace {
 
 int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterOptions& bo_in) {
   if (c.output.empty()) throw InputError("design --dynamic: -o TRAJ.csv is required");
+  for (const char* opt : {"--tilt-max", "--tilts", "--tilt-groups", "--min-height", "--criterion",
+                          "--poses", "--evaluate"})
+    if (c.app->count(opt))
+      throw InputError(fmt::format(
+          "design --dynamic: {} is not supported with --dynamic in this version (the trajectory "
+          "is designed for one gravity, --gravity, within the joints' limits)",
+          opt));
+  for (const std::string& l : c.limits) {  // narrow a joint's range
+    const auto [joint, range] = parse_assignment(l, "--limits");
+    const size_t colon = range.find(':');
+    const int j = model.find_joint(joint);
+    if (colon == std::string::npos)
+      throw InputError(fmt::format("--limits: '{}' should read JOINT=LO:HI", l));
+    if (j < 0) throw InputError(fmt::format("--limits: no movable joint '{}'", joint));
+    const double lo = parse_number(range.substr(0, colon), "--limits " + joint),
+                 hi = parse_number(range.substr(colon + 1), "--limits " + joint);
+    if (!(lo < hi))
+      throw InputError(fmt::format("--limits {}: empty range [{}, {}]", joint, lo, hi));
+    model.joints[j].lower = model.joints[j].limited ? std::max(lo, model.joints[j].lower) : lo;
+    model.joints[j].upper = model.joints[j].limited ? std::min(hi, model.joints[j].upper) : hi;
+    model.joints[j].limited = true;
+  }
   ExcitationOptions o;
   o.harmonics = c.harmonics;
   o.period = c.period;

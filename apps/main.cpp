@@ -19,6 +19,7 @@
 #include "massid/estimation.hpp"
 #include "massid/identify_file.hpp"
 #include "massid/motion_data.hpp"
+#include "massid/motion_predictor.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
 #include "massid/report.hpp"
@@ -83,6 +84,14 @@ struct MotionFlags {
   std::string root_gravity;         // --root-gravity gx,gy,gz
   std::string gravity = "varying";  // model --dynamic: --gravity level|varying
   bool sensor_moving = false;       // model --dynamic --moving-sensor
+  // The same options for `python -m massid.report` (identify: with --dynamic).
+  std::vector<std::string> report_args(bool identify) const {
+    std::vector<std::string> a;
+    if (identify && dynamic) a.push_back("--dynamic");
+    if (cutoff > 0) a.insert(a.end(), {"--cutoff", format_number(cutoff)});
+    if (!root_gravity.empty()) a.insert(a.end(), {"--root-gravity", root_gravity});
+    return a;
+  }
   MotionDataOptions data() const {
     MotionDataOptions o;
     o.filter.cutoff = cutoff;
@@ -153,7 +162,8 @@ bool report_setup(const std::vector<SetupFinding>& findings) {
 // The arguments of `python -m massid.report identify` that repeat this fit.
 std::vector<std::string> identify_report_args(const Common& c, const std::string& data_path,
                                               const std::string& report, bool offset,
-                                              const IdentifyOptions& opts, bool checks) {
+                                              const IdentifyOptions& opts, bool checks,
+                                              const MotionFlags& motion) {
   std::vector<std::string> a{"identify", c.urdf, data_path, "-o", report};
   if (!c.sensor.empty()) a.insert(a.end(), {"--sensor", c.sensor});
   if (offset) a.push_back("--offset");
@@ -164,6 +174,7 @@ std::vector<std::string> identify_report_args(const Common& c, const std::string
   if (opts.sigma_force) a.insert(a.end(), {"--sigma-force", format_number(*opts.sigma_force)});
   if (opts.sigma_moment) a.insert(a.end(), {"--sigma-moment", format_number(*opts.sigma_moment)});
   if (!checks) a.push_back("--no-checks");
+  for (const std::string& m : motion.report_args(true)) a.push_back(m);
   return a;
 }
 
@@ -209,7 +220,7 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   std::cout << identify_report(model, base, summary, data_path);
   std::cout << "wrote " << out << "\n";
   if (!report.empty())
-    return run_report(identify_report_args(c, data_path, report, offset, opts, checks));
+    return run_report(identify_report_args(c, data_path, report, offset, opts, checks, motion));
   return 0;
 }
 
@@ -238,13 +249,12 @@ int run_predict(const std::string& urdf, const std::string& params_path,
       table = keep_lines(std::move(table), samples.line);
     }
     const BaseParameters base = find_base_parameters(model, base_parameter_options(params));
-    const Eigen::VectorXd values = values_in_basis(params, model, base);
-    RegressorData rd(model, base);
-    P.resize(samples.size(), 6);
-    for (int i = 0; i < samples.size(); ++i) {
-      base_regressor(model, base, rd, samples, i);
-      P.row(i) = (rd.base.leftCols(base.num_mass()) * values.head(base.num_mass())).transpose();
-    }
+    // The full wrench, offsets included as the static predictor does (with
+    // level data they hold the weight the offsets absorbed).
+    const MotionPredictor predictor =
+        compile_motion_predictor(model, base, values_in_basis(params, model, base));
+    MotionPredictorData data(predictor);
+    P = predict_samples(predictor, data, samples);
   } else {
     const Predictor predictor = compile_predictor(model, params);
     PredictorData data(predictor);
@@ -269,7 +279,11 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   if (samples.has_wrench())
     std::cout << prediction_report(prediction_errors(samples.wrench, P), samples.size());
   if (!out.empty()) std::cout << "wrote " << out << "\n";
-  if (!report.empty()) return run_report({"predict", urdf, params_path, data_path, "-o", report});
+  if (!report.empty()) {
+    std::vector<std::string> a{"predict", urdf, params_path, data_path, "-o", report};
+    for (const std::string& m : motion.report_args(false)) a.push_back(m);
+    return run_report(a);
+  }
   return 0;
 }
 

@@ -63,10 +63,10 @@ void base_regressor(const Model& model, const BaseParameters& base, RegressorDat
   }
   const Eigen::Index nj = s.q.cols();
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(nj);
+  const bool moving = nj > 0 && s.qd.cols() == nj && s.qdd.cols() == nj;
   base_regressor(model, base, data, s.q.row(i).transpose(),
-                 s.qd.cols() == nj ? Eigen::VectorXd(s.qd.row(i).transpose()) : zero,
-                 s.qdd.cols() == nj ? Eigen::VectorXd(s.qdd.row(i).transpose()) : zero, g,
-                 sensor_motion(s, i));
+                 moving ? Eigen::VectorXd(s.qd.row(i).transpose()) : zero,
+                 moving ? Eigen::VectorXd(s.qdd.row(i).transpose()) : zero, g, sensor_motion(s, i));
 }
 
 }  // namespace massid

@@ -267,6 +267,7 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   IdentifySummary out;
   out.samples = N;
   out.gravity_from_force = samples.gravity_from_force;
+  out.gravity_from_upstream = samples.gravity_from_upstream;
   out.sigma_estimated = !options.sigma_force || !options.sigma_moment;
   out.robust = options.robust;
   out.drift = options.drift;

@@ -37,11 +37,11 @@ Eigen::MatrixXd perturbed_rows(const Model& model, const BaseParameters& base,
     if (base.motion()) {
       // Moving a joint: at the sample's velocity and acceleration, or random ones.
       const Eigen::Index nj = q.size();
-      Eigen::VectorXd qd = samples.qd.cols() == nj ? Eigen::VectorXd(samples.qd.row(s).transpose())
-                                                   : Eigen::VectorXd::Zero(nj);
-      Eigen::VectorXd qdd = samples.qdd.cols() == nj
-                                ? Eigen::VectorXd(samples.qdd.row(s).transpose())
-                                : Eigen::VectorXd::Zero(nj);
+      const bool moving = nj > 0 && samples.qd.cols() == nj && samples.qdd.cols() == nj;
+      Eigen::VectorXd qd =
+          moving ? Eigen::VectorXd(samples.qd.row(s).transpose()) : Eigen::VectorXd::Zero(nj);
+      Eigen::VectorXd qdd =
+          moving ? Eigen::VectorXd(samples.qdd.row(s).transpose()) : Eigen::VectorXd::Zero(nj);
       for (int j = 0; j < model.num_joints(); ++j)
         if (random_joint == kAllJoints || j == random_joint) {
           qd[j] = 2.0 * normal(rng);

@@ -380,15 +380,16 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   const bool derive_q = samples.qd.cols() == 0;
   const bool derive_up = samples.qd_upstream.cols() == 0;
   std::vector<Group> derived, smoothed;
-  shape(out.q, samples.q);
+  // q (and qd, qdd) define the number of samples: kept rows even without joints.
+  out.q.resize(kept, samples.q.cols());
   shape(out.q_upstream, samples.q_upstream);
   if (derive_q && samples.q.cols() > 0) {
     out.qd.resize(kept, samples.q.cols());
     out.qdd.resize(kept, samples.q.cols());
     derived.push_back({&samples.q, &out.q, &out.qd, &out.qdd});
   } else {
-    shape(out.qd, samples.qd);
-    shape(out.qdd, samples.qdd);
+    out.qd.resize(kept, samples.qd.cols());
+    out.qdd.resize(kept, samples.qdd.cols());
     smoothed.push_back({&samples.q, &out.q});
     smoothed.push_back({&samples.qd, &out.qd});
     smoothed.push_back({&samples.qdd, &out.qdd});

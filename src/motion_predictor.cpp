@@ -1,6 +1,7 @@
 #include "massid/motion_predictor.hpp"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -29,6 +30,9 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   return S;
 }
 
+// A body whose joint axis is no axis of its parent's frame (header).
+constexpr int kGeneralAxis = 3;
+
 // Where body k's components start in an array of C per body (header).
 constexpr int body_slot(int k, int C) { return (k >> 2) * 4 * C + (k & 3); }
 
@@ -36,6 +40,9 @@ constexpr int body_slot(int k, int C) { return (k >> 2) * 4 * C + (k & 3); }
 struct Body {
   int parent = -1, joint = 0;
   JointType type = JointType::Fixed;
+  int axis = kGeneralAxis;  // 0, 1, 2: the joint axis is sign * e_axis of the parent's frame
+  double sign = 1.0;
+  double angle = 0.0;  // the body frame at q = 0: the parent's, turned about e_axis by this
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // A_k
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();   // t_k
   double mass = 0.0;
@@ -43,6 +50,28 @@ struct Body {
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about the body origin
   std::vector<int> children;
 };
+
+// For a link l whose body turns about axis m of its parent's frame (R: l's
+// frame in that orientation): the angle about e_m that makes the axis of a
+// movable link c attached to l (through fixed links) an axis of the turned
+// frame, for the first such c whose axis is perpendicular to e_m; else 0.
+double aligning_angle(const Model& model, int l, const Eigen::Matrix3d& R, int m) {
+  const int i = (m + 1) % 3, j = (m + 2) % 3;
+  for (int c = l + 1; c < model.num_links(); ++c) {
+    const Link& child = model.links[c];
+    if (child.type == JointType::Fixed) continue;
+    Eigen::Matrix3d in_l = child.origin.linear();  // c's joint frame in l's frame
+    int x = child.parent;
+    while (x > l && model.links[x].type == JointType::Fixed) {
+      in_l = model.links[x].origin.linear() * in_l;
+      x = model.links[x].parent;
+    }
+    if (x != l) continue;
+    const Eigen::Vector3d v = R * in_l * child.axis.normalized();
+    if (std::abs(v[m]) < 1e-13) return std::atan2(v[j], v[i]);
+  }
+  return 0.0;
+}
 
 std::vector<int> depth_first(const std::vector<Body>& bodies) {
   std::vector<int> order, stack{0};
@@ -85,17 +114,35 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
       in_body[l] = to_joint;
       continue;
     }
-    const Eigen::Matrix3d C = axis_to_z(link.axis);
     Body b;
     b.parent = body_of[link.parent];
     b.joint = link.joint_index;
     b.type = link.type;
-    b.rotation = to_joint.linear() * C;
     b.translation = to_joint.translation();
+    // The axis in the parent body's frame: along one of its axes, the body
+    // keeps the parent's orientation at q = 0 and turns about that axis.
+    const Eigen::Vector3d s = to_joint.linear() * link.axis.normalized();
+    int m = 0;
+    s.cwiseAbs().maxCoeff(&m);
+    const double sign = s[m] < 0.0 ? -1.0 : 1.0;
+    if ((s - sign * Eigen::Vector3d::Unit(m)).norm() < 1e-12) {
+      b.axis = m;
+      b.sign = sign;
+      b.rotation = axis_to_z(Eigen::Vector3d::Unit(m));  // only its z column (e_m) is used
+      // The body frame may be turned about e_m by a constant angle: chosen so
+      // that a child's axis is an axis of this body's frame too (a mount
+      // yawed by 45 degrees, say), added to the joint angle.
+      b.angle = aligning_angle(model, l, to_joint.linear(), m);
+      in_body[l].linear() = Eigen::AngleAxisd(-b.angle, Eigen::Vector3d::Unit(m)) *
+                            to_joint.linear();  // link frame in the body frame
+    } else {
+      const Eigen::Matrix3d C = axis_to_z(link.axis);
+      b.rotation = to_joint.linear() * C;
+      in_body[l].linear() = C.transpose();  // link frame in the axis-aligned body frame
+    }
     body_of[l] = static_cast<int>(bodies.size());
     bodies[b.parent].children.push_back(body_of[l]);
     bodies.push_back(b);
-    in_body[l].linear() = C.transpose();  // link frame in the axis-aligned body frame
   }
 
   // Representatives: pi'_c = value, back to standard coordinates (header).
@@ -132,8 +179,11 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
   pred.num_bodies = nb;
   pred.lanes = L;
   pred.parent.assign(nb, -1);
+  pred.axis.assign(nb, kGeneralAxis);
+  pred.general.assign(L / 4, 0);
   pred.joint.assign(L, 0);
   pred.revolute.assign(L, 0.0);
+  pred.angle.assign(L, 0.0);
   pred.prismatic.assign(L, 0.0);
   pred.axes.assign(9 * L, 0.0);
   pred.origin.assign(3 * L, 0.0);
@@ -144,9 +194,12 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
     const Body& b = bodies[order[k]];
     if (k > 0) {
       pred.parent[k] = number[b.parent];
+      pred.axis[k] = b.axis;
+      if (b.axis == kGeneralAxis) pred.general[k / 4] = 1;
       pred.joint[k] = b.joint;
-      pred.revolute[k] = b.type == JointType::Revolute ? 1.0 : 0.0;
-      pred.prismatic[k] = b.type == JointType::Prismatic ? 1.0 : 0.0;
+      pred.revolute[k] = b.type == JointType::Revolute ? b.sign : 0.0;
+      pred.prismatic[k] = b.type == JointType::Prismatic ? b.sign : 0.0;
+      pred.angle[k] = b.angle;
       for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) pred.axes[body_slot(k, 9) + 4 * (3 * i + j)] = b.rotation(i, j);
         pred.origin[body_slot(k, 3) + 4 * i] = b.translation[i];
@@ -164,7 +217,8 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
 }
 
 MotionPredictorData::MotionPredictorData(const MotionPredictor& p)
-    : rotation(p.axes),
+    : sincos(2 * p.lanes, 0.0),
+      rotation(p.axes),
       translation(p.origin),
       joint_rates(4 * p.lanes, 0.0),
       motion(9 * p.lanes, 0.0),
@@ -203,6 +257,48 @@ template <class T>
 [[gnu::always_inline]] inline Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
+template <int I>
+[[gnu::always_inline]] inline double& at(Vec3<double>& v) {
+  if constexpr (I == 0) return v.x;
+  if constexpr (I == 1) return v.y;
+  if constexpr (I == 2) return v.z;
+}
+template <int I>
+[[gnu::always_inline]] inline double get(const Vec3<double>& v) {
+  if constexpr (I == 0) return v.x;
+  if constexpr (I == 1) return v.y;
+  if constexpr (I == 2) return v.z;
+}
+
+// Rotations Rot_M(theta) about axis M (cos c, sin s) of the parent's frame:
+// Rot_M^T v (into the body) and Rot_M v (out of it); the axis' component stays.
+template <int M>
+[[gnu::always_inline]] inline Vec3<double> turn_back(double c, double s, Vec3<double> v) {
+  constexpr int i = (M + 1) % 3, j = (M + 2) % 3;
+  const double vi = at<i>(v), vj = at<j>(v);
+  at<i>(v) = c * vi + s * vj;
+  at<j>(v) = c * vj - s * vi;
+  return v;
+}
+template <int M>
+[[gnu::always_inline]] inline Vec3<double> turn(double c, double s, Vec3<double> v) {
+  constexpr int i = (M + 1) % 3, j = (M + 2) % 3;
+  const double vi = at<i>(v), vj = at<j>(v);
+  at<i>(v) = c * vi - s * vj;
+  at<j>(v) = c * vj + s * vi;
+  return v;
+}
+// v + (u x e_M) x_cross + e_M x_axis.
+template <int M>
+[[gnu::always_inline]] inline Vec3<double> add_axis(Vec3<double> v, const Vec3<double>& u,
+                                                    double x_cross, double x_axis) {
+  constexpr int i = (M + 1) % 3, j = (M + 2) % 3;  // u x e_M = (u_j, -u_i) at (i, j)
+  at<i>(v) += get<j>(u) * x_cross;
+  at<j>(v) -= get<i>(u) * x_cross;
+  at<M>(v) += x_axis;
+  return v;
+}
+
 // Components c, c + 1, c + 2 from a body's (or a block's) slot: stride 4.
 template <class T>
 [[gnu::always_inline]] inline Vec3<T> load3(const double* p, int c) {
@@ -252,7 +348,7 @@ template <class V>
     const V qk = gather<V>(q, joint, stride[0]), qdk = gather<V>(qd, joint, stride[1]);
     const V qddk = gather<V>(qdd, joint, stride[2]);
     const V revolute = load<V>(p.revolute.data() + k), prismatic = load<V>(p.prismatic.data() + k);
-    const V theta = revolute * qk, slide = prismatic * qk;
+    const V theta = revolute * qk + load<V>(p.angle.data() + k), slide = prismatic * qk;
     double* rates = d.joint_rates.data() + body_slot(k, 4);
     store(rates, revolute * qdk);
     store(rates + 4, revolute * qddk);
@@ -260,18 +356,60 @@ template <class V>
     store(rates + 12, prismatic * qddk);
     V s, c;
     detail::sincos_lanes(theta, s, c);
+    store(d.sincos.data() + body_slot(k, 2), s);
+    store(d.sincos.data() + body_slot(k, 2) + 4, c);
     const double* A = p.axes.data() + body_slot(k, 9);
     double* B = d.rotation.data() + body_slot(k, 9);
     const double* t0 = p.origin.data() + body_slot(k, 3);
     double* r = d.translation.data() + body_slot(k, 3);
+    for (int i = 0; i < 3; ++i)
+      store(r + 4 * i, load<V>(t0 + 4 * i) + slide * load<V>(A + 4 * (3 * i + 2)));
+    if (!p.general[k / 4]) continue;  // only bodies on the general path use B_k
     for (int i = 0; i < 3; ++i) {
       const V a0 = load<V>(A + 4 * (3 * i)), a1 = load<V>(A + 4 * (3 * i + 1));
-      const V a2 = load<V>(A + 4 * (3 * i + 2));
       store(B + 4 * (3 * i), a0 * c + a1 * s);
       store(B + 4 * (3 * i + 1), a1 * c - a0 * s);
-      store(r + 4 * i, load<V>(t0 + 4 * i) + slide * a2);
     }
   }
+}
+
+// One body of the forward pass (header) from its parent's w, dw and u (its
+// frame), in place. M: the body turns about axis M of its parent's frame;
+// kGeneralAxis: by B_k, about its own z axis. j: the joint rates.
+template <int M>
+[[gnu::always_inline]] inline void forward_step(const double* B, const double* sc, const double* j,
+                                                const Vec3<double>& u, Vec3<double>& w,
+                                                Vec3<double>& dw, Vec3<double>& a) {
+  constexpr int axis = M == kGeneralAxis ? 2 : M;
+  const auto back = [&](const Vec3<double>& v) {
+    if constexpr (M == kGeneralAxis)
+      return rotate_back(B, v);
+    else
+      return turn_back<M>(sc[4], sc[0], v);
+  };
+  const Vec3<double> wr = back(w), dwr = back(dw), ar = back(u);
+  w = wr;
+  at<axis>(w) += j[0];                       // z qd (revolute)
+  dw = add_axis<axis>(dwr, wr, j[0], j[4]);  // z qdd + w' x z qd (revolute)
+  a = add_axis<axis>(ar, w, j[8], j[12]);    // z qdd + 2 w x z qd (prismatic)
+}
+
+// One body of the backward pass: its share (F, N) in its parent's frame,
+// from its own wrench and its carried child's share, in place.
+template <int M>
+[[gnu::always_inline]] inline void backward_step(const double* B, const double* sc,
+                                                 const Vec3<double>& r, const double* own,
+                                                 Vec3<double>& F, Vec3<double>& N) {
+  const auto out = [&](const Vec3<double>& v) {
+    if constexpr (M == kGeneralAxis)
+      return rotate(B, v);
+    else
+      return turn<M>(sc[4], sc[0], v);
+  };
+  const Vec3<double> bf = out(load3<double>(own, 0) + F);
+  const Vec3<double> bn = out(load3<double>(own, 3) + N);
+  F = bf;
+  N = bn + cross(r, bf);
 }
 
 // Forward pass, one body after the other (header). Along a serial run the
@@ -292,15 +430,24 @@ template <class V>
       const double* m = motion + body_slot(pa, 9);
       w = load3<double>(m, 0), dw = load3<double>(m, 3), a = load3<double>(m, 6);
     }
-    const double* B = d.rotation.data() + body_slot(k, 9);
     const Vec3<double> r = load3<double>(d.translation.data() + body_slot(k, 3), 0);
     const Vec3<double> u = a + (cross(dw, r) + cross(w, cross(w, r)));
-    const Vec3<double> wr = rotate_back(B, w), dwr = rotate_back(B, dw), ar = rotate_back(B, u);
+    const double* B = d.rotation.data() + body_slot(k, 9);
+    const double* sc = d.sincos.data() + body_slot(k, 2);
     const double* j = d.joint_rates.data() + body_slot(k, 4);
-    const double spin = j[0], spin_acc = j[4], slide = j[8], slide_acc = j[12];
-    w = {wr.x, wr.y, wr.z + spin};
-    dw = {dwr.x + wr.y * spin, dwr.y - wr.x * spin, dwr.z + spin_acc};
-    a = {ar.x + w.y * slide, ar.y - w.x * slide, ar.z + slide_acc};
+    switch (p.axis[k]) {
+      case 0:
+        forward_step<0>(B, sc, j, u, w, dw, a);
+        break;
+      case 1:
+        forward_step<1>(B, sc, j, u, w, dw, a);
+        break;
+      case 2:
+        forward_step<2>(B, sc, j, u, w, dw, a);
+        break;
+      default:
+        forward_step<kGeneralAxis>(B, sc, j, u, w, dw, a);
+    }
     double* m = motion + body_slot(k, 9);
     store3(m, 0, w);
     store3(m, 3, dw);
@@ -342,11 +489,21 @@ template <class V>
   for (int k = p.num_bodies - 1; k >= 1; --k) {
     const double* own = wrench + body_slot(k, 6);
     const double* B = d.rotation.data() + body_slot(k, 9);
+    const double* sc = d.sincos.data() + body_slot(k, 2);
     const Vec3<double> r = load3<double>(d.translation.data() + body_slot(k, 3), 0);
-    const Vec3<double> bf = rotate(B, load3<double>(own, 0) + F);
-    const Vec3<double> bn = rotate(B, load3<double>(own, 3) + N);
-    F = bf;
-    N = bn + cross(r, bf);
+    switch (p.axis[k]) {
+      case 0:
+        backward_step<0>(B, sc, r, own, F, N);
+        break;
+      case 1:
+        backward_step<1>(B, sc, r, own, F, N);
+        break;
+      case 2:
+        backward_step<2>(B, sc, r, own, F, N);
+        break;
+      default:
+        backward_step<kGeneralAxis>(B, sc, r, own, F, N);
+    }
     const int pa = p.parent[k];
     if (pa != k - 1) {  // a branch joins its parent
       double* to = wrench + body_slot(pa, 6);

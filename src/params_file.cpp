@@ -46,7 +46,9 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     j["held_joints"] = held;
   }
   if (s) {
-    j["gravity_from"] = s->gravity_from_force ? "force" : "columns";
+    j["gravity_from"] = s->gravity_from_force      ? "force"
+                        : s->gravity_from_upstream ? "upstream joints"
+                                                   : "columns";
     j["samples"] = s->samples;
     if (base.total_mass >= 0) j["total_mass"] = s->value[base.total_mass];
   }

@@ -131,10 +131,13 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
 
 std::string identify_report(const Model& model, const BaseParameters& base,
                             const IdentifySummary& s, const std::string& data_source) {
-  std::string out = fmt::format(
-      "identified from {} samples of {} (gravity from {}), sensor link '{}'\n", s.samples,
-      data_source, s.gravity_from_force ? "the measured force direction, eq. 37" : "gx,gy,gz",
-      model.sensor_link());
+  std::string out =
+      fmt::format("identified from {} samples of {} (gravity from {}), sensor link '{}'\n",
+                  s.samples, data_source,
+                  s.gravity_from_force      ? "the measured force direction, eq. 37"
+                  : s.gravity_from_upstream ? "the joints above the sensor link"
+                                            : "gx,gy,gz",
+                  model.sensor_link());
   const int uw = base.motion() ? 6 : 5;  // "kg m^2"
   out += fmt::format("  {:<10} {:>14} {:>12} {:<{}} {}\n", "name", "value", "std", "unit", uw,
                      "expression");

@@ -15,7 +15,8 @@ Eigen::MatrixXd simulate_wrenches(const Model& model, const Samples& plan,
       options.dynamic ? ParameterLayout::full() : ParameterLayout::first_moments();
   const Eigen::VectorXd pi = layout.nominal(model);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_joints());
-  const bool velocities = plan.qd.cols() == model.num_joints() && plan.qd.rows() == plan.size();
+  const bool velocities = model.num_joints() > 0 && plan.qd.cols() == model.num_joints() &&
+                          plan.qd.rows() == plan.size();
   KinematicsData kin(model);
   Eigen::MatrixXd Y(6, pi.size());
   const int repeat = std::max(1, options.repeat);

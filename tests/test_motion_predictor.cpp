@@ -256,32 +256,85 @@ TEST(MotionPredictor, FixedGravityWithOffsets) {
 // c = 0 .. 10 L - 1, M_t first): the representatives are then all of pi, so
 // every link's mass, first moment and inertia is folded into its body (links
 // behind fixed joints at an offset and rotated) and must give Y pi.
+void expect_every_standard_parameter_folds(const Model& model, const std::string& name) {
+  BaseParameters all;
+  all.layout = ParameterLayout::full();
+  const int n = all.layout.size(model);
+  all.params.resize(static_cast<std::size_t>(n));
+  for (int c = 0; c < n; ++c) all.column.push_back(c);
+  all.K = Eigen::MatrixXd::Identity(n, n);
+  std::mt19937_64 rng(23);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd pi(n);
+  for (int i = 0; i < n; ++i) pi[i] = normal(rng);
+  Eigen::VectorXd values = pi;  // pi' = pi with M_t for m_sensor
+  for (int l = 1; l < model.num_links(); ++l) values[kMass] += pi[all.layout.index(l, kMass)];
+  const MotionPredictor pred = compile_motion_predictor(model, all, values);
+  MotionPredictorData data(pred);
+  KinematicsData kin(model);
+  Eigen::MatrixXd Y(6, n);
+  for (int k = 0; k < 20; ++k) {
+    const Motion m = random_motion(model, rng, true);
+    forward_kinematics(model, kin, m.q, m.qd, m.qdd, m.g, m.sensor);
+    motion_regressor(model, kin, Y);
+    const Wrench expected = Y * pi;
+    EXPECT_LE((predict(pred, data, m) - expected).norm(), 1e-10 * expected.norm())
+        << name << " sample " << k;
+  }
+}
+
 TEST(MotionPredictor, FoldsEveryStandardParameterIntoItsBody) {
-  for (const test::Example& e : test::examples()) {
-    const Model model = load_urdf(e.urdf);
-    BaseParameters all;
-    all.layout = ParameterLayout::full();
-    const int n = all.layout.size(model);
-    all.params.resize(static_cast<std::size_t>(n));
-    for (int c = 0; c < n; ++c) all.column.push_back(c);
-    all.K = Eigen::MatrixXd::Identity(n, n);
-    std::mt19937_64 rng(23);
-    std::normal_distribution<double> normal;
-    Eigen::VectorXd pi(n);
-    for (int i = 0; i < n; ++i) pi[i] = normal(rng);
-    Eigen::VectorXd values = pi;  // pi' = pi with M_t for m_sensor
-    for (int l = 1; l < model.num_links(); ++l) values[kMass] += pi[all.layout.index(l, kMass)];
-    const MotionPredictor pred = compile_motion_predictor(model, all, values);
+  for (const test::Example& e : test::examples())
+    expect_every_standard_parameter_folds(load_urdf(e.urdf), e.name);
+}
+
+// Joint axes along negative axes of the parent's frame, a mount yawed by 30
+// degrees (the first body's frame is turned so that its child's axis is an
+// axis of it), a prismatic joint along -y behind a rolled frame, a skew axis
+// (the general path) and a branch.
+TEST(MotionPredictor, AxisSignsYawedMountsAndSkewAxes) {
+  const std::string inertial =
+      "<inertial><origin xyz=\"0.03 -0.02 0.05\"/><mass value=\"1.5\"/><inertia ixx=\"0.02\" "
+      "ixy=\"0.001\" ixz=\"-0.002\" iyy=\"0.03\" iyz=\"0.003\" izz=\"0.01\"/></inertial>";
+  const auto link = [&](const std::string& name) {
+    return "<link name=\"" + name + "\">" + inertial + "</link>";
+  };
+  const auto joint = [](const std::string& name, const std::string& type, const std::string& parent,
+                        const std::string& child, const std::string& xyz, const std::string& rpy,
+                        const std::string& axis) {
+    return "<joint name=\"" + name + "\" type=\"" + type + "\"><parent link=\"" + parent +
+           "\"/><child link=\"" + child + "\"/><origin xyz=\"" + xyz + "\" rpy=\"" + rpy +
+           "\"/><axis xyz=\"" + axis +
+           "\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" "
+           "velocity=\"1\"/></joint>";
+  };
+  const std::string xml =
+      "<robot name=\"signs\">" + link("sensor") + link("base") + link("l1") + link("l2") +
+      link("l3") + link("l4") + link("l5") +
+      joint("mount", "fixed", "sensor", "base", "0 0 0.02", "0 0 0.5235987755982988", "1 0 0") +
+      joint("j1", "revolute", "base", "l1", "0 0 0.1", "0 0 0", "0 0 -1") +
+      joint("j2", "prismatic", "l1", "l2", "0.1 0.05 0.2", "1.5707963267948966 0 0", "0 -1 0") +
+      joint("j3", "continuous", "l2", "l3", "0 0.1 0.3", "0 0 1.5707963267948966", "1 0 0") +
+      joint("j4", "revolute", "l3", "l4", "0.2 0 0", "0.1 0.2 0.3", "0.6 0 0.8") +
+      joint("j5", "revolute", "base", "l5", "0 -0.2 0.1", "0 0 0", "0 -1 0") + "</robot>";
+  const Model model = load_urdf_string(xml);
+  ASSERT_EQ(model.num_joints(), 5);
+  expect_every_standard_parameter_folds(model, "signs");
+  for (bool offset : {false, true}) {
+    const BaseParameters base = motion_base(model, offset, true, false);
+    std::mt19937_64 rng(29);
+    std::normal_distribution<double> n;
+    RegressorData reg(model, base);
+    Eigen::VectorXd values(base.num_unknowns());
+    for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
+    const MotionPredictor pred = compile_motion_predictor(model, base, values);
     MotionPredictorData data(pred);
-    KinematicsData kin(model);
-    Eigen::MatrixXd Y(6, n);
     for (int k = 0; k < 20; ++k) {
       const Motion m = random_motion(model, rng, true);
-      forward_kinematics(model, kin, m.q, m.qd, m.qdd, m.g, m.sensor);
-      motion_regressor(model, kin, Y);
-      const Wrench expected = Y * pi;
-      EXPECT_LE((predict(pred, data, m) - expected).norm(), 1e-10 * expected.norm())
-          << e.name << " sample " << k;
+      base_regressor(model, base, reg, m.q, m.qd, m.qdd, m.g, m.sensor);
+      const Wrench expected = reg.base * values;
+      EXPECT_LE((predict(pred, data, m) + pred.offset - expected).norm(), 1e-10 * expected.norm())
+          << "sample " << k;
     }
   }
 }

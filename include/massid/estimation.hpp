@@ -62,6 +62,7 @@ struct IdentifySummary {
   double chi2_per_dof = 1.0;                 // weighted residual sum / (6N - p)
   int samples = 0;
   bool gravity_from_force = false;
+  bool gravity_from_upstream = false;  // gravity from the joints above the sensor link
   // Outlier test (always run): samples with d above outlier_threshold. With
   // options.robust they are rejected (not used in the estimate); else reported.
   std::vector<Outlier> outliers;

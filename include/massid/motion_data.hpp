@@ -13,6 +13,7 @@
 #include "massid/base_parameters.hpp"
 #include "massid/model.hpp"
 #include "massid/motion_filter.hpp"
+#include "massid/motion_predictor.hpp"
 #include "massid/samples.hpp"
 
 namespace massid {
@@ -41,5 +42,12 @@ Samples read_motion_samples(const Model& model, const std::string& path, WrenchC
 // when every sample has the same one (a level platform); a moving sensor
 // frame when the samples' sensor motion is not zero.
 BaseParameterOptions motion_base_options(const Samples& samples, bool offset);
+
+// [N x 6] the wrench predicted at every sample (weight and motion, the
+// sensor's own motion where the samples have it) plus the identified offsets,
+// as the static predictor includes them (with level data they hold what the
+// offsets absorbed, the weight among it).
+Eigen::MatrixXd predict_samples(const MotionPredictor& predictor, MotionPredictorData& data,
+                                const Samples& samples);
 
 }  // namespace massid

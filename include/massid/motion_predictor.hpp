@@ -8,8 +8,11 @@
 // gives the same Y_b pi_b. Back to standard coordinates (M_t = sum_l m_l):
 //   m_sensor = M_t - sum_{l != sensor} m_l          (M_t = 0 when total_mass is -1)
 //
-// Bodies. Links joined by fixed joints are folded into one rigid body b, whose
-// frame is its joint frame turned so that the joint axis is z (C e_z = s). A
+// Bodies. Links joined by fixed joints are folded into one rigid body b. Its
+// frame: where the joint axis is an axis of the parent body's frame, sigma e_m
+// (sigma = +-1; most robots), the parent's orientation turned about e_m by a
+// constant phi, chosen so that a child's axis is an axis of this frame too;
+// else the joint frame turned so that the joint axis is z (C e_z = s). A
 // link with parameters (m, h, I_O) and pose (R, t) in its body's frame adds
 //   m_b += m,   h_b += R h + m t,
 //   I_b += R I_O R^T - ([t][R h] + [R h][t]) + m [t]^T [t]
@@ -18,10 +21,13 @@
 //
 // Newton-Euler in body frames (bodies numbered depth first, 0 the sensor
 // body). Body k with parent p, joint frame (A_k, t_k) in p's frame at q = 0:
-//   B_k = A_k Rz(theta_k),   r_k = t_k + d_k A_k e_z
-// theta_k = q_k for a revolute joint (else 0), d_k = q_k for a prismatic one
-// (else 0). B_k, r_k and the joint rates are computed four bodies at a time
-// (sin and cos together), off the dependent chains.
+//   B_k = A_k Rz(theta_k),   r_k = t_k + d_k A_k e_z                 (general)
+//   B_k = R_m(theta_k + phi_k),   r_k = t_k + d_k e_m      (axis sigma e_m of p)
+// theta_k = sigma q_k for a revolute joint (else 0), d_k = sigma q_k for a
+// prismatic one (else 0); below, z stands for e_m where the axis is e_m. A
+// rotation about e_m costs four multiplications, B_k nine. B_k, r_k, sin,
+// cos and the joint rates are computed four bodies at a time, off the
+// dependent chains.
 // Forward pass (w, dw, a: angular velocity, angular acceleration, origin
 // acceleration minus gravity, each in its body's frame), seeded with the
 // sensor frame's motion: w_0 = omega, dw_0 = omega_dot, a_0 = accel - g:
@@ -37,9 +43,14 @@
 //   F_p += B_k F_k,   N_p += B_k N_k + r_k x (B_k F_k)
 // and the mechanism's wrench on the sensor is -(F_0, N_0) (regressor.hpp:
 // this is Y pi for the representatives, the inertia about the link origins).
+// Along a serial run the parent's motion and the child's share (F, N) stay in
+// registers; only where a branch joins its parent do they go through memory.
 //
 // MotionPredictor is immutable and compiled once; MotionPredictorData is the
-// workspace. No allocation, no branch on the joint type (flags multiply).
+// workspace. No allocation, no branch on the joint type (flags multiply). The
+// four-lane path (AVX2 with fused multiply-adds, chosen at run time) and the
+// two-lane SSE2 path round differently (about 1e-16 relative); on one machine
+// the single and batch forms give the same bits.
 #pragma once
 
 #include <Eigen/Core>
@@ -61,9 +72,12 @@ struct MotionPredictor {
   int num_bodies = 1;              // n + 1: the sensor body and one per movable joint
   int lanes = 4;                   // num_bodies padded to a multiple of 4
   std::vector<int> parent;         // [num_bodies] parent body p (-1 for body 0)
+  std::vector<int> axis;           // [num_bodies] 0, 1, 2: turns about that axis of p; 3: B_k
+  std::vector<char> general;       // [lanes / 4] 1: a block with a body k > 0 that uses B_k
   std::vector<int> joint;          // [lanes] index into q of body k's joint (0: none)
-  std::vector<double> revolute;    // [lanes] 1 for a revolute joint, else 0
-  std::vector<double> prismatic;   // [lanes] 1 for a prismatic joint, else 0
+  std::vector<double> revolute;    // [lanes] sigma_k for a revolute joint, else 0
+  std::vector<double> prismatic;   // [lanes] sigma_k for a prismatic joint, else 0
+  std::vector<double> angle;       // [lanes] phi_k, added to theta_k
   std::vector<double> axes;        // [lanes x 9] A_k, row-major: A(i, j) is component 3 i + j
   std::vector<double> origin;      // [lanes x 3] t_k
   std::vector<double> inertial;    // [lanes x 10] m, hx, hy, hz, ixx, ixy, ixz, iyy, iyz, izz
@@ -81,7 +95,8 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
 struct MotionPredictorData {
   explicit MotionPredictorData(const MotionPredictor& predictor);
   // Joint stage:
-  std::vector<double> rotation;     // [lanes x 9] B_k = A_k Rz(theta_k), row-major
+  std::vector<double> sincos;       // [lanes x 2] sin theta_k, cos theta_k
+  std::vector<double> rotation;     // [lanes x 9] B_k = A_k Rz(theta_k), row-major (general)
   std::vector<double> translation;  // [lanes x 3] r_k = t_k + d_k A_k e_z, parent frame
   // [lanes x 4] qd_k, qdd_k of a revolute joint, 2 qd_k, qdd_k of a prismatic one (else 0)
   std::vector<double> joint_rates;

@@ -75,7 +75,8 @@ Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wr
 // none), and the joints above the sensor link (Model::upstream_joints, all or
 // none, with their _vel/_acc). Without gx,gy,gz but with the upstream joints,
 // gravity is root_gravity turned into the sensor frame (gravity_from_upstream);
-// with their velocities, the sensor motion follows from them too.
+// with their velocities, the sensor motion follows from them too (unless the
+// file gives the sensor motion itself: wx..az columns win).
 
 // Gravity and sensor motion from the upstream joints (as read_samples does;
 // again after their derivatives were filtered or derived).

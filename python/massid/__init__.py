@@ -1,4 +1,5 @@
-"""massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches.
+"""massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches
+and in motion.
 
 The Python face of the massid library (the CLI's commands as functions, on numpy
 arrays). Five lines from a URDF to a report::
@@ -8,6 +9,13 @@ arrays). Five lines from a URDF to a report::
     data = massid.simulate("robot.urdf", plan, noise_force=0.05, noise_moment=0.005)
     ident = massid.identify("robot.urdf", data)           # or a CSV log
     massid.report.write_identify_report("report.html", ident)
+
+In motion (ten parameters per link, the inertia about each link origin)::
+
+    traj = massid.fourier_trajectory("robot.urdf", harmonics=5, period=10, duration=30)
+    data = massid.simulate("robot.urdf", traj, dynamic=True, noise_force=0.1)
+    ident = massid.identify("robot.urdf", data, dynamic=True)  # or a log with t only
+    wrench = ident.predictor()(q, gravity, qd, qdd)
 
 Conventions (as the CLI): SI units; wrenches [fx, fy, fz, mx, my, mz] in the
 sensor frame, the wrench the mechanism exerts on the sensor; gravity in the
@@ -32,11 +40,13 @@ from ._massid import (  # noqa: F401  (the public API)
     __version__,
     base_parameters,
     design,
+    fourier_trajectory,
     identify,
     load_model,
     load_model_string,
     load_params,
     predict,
+    prepare_motion,
     read_csv,
     regressor,
     simulate,
@@ -74,11 +84,13 @@ __all__ = [
     "__version__",
     "base_parameters",
     "design",
+    "fourier_trajectory",
     "identify",
     "load_model",
     "load_model_string",
     "load_params",
     "predict",
+    "prepare_motion",
     "read_csv",
     "regressor",
     "simulate",

@@ -14,7 +14,9 @@ import numpy.typing as npt
 
 PathType = Union[str, PathLike]
 # A data or plan table: a CSV path, or columns keyed by the CSV's column names
-# (joint names or JOINT_deg, gx, gy, gz, fx ... mz, t, block), each of length N.
+# (joint names or JOINT_deg, gx, gy, gz, fx ... mz, t, block; in motion also
+# JOINT_vel, JOINT_acc, wx ... az and the joints above the sensor link), each of
+# length N.
 Data = Union[PathType, Mapping[str, npt.ArrayLike]]
 
 __version__: str
@@ -53,7 +55,10 @@ class Model:
     num_links: int
     nominal_total_mass: float
     standard_parameter_names: list[str]  # "m(link)", "mx(link)", ... [4 L]
-    def nominal_parameters(self) -> np.ndarray: ...  # [4 L] URDF m, mx, my, mz per link
+    def nominal_parameters(self, dynamic: bool = False) -> np.ndarray:
+        """[4 L] URDF m, mx, my, mz per link; dynamic: [10 L] with ixx ... izz about the link origin."""
+    def parameter_names(self, dynamic: bool = False) -> list[str]:
+        """[4 L] "m(link)", ...; dynamic: [10 L] with "ixx(link)" ... "izz(link)"."""
 
 def load_model(
     urdf: PathType, sensor: Optional[str] = None, fixed: Optional[Mapping[str, float]] = None
@@ -64,9 +69,9 @@ def load_model_string(
 
 class BaseParameter:
     name: str  # "p1", ..., "M"
-    unit: str  # "kg" or "kg m"
+    unit: str  # "kg", "kg m" or (dynamic) "kg m^2"
     expression: str  # "mx(link2) + 0.198 m(link3)"
-    terms: list[Tuple[str, str, float]]  # (link, "m" | "mx" | "my" | "mz", coefficient)
+    terms: list[Tuple[str, str, float]]  # (link, "m" | "mx" | ... | "izz", coefficient)
     value: float  # nan when not identified
     std: float  # nan when not identified
 
@@ -76,15 +81,48 @@ class BaseParameters:
     unknown_names: list[str]  # names, then offset_fx ... offset_mz with offset=True
     offset: bool
     num_unknowns: int
-    K: np.ndarray  # [num_mass x 4 L]: base values = K @ standard parameters
+    dynamic: bool  # ten standard parameters per link (motion)
+    gravity: Optional[str]  # dynamic: "level" or "varying"
+    moving_sensor: bool  # dynamic: the sensor frame moves
+    total_mass_identifiable: bool  # False: M joined offset_fz (dynamic, level, offsets)
+    standard_parameter_names: list[str]  # K's columns
+    K: np.ndarray  # [num_mass x 4 L] (dynamic: 10 L): base values = K @ standard parameters
+    def report(self) -> str: ...  # the text of massid model
+    def to_json(self) -> str: ...  # massid model --json
 
-def base_parameters(model: Model, offset: bool = False) -> BaseParameters: ...
-def standard_regressor(model: Model, q: npt.ArrayLike, gravity: npt.ArrayLike) -> np.ndarray:
-    """[N, 6, 4 L] Y(q, g): wrench = Y @ standard parameters (paper eqs. 15, 25, 29)."""
-def regressor(
-    model: Model, q: npt.ArrayLike, gravity: npt.ArrayLike, offset: bool = False
+def base_parameters(
+    model: Union[PathType, Model],
+    offset: bool = False,
+    *,
+    dynamic: bool = False,
+    gravity: str = "varying",  # dynamic: "level" or "varying"
+    moving_sensor: bool = False,
+    root_gravity: Optional[Sequence[float]] = None,  # the level gravity
+) -> BaseParameters: ...
+def standard_regressor(
+    model: Model,
+    q: npt.ArrayLike,
+    gravity: npt.ArrayLike,
+    *,
+    qd: Optional[npt.ArrayLike] = None,
+    qdd: Optional[npt.ArrayLike] = None,
+    sensor_motion: Optional[npt.ArrayLike] = None,  # [N, 9] wx wy wz dwx dwy dwz ax ay az
 ) -> np.ndarray:
-    """[N, 6, num_unknowns] Y_b(q, g): wrench = Y_b @ [base values, offsets] (eq. 29)."""
+    """[N, 6, 4 L] Y(q, g): wrench = Y @ standard parameters (paper eqs. 15, 25, 29);
+    with qd and qdd [N, 6, 10 L] in motion."""
+def regressor(
+    model: Model,
+    q: npt.ArrayLike,
+    gravity: npt.ArrayLike,
+    offset: bool = False,
+    *,
+    qd: Optional[npt.ArrayLike] = None,
+    qdd: Optional[npt.ArrayLike] = None,
+    sensor_motion: Optional[npt.ArrayLike] = None,
+    base: Optional[BaseParameters] = None,
+) -> np.ndarray:
+    """[N, 6, num_unknowns] Y_b(q, g): wrench = Y_b @ [base values, offsets] (eq. 29);
+    with qd and qdd over the dynamic base parameters (base, or the default ones)."""
 
 class Outlier:
     sample: int  # row in the data
@@ -99,14 +137,38 @@ class Predictor:
     ) -> None: ...
     model: Model
     joint_names: list[str]
-    def predict(self, q: npt.ArrayLike, gravity: npt.ArrayLike) -> np.ndarray:
-        """[N, 6] for q [N, num_joints] and gravity [N, 3]; [6] for single vectors."""
-    def __call__(self, q: npt.ArrayLike, gravity: npt.ArrayLike) -> np.ndarray: ...
+    dynamic: bool  # dynamic parameters: the full wrench in motion
+    offset: Optional[np.ndarray]  # [6] identified offsets (included in the predictions)
+    def predict(
+        self,
+        q: npt.ArrayLike,
+        gravity: Optional[npt.ArrayLike] = None,
+        qd: Optional[npt.ArrayLike] = None,
+        qdd: Optional[npt.ArrayLike] = None,
+        *,
+        sensor_motion: Optional[npt.ArrayLike] = None,
+        t: Optional[npt.ArrayLike] = None,
+        cutoff: Optional[float] = None,
+    ) -> np.ndarray:
+        """[N, 6] for q [N, num_joints] and gravity [N, 3]; [6] for single vectors.
+        Dynamic: also qd, qdd (or t: derived by the filter, NaN rows at the ends)."""
+    def __call__(
+        self,
+        q: npt.ArrayLike,
+        gravity: Optional[npt.ArrayLike] = None,
+        qd: Optional[npt.ArrayLike] = None,
+        qdd: Optional[npt.ArrayLike] = None,
+        *,
+        sensor_motion: Optional[npt.ArrayLike] = None,
+        t: Optional[npt.ArrayLike] = None,
+        cutoff: Optional[float] = None,
+    ) -> np.ndarray: ...
 
 class Identification:
     model: Model
     source: str
-    total_mass: float
+    dynamic: bool  # identified in motion (dynamic=True)
+    total_mass: float  # nan when not identifiable (dynamic, level, offsets)
     total_mass_std: float
     base_parameters: list[BaseParameter]  # with value and std
     unknown_names: list[str]
@@ -124,6 +186,10 @@ class Identification:
     residual_rms: np.ndarray  # [6]
     residual_max: np.ndarray  # [6]
     q: np.ndarray  # [N, num_joints] rad or m
+    qd: Optional[np.ndarray]  # [N, num_joints] dynamic: velocities (given or derived)
+    qdd: Optional[np.ndarray]  # [N, num_joints] dynamic: accelerations
+    sensor_motion: Optional[np.ndarray]  # [N, 9] dynamic, when the sensor moved
+    filter: Optional[dict[str, float]]  # dynamic, derived: cutoff, rate, half_width, decimation, rows
     gravity: np.ndarray  # [N, 3]
     wrench: np.ndarray  # [N, 6] measured
     fitted: np.ndarray  # [N, 6] the fitted model's wrench (offsets and drift included)
@@ -157,6 +223,9 @@ def identify(
     sigma_force: Optional[float] = None,
     sigma_moment: Optional[float] = None,
     checks: bool = True,
+    dynamic: bool = False,
+    cutoff: Optional[float] = None,  # Hz, dynamic without JOINT_vel/_acc
+    root_gravity: Optional[Sequence[float]] = None,  # dynamic: gravity in the URDF root frame
 ) -> Identification: ...
 
 class Params:
@@ -166,7 +235,11 @@ class Params:
     held: dict[str, float]
     gravity_from: str
     samples: int
-    total_mass: float
+    total_mass: float  # nan when not identifiable
+    dynamic: bool  # "model": "dynamic"
+    gravity: Optional[str]  # dynamic: "level" or "varying"
+    gravity_vector: Optional[np.ndarray]  # dynamic, level: [3] sensor frame
+    moving_sensor: bool
     base_parameters: list[BaseParameter]
     offset: Optional[np.ndarray]
     offset_std: Optional[np.ndarray]
@@ -174,8 +247,16 @@ class Params:
     residual_rms: np.ndarray
 
 def load_params(path: PathType) -> Params: ...
-def predict(robot: Union[PathType, Model], params: Union[PathType, Params, Identification], data: Data) -> np.ndarray:
-    """[N, 6] predicted gravity wrench at every row of data (joint and gravity columns)."""
+def predict(
+    robot: Union[PathType, Model],
+    params: Union[PathType, Params, Identification],
+    data: Data,
+    *,
+    cutoff: Optional[float] = None,
+    root_gravity: Optional[Sequence[float]] = None,
+) -> np.ndarray:
+    """[N, 6] predicted wrench at every row of data (joint and gravity columns); dynamic
+    parameters: in motion, NaN in the rows the derivative filter drops."""
 
 def simulate(
     robot: Union[PathType, Model],
@@ -186,8 +267,40 @@ def simulate(
     offset: Optional[Sequence[float]] = None,
     seed: int = 1,
     repeat: int = 1,
+    dynamic: bool = False,  # in motion: the trajectory's JOINT_vel, JOINT_acc columns
+    root_gravity: Optional[Sequence[float]] = None,
 ) -> dict[str, np.ndarray]:
     """The plan's columns with fx ... mz that the URDF's inertials would produce."""
+
+def fourier_trajectory(
+    robot: Union[PathType, Model],
+    harmonics: int = 5,
+    period: float = 10.0,  # s
+    duration: float = 30.0,  # s
+    rate: float = 1000.0,  # Hz
+    seed: int = 1,
+    *,
+    sensor: Optional[str] = None,
+    fixed: Optional[Mapping[str, float]] = None,
+    gravity: Sequence[float] = (0.0, 0.0, -9.80665),
+    velocity_limit: Optional[Union[float, Mapping[str, float]]] = None,
+    acceleration_limit: float = 4.0,
+    position_margin: float = 0.1,
+) -> dict[str, np.ndarray]:
+    """An exciting trajectory: t, joints, JOINT_vel, JOINT_acc, gx, gy, gz."""
+
+def prepare_motion(
+    robot: Union[PathType, Model],
+    data: Data,
+    *,
+    cutoff: Optional[float] = None,
+    decimation: Optional[int] = None,
+    root_gravity: Optional[Sequence[float]] = None,
+    sensor: Optional[str] = None,
+    fixed: Optional[Mapping[str, float]] = None,
+) -> dict[str, np.ndarray]:
+    """The samples identify(dynamic=True) and predict make of a motion log, as columns
+    (t, joints, JOINT_vel, JOINT_acc, gx, gy, gz, [wx..az], [fx..mz], [block], row)."""
 
 class Plan:
     joint_names: list[str]

@@ -16,7 +16,8 @@ From Python::
 From the shell (the CLI's ``--report`` runs these)::
 
     python3 -m massid.report identify ROBOT DATA -o REPORT.html [identify options]
-    python3 -m massid.report predict ROBOT PARAMS DATA -o REPORT.html
+    python3 -m massid.report identify ROBOT LOG -o REPORT.html --dynamic [--cutoff HZ]
+    python3 -m massid.report predict ROBOT PARAMS DATA -o REPORT.html [--cutoff HZ]
     python3 -m massid.report --check      # exit 0 when matplotlib is usable
 
 docs/report.md explains what each part shows and how to read it.
@@ -290,20 +291,23 @@ class _Figures:
 
     def against_index(self, values: np.ndarray, idx: np.ndarray, rejected: np.ndarray,
                       outlier: np.ndarray, ylabel: str, sigma: Optional[np.ndarray] = None,
-                      zero_line: bool = True) -> str:
+                      zero_line: bool = True, x: Optional[np.ndarray] = None,
+                      xlabel: str = "sample index (row of the data, from 0)") -> str:
+        """Each axis against the sample index (or against x, e.g. time, when given)."""
         fig = self.new(11.5, 9.0)
         axs = fig.subplots(6, 1, sharex=True)
+        xs = (np.asarray(x, dtype=float) if x is not None else np.arange(values.shape[0]))[idx]
         for k, ax in enumerate(axs):
             v = values[idx, k]
             rej, out = rejected[idx], outlier[idx] & ~rejected[idx]
             ok = ~rej
-            ax.plot(idx[ok], v[ok], ".", ms=_dot_size(idx.size), color="C0", alpha=0.7, rasterized=True,
+            ax.plot(xs[ok], v[ok], ".", ms=_dot_size(idx.size), color="C0", alpha=0.7, rasterized=True,
                     label="used" if rejected.any() else "samples")
             if out.any():
-                ax.plot(idx[out], v[out], "o", ms=6, mfc="none", mec="C1", mew=1.2,
+                ax.plot(xs[out], v[out], "o", ms=6, mfc="none", mec="C1", mew=1.2,
                         label="outlier")
             if rej.any():
-                ax.plot(idx[rej], v[rej], "x", ms=5, color="C3", mew=1.2, label="rejected")
+                ax.plot(xs[rej], v[rej], "x", ms=5, color="C3", mew=1.2, label="rejected")
             if zero_line:
                 ax.axhline(0.0, color="0.3", lw=0.7)
             if sigma is not None and math.isfinite(float(sigma[k])) and sigma[k] > 0:
@@ -316,13 +320,71 @@ class _Figures:
                 if sigma is not None or outlier.any() or rejected.any():
                     ax.legend(loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=4,
                               frameon=False, borderaxespad=0.2)
-        axs[-1].set_xlabel("sample index (row of the data, from 0)")
+        axs[-1].set_xlabel(xlabel)
+        return self.png(fig)
+
+    def along_time(self, measured: np.ndarray, model: np.ndarray, x: np.ndarray, idx: np.ndarray,
+                   model_label: str, xlabel: str) -> str:
+        """Measured and model wrench of each axis along time: two lines per panel."""
+        fig = self.new(11.5, 9.5)
+        axs = fig.subplots(6, 1, sharex=True)
+        xs = np.asarray(x, dtype=float)[idx]
+        for k, ax in enumerate(axs):
+            ax.plot(xs, measured[idx, k], "-", lw=0.9, color="0.55", label="measured",
+                    rasterized=True)
+            ax.plot(xs, model[idx, k], "-", lw=0.9, color="C0", alpha=0.85, label=model_label,
+                    rasterized=True)
+            ax.set_ylabel(f"{AXES[k]} [{UNITS[k]}]")
+            if k == 0:
+                ax.set_title(f"measured and {model_label} wrench along time", loc="left")
+                ax.legend(loc="lower right", bbox_to_anchor=(1.0, 1.0), ncol=2, frameon=False,
+                          borderaxespad=0.2)
+        axs[-1].set_xlabel(xlabel)
+        return self.png(fig)
+
+    def spectrum(self, freq: np.ndarray, residual: np.ndarray, measured: Optional[np.ndarray],
+                 xlabel: str, residual_label: str, cutoff: Optional[float] = None,
+                 sigma_floor: Optional[np.ndarray] = None) -> str:
+        """Amplitude spectra per axis (3 x 2 panels, log-log): residual and measured."""
+        fig = self.new(11.5, 8.0)
+        axs = fig.subplots(3, 2, sharex=True)
+        for k in range(6):
+            ax = axs[k % 3, k // 3]
+            f, r = _envelope(freq, residual[:, k])
+            if measured is not None:
+                fm, m = _envelope(freq, measured[:, k])
+                ax.loglog(fm[1:], np.maximum(m[1:], 1e-300), "-", lw=0.7, color="0.65",
+                          label="measured", rasterized=True)
+            ax.loglog(f[1:], np.maximum(r[1:], 1e-300), "-", lw=0.8, color="C0",
+                      label=residual_label, rasterized=True)
+            if sigma_floor is not None and math.isfinite(float(sigma_floor[k])) and sigma_floor[k] > 0:
+                ax.axhline(sigma_floor[k], color="C2", lw=0.8, ls="--",
+                           label="white noise of σ" if k == 0 else None)
+            if cutoff is not None and math.isfinite(cutoff) and freq.size and cutoff <= freq[-1] * 1.001:
+                ax.axvline(cutoff, color="C3", lw=0.8, ls=":",
+                           label="filter cutoff" if k == 0 else None)
+            finite = r[1:][np.isfinite(r[1:]) & (r[1:] > 0)]
+            if finite.size:
+                lo = max(float(np.percentile(finite, 1)) / 3.0, 1e-300)
+                hi = max(float(finite.max()), float(m[1:].max()) if measured is not None and m.size > 1 else 0.0)
+                ax.set_ylim(lo, hi * 2.0)
+            ax.set_title(AXES[k])
+            ax.set_ylabel(f"amplitude [{UNITS[k]}]")
+            if k % 3 == 2:
+                ax.set_xlabel(xlabel)
+            if freq.size > 1:
+                ax.set_xlim(freq[1], freq[-1])
+            ax.yaxis.set_major_locator(self.mpl.ticker.LogLocator(numticks=6))
+            if k == 0:
+                ax.legend(loc="lower left", frameon=False)
         return self.png(fig)
 
     def against_joints(self, values: np.ndarray, q: np.ndarray, joints: Sequence[_JointInfo],
                        idx: np.ndarray, rejected: np.ndarray, outlier: np.ndarray,
-                       title: str) -> list[str]:
-        """Residuals of each axis (rows) against each joint (columns), split by 4 joints."""
+                       title: str, velocity: bool = False) -> list[str]:
+        """Residuals of each axis (rows) against each joint (columns), split by 4 joints.
+
+        q holds joint positions, or velocities with velocity=True (axis labels in deg/s, m/s)."""
         images = []
         for start in range(0, len(joints), JOINTS_PER_FIGURE):
             chunk = list(range(start, min(start + JOINTS_PER_FIGURE, len(joints))))
@@ -352,7 +414,8 @@ class _Figures:
                     if k == 0:
                         ax.set_title(info.name)
                     if k == 5:
-                        ax.set_xlabel(f"{info.name} [{info.unit}]")
+                        ax.set_xlabel(f"{info.name} velocity [{info.unit}/s]" if velocity
+                                      else f"{info.name} [{info.unit}]")
             fig.suptitle(title + (f" (joints {chunk[0] + 1}–{chunk[-1] + 1} of {len(joints)})"
                                   if len(joints) > JOINTS_PER_FIGURE else ""), fontsize=10)
             images.append(self.png(fig))
@@ -387,7 +450,7 @@ class _Figures:
 
     # -- coverage --------------------------------------------------------
 
-    def joint_coverage(self, q: np.ndarray, joints: Sequence[_JointInfo]) -> str:
+    def joint_coverage(self, q: np.ndarray, joints: Sequence[_JointInfo], velocity: bool = False) -> str:
         n = len(joints)
         nc = min(4, n)
         nr = math.ceil(n / nc)
@@ -415,7 +478,7 @@ class _Figures:
             covered = f", spans {span * 100:.0f} % of {'its limits' if info.limited else 'the data range'}" \
                 if math.isfinite(span) and info.limited else ""
             ax.set_title(f"{info.name}{covered}")
-            ax.set_xlabel(f"{info.name} [{info.unit}]")
+            ax.set_xlabel(f"{info.name} velocity [{info.unit}/s]" if velocity else f"{info.name} [{info.unit}]")
             ax.set_ylabel("samples")
             ax.yaxis.set_major_locator(self.mpl.ticker.MaxNLocator(integer=True))
         for ax in list(axs):
@@ -469,6 +532,76 @@ def _binned_mean(x: np.ndarray, y: np.ndarray) -> Optional[tuple[np.ndarray, np.
     keep = count >= 3
     centres = 0.5 * (edges[:-1] + edges[1:])
     return centres[keep], total[keep] / count[keep]
+
+
+#: Most points of a spectrum drawn (more are reduced to the largest value per group).
+MAX_SPECTRUM_POINTS = 4000
+
+
+def _envelope(freq: np.ndarray, amp: np.ndarray,
+              limit: int = MAX_SPECTRUM_POINTS) -> tuple[np.ndarray, np.ndarray]:
+    """A long spectrum reduced for drawing: the largest amplitude of each group of bins
+    (peaks stay visible), at the group's first frequency; the DC bin kept first."""
+    n = amp.size
+    if n <= limit:
+        return freq, amp
+    k = math.ceil((n - 1) / (limit - 1))
+    m = (n - 1) // k
+    body = amp[1:1 + m * k].reshape(m, k).max(axis=1)
+    return (np.concatenate([freq[:1], freq[1:1 + m * k:k]]), np.concatenate([amp[:1], body]))
+
+
+def amplitude_spectrum(x: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """One-sided amplitude spectrum of each column of x sampled every dt seconds.
+
+    The mean is removed and a Hann window applied; amplitudes are 2|X_k| / sum(w), so
+    that a sinusoid of amplitude A shows as a peak of height A. Returns the
+    frequencies (Hz; cycles per sample for dt = 1) and [frequencies x columns].
+    """
+    x = np.asarray(x, dtype=float)
+    if x.ndim == 1:
+        x = x[:, None]
+    n = x.shape[0]
+    w = np.hanning(n) if n > 2 else np.ones(n)
+    X = np.fft.rfft((x - x.mean(axis=0)) * w[:, None], axis=0)
+    return np.fft.rfftfreq(n, dt), 2.0 * np.abs(X) / max(w.sum(), 1e-300)
+
+
+def white_noise_level(sigma: np.ndarray, n: int) -> np.ndarray:
+    """The mean amplitude that amplitude_spectrum gives white noise of standard deviation
+    sigma over n samples: sigma sqrt(pi sum(w^2)) / sum(w) (a Rayleigh mean, Hann window)."""
+    w = np.hanning(n) if n > 2 else np.ones(n)
+    return np.asarray(sigma, dtype=float) * math.sqrt(math.pi * float((w * w).sum())) / max(float(w.sum()), 1e-300)
+
+
+def _sample_period(t: Optional[np.ndarray]) -> tuple[float, bool, str]:
+    """(dt, uniform, unit) of the samples' times: the median step; dt = 1 'sample' without t."""
+    if t is None:
+        return 1.0, True, "cycles per sample"
+    t = np.asarray(t, dtype=float)
+    if t.size < 3:
+        return 1.0, True, "cycles per sample"
+    d = np.diff(t)
+    dt = float(np.median(d))
+    if not (dt > 0):
+        return 1.0, False, "cycles per sample"
+    return dt, bool(np.all(np.abs(d - dt) <= 0.01 * dt)), "Hz"
+
+
+def condition_verdict_dynamic(cond: float) -> tuple[str, str]:
+    """Verdict on the condition number of the column-scaled regressor in motion."""
+    if cond is None or not math.isfinite(cond):
+        return "bad", "not available: the data do not determine every parameter"
+    if cond < 30:
+        return "good", "good: the trajectory excites every base parameter well"
+    if cond < 300:
+        return "fair", ("fair: some parameters are excited less well; check the relative "
+                        "standard deviations below")
+    if cond < 1e4:
+        return "bad", ("poor: the trajectory hardly separates some parameters; move every "
+                       "joint faster and over more of its range (massid design --dynamic)")
+    return "bad", ("very poor: some parameters are nearly undetermined; use an exciting "
+                   "trajectory (massid design --dynamic, massid.fourier_trajectory)")
 
 
 # --------------------------------------------------------------------------
@@ -662,17 +795,31 @@ def _offset_unit(name: str) -> str:
 
 
 def _coverage_section(doc: _Doc, figs: _Figures, q: np.ndarray, joints: Sequence[_JointInfo],
-                      gravity: Optional[np.ndarray], n: int, gravity_note: str) -> None:
+                      gravity: Optional[np.ndarray], n: int, gravity_note: str,
+                      qd: Optional[np.ndarray] = None) -> None:
     doc.add('<h2 id="coverage">Coverage of the experiment</h2>')
-    doc.add("<p>How much of each joint's range the samples visit, and in how many directions "
-            "gravity acts on the sensor. Parameters are well determined when the joints "
-            "travel over most of their range and gravity comes from several directions "
-            "(tilts). Predictions outside what was visited are extrapolations.</p>")
+    if qd is None:
+        doc.add("<p>How much of each joint's range the samples visit, and in how many directions "
+                "gravity acts on the sensor. Parameters are well determined when the joints "
+                "travel over most of their range and gravity comes from several directions "
+                "(tilts). Predictions outside what was visited are extrapolations.</p>")
+    else:
+        doc.add("<p>How much of each joint's range and speed the samples visit, and in how many "
+                "directions gravity acts on the sensor. The inertial parameters are determined "
+                "by the motion: joints that move fast over most of their range, in every "
+                "combination, determine them well. Predictions at speeds or positions outside "
+                "what was visited are extrapolations.</p>")
     if joints and q.size:
         doc.figure(figs.joint_coverage(q, joints), "joint position histograms",
                    "Histogram of each joint's position over its range (dashed red: the URDF "
                    "limits; the data range for joints without limits). Revolute joints in "
                    "degrees, prismatic in metres.")
+    if qd is not None and joints and qd.size:
+        doc.figure(figs.joint_coverage(qd, [_JointInfo(j.name, j.kind, False, math.nan, math.nan)
+                                             for j in joints], velocity=True),
+                   "joint velocity histograms",
+                   "Histogram of each joint's velocity (degrees per second for revolute joints, "
+                   "metres per second for prismatic ones).")
     tilt = _tilt(gravity) if gravity is not None else None
     if tilt is not None:
         idx, k = _subsample(tilt["tilt"].size, np.empty(0, dtype=int))
@@ -727,6 +874,98 @@ def _fit_figures(doc: _Doc, figs: _Figures, measured: np.ndarray, model: np.ndar
                        f"over the joint's travel. It should stay flat at zero.{sub}")
 
 
+def _dynamic_fit_figures(doc: _Doc, figs: _Figures, measured: np.ndarray, model: np.ndarray,
+                         residual: np.ndarray, t: Optional[np.ndarray], q: np.ndarray,
+                         qd: Optional[np.ndarray], joints: Sequence[_JointInfo],
+                         rejected: np.ndarray, outlier: np.ndarray, sigma: Optional[np.ndarray],
+                         cutoff: Optional[float], model_label: str, residual_label: str) -> None:
+    """The pages of a fit in motion: along time, the residual spectrum, against velocity."""
+    n = measured.shape[0]
+    flagged = np.flatnonzero(rejected | outlier)
+    idx, k = _subsample(n, flagged)
+    sub = (f" For legibility one sample in every {k} of the {n} is plotted"
+           f"{' (plus the flagged ones)' if flagged.size else ''}." if k > 1 else "")
+    marks = " ".join(txt for txt, on in (("Orange rings: outliers.", (outlier & ~rejected).any()),
+                                         ("Red crosses: samples rejected by the robust fit.",
+                                          rejected.any())) if on)
+    marks = " " + marks if marks else ""
+    if t is not None:
+        x, xlabel = np.asarray(t, dtype=float), "time t [s]"
+    else:
+        x, xlabel = np.arange(n, dtype=float), "sample index (no column t)"
+    order = np.argsort(x[idx], kind="stable")
+    line_idx = idx[order]
+
+    doc.add(f'<h2 id="fit">{_e(model_label.capitalize())} and measured along time</h2>')
+    doc.figure(figs.along_time(measured, model, x, line_idx, model_label, xlabel),
+               f"{model_label} and measured wrench along time",
+               f"Each axis of the wrench along {'time (column t)' if t is not None else 'the samples'}: "
+               f"measured (grey) and {_e(model_label)} (blue). In motion the wrench is the weight "
+               f"plus the inertial forces; where the lines part, the model misses something "
+               f"(a time lag between the joint and wrench signals, a cable dragging, a wrong "
+               f"frame, a filter cutoff below the motion).{sub}")
+    doc.figure(figs.measured_vs_model(measured, model, idx, rejected, outlier, model_label),
+               f"{model_label} against measured wrench",
+               f"Each axis: {_e(model_label)} (vertical) against measured (horizontal), the line "
+               f"y = x dashed.{marks}{sub}")
+
+    doc.add(f'<h2 id="residuals">{_e(residual_label.capitalize())}</h2>')
+    doc.add("<p>Good residuals look like noise: centred on zero, of even spread, without "
+            "trends against time, without peaks in the spectrum and without curves against "
+            "any joint's position or velocity. A slope or steps along time point to sensor "
+            "drift (<code>--drift</code>); peaks in the spectrum at the trajectory's "
+            "frequencies, or a curve against a joint velocity, to motion the model does not "
+            "explain: a time lag between the joint and wrench signals, motor rotors spinning "
+            "faster than their joints (their inertia is not in the rigid-body model), a cable "
+            "dragging, flexible links, wrong frames, a filter cutoff too low. (Friction inside "
+            "a joint acts between two measured bodies and does not reach the sensor.)</p>")
+    doc.figure(figs.against_index(residual, idx, rejected, outlier,
+                                  f"{residual_label} along time", sigma, x=x, xlabel=xlabel),
+               f"{residual_label} along time",
+               f"{_e(residual_label.capitalize())} of each axis along "
+               f"{'time' if t is not None else 'the samples'}"
+               f"{'. Dashed green: ± 2 noise sigma' if sigma is not None else ''}.{marks}{sub}")
+
+    dt, uniform, unit = _sample_period(t)
+    if n >= 8:
+        freq, amp = amplitude_spectrum(residual, dt)
+        _, amp_m = amplitude_spectrum(measured, dt)
+        floor = white_noise_level(sigma, n) if sigma is not None else None
+        doc.add('<h3 id="spectrum">Residual spectrum</h3>')
+        note = ("" if uniform else " The samples are not evenly spaced in time (blocks or gaps): "
+                "the spectrum treats them as consecutive, at the median step.")
+        rate = f"{1.0 / dt:.4g} Hz" if unit == "Hz" else "one per sample"
+        doc.figure(figs.spectrum(freq, amp, amp_m, "frequency [Hz]" if unit == "Hz" else "frequency [cycles per sample]",
+                                 "residual", cutoff if unit == "Hz" else None, floor),
+                   "amplitude spectrum of the residuals",
+                   f"Amplitude spectrum of each axis' residual (blue; numpy FFT, mean removed, "
+                   f"Hann window: a sine of amplitude A shows as a peak of height A) and of the "
+                   f"measured wrench (grey), over the {n} samples at {rate}"
+                   f"{' (the rate of the samples kept after decimation)' if cutoff else ''}."
+                   + (" Dashed green: the mean level of white noise of the noise sigma."
+                      if floor is not None else "")
+                   + (" Dotted red: the filter's cutoff." if cutoff and unit == "Hz" else "")
+                   + " Noise is flat; peaks that stand above it are motion the model does not "
+                   "explain, at the frequencies the measured wrench has them." + note)
+
+    if joints and q.size:
+        for uri in figs.against_joints(residual, q, joints, idx, rejected, outlier,
+                                       f"{residual_label} against joint positions"):
+            doc.figure(uri, f"{residual_label} against joint positions",
+                       f"{_e(residual_label.capitalize())} of each axis (rows) against each joint's "
+                       f"position (columns); orange line: the mean in bins. It should stay flat at "
+                       f"zero.{sub}")
+    if joints and qd is not None and qd.size:
+        for uri in figs.against_joints(residual, qd, joints, idx, rejected, outlier,
+                                       f"{residual_label} against joint velocities", velocity=True):
+            doc.figure(uri, f"{residual_label} against joint velocities",
+                       f"{_e(residual_label.capitalize())} of each axis (rows) against each joint's "
+                       f"velocity (columns); orange line: the mean in bins. It should stay flat at zero; "
+                       f"a slope points to a time lag between the joint and wrench signals or to "
+                       f"motor rotors, a step at zero velocity to a cable or hose dragging on the "
+                       f"mechanism.{sub}")
+
+
 # --------------------------------------------------------------------------
 # Identification report
 
@@ -748,6 +987,13 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
     sigma = np.asarray(ident.sigma, dtype=float)
     joints = _joint_infos(model)
     q = np.asarray(ident.q, dtype=float).reshape(n, -1) if n else np.zeros((0, len(joints)))
+    dynamic = bool(getattr(ident, "dynamic", False))
+    qd = getattr(ident, "qd", None) if dynamic else None
+    qd = np.asarray(qd, dtype=float).reshape(n, -1) if qd is not None and n else None
+    t = getattr(ident, "time", None)
+    t = np.asarray(t, dtype=float).reshape(-1) if t is not None and np.size(t) == n else None
+    filt = getattr(ident, "filter", None) if dynamic else None
+    motion = _motion_of(ident) if dynamic else {}
 
     gravity_from = ("the measured force (eq. 37)" if getattr(ident, "gravity_from_force", False)
                     else "the gx, gy, gz columns")
@@ -758,13 +1004,17 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
             f"<span><b>{n}</b> samples"
             + (f" ({int(rejected.sum())} rejected)" if rejected.any() else "") + "</span>"
             f"<span>sensor link: <b>{_e(getattr(model, 'sensor_link', ''))}</b></span>"
-            f"<span>massid {_e(_version())}</span></p>")
+            + ("<span>model: <b>dynamic</b> (in motion)</span>" if dynamic else "")
+            + f"<span>massid {_e(_version())}</span></p>")
     doc.add('<nav><a href="#summary">summary</a><a href="#fit">fit</a>'
-            '<a href="#residuals">residuals</a><a href="#parameters">parameters</a>'
+            '<a href="#residuals">residuals</a>'
+            + ('<a href="#spectrum">spectrum</a>' if dynamic else "")
+            + '<a href="#parameters">parameters</a>'
             '<a href="#correlation">correlation</a><a href="#coverage">coverage</a></nav>')
 
     # a) key figures
-    cond_cls, cond_text = condition_verdict(float(ident.condition_number))
+    cond_cls, cond_text = (condition_verdict_dynamic if dynamic else condition_verdict)(
+        float(ident.condition_number))
     chi_cls, chi_text = chi2_verdict(float(ident.chi2_per_dof), bool(getattr(ident, "sigma_estimated", True)))
     robust = bool(getattr(ident, "robust", False))
     threshold = float(ident.outlier_threshold)
@@ -772,19 +1022,44 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
                     + (f" (score d above {_fmt(threshold, 3)})" if threshold > 0 else "")
                     + ("; rejected by the robust fit" if robust and outliers
                        else "; robust fit" if robust else ""))
+    mass_known = math.isfinite(float(ident.total_mass))
     cards = [
-        _card("total mass", f"{format_value(ident.total_mass)} kg",
-              f"± {_e(format_std(ident.total_mass_std))} kg (one standard deviation)"),
-        _card("condition number (eq. 36)", _e(_fmt(ident.condition_number, 4)), _e(cond_text), cond_cls),
+        _card("total mass", f"{format_value(ident.total_mass)} kg" if mass_known else "not identifiable",
+              f"± {_e(format_std(ident.total_mass_std))} kg (one standard deviation)" if mass_known
+              else _e("gravity was the same in every sample and the offsets were estimated: the "
+                      "weight cannot be told from offset_fz"),
+              "" if mass_known else "fair"),
+        _card("condition number" + (" (columns scaled)" if dynamic else " (eq. 36)"),
+              _e(_fmt(ident.condition_number, 4)), _e(cond_text), cond_cls),
         _card("χ² per degree of freedom", _e(_fmt(ident.chi2_per_dof, 3)), _e(chi_text), chi_cls),
         _card("outliers", str(len(outliers)), _e(outlier_note), "bad" if outliers else "good"),
     ]
+    if filt:
+        cards.append(_card(
+            "derivatives from positions", f"{_fmt(filt['cutoff'], 3)} Hz",
+            _e(f"zero-phase low-pass of t and the positions at {_fmt(filt['rate'], 4)} Hz: "
+               f"{int(filt['half_width'])} rows dropped at each end, one filtered row in "
+               f"{int(filt['decimation'])} kept ({n} of {int(filt['rows'])} rows)")))
     doc.add('<h2 id="summary">Summary</h2>')
     doc.add(f'<div class="cards">{"".join(cards)}</div>')
     doc.add(f"<p>Gravity from {_e(gravity_from)}"
             + ("; sensor offsets estimated" if ident.offset is not None else "")
             + (f"; drift model: {_e(ident.drift)}" if getattr(ident, "drift", None) else "")
             + ".</p>")
+    if dynamic:
+        level = motion.get("gravity") == "fixed"
+        doc.add("<p>Identified in motion: the wrench is the weight plus the inertial forces, "
+                "ten parameters per link (mass, first moment, inertia about the link origin), "
+                "combined into the base parameters the motion determines. "
+                + ("Gravity was the same in every sample (a level platform): some constants "
+                   "cannot be told from the offsets. " if level else
+                   "Gravity varied between samples. ")
+                + ("The sensor frame moved. " if motion.get("sensor_moving") else
+                   "The sensor frame was at rest. ")
+                + ("Joint velocities and accelerations were derived from the positions by the "
+                   "zero-phase filter, which smoothed the wrench alike." if filt else
+                   "Joint velocities and accelerations were given (JOINT_vel, JOINT_acc).")
+                + "</p>")
     sig_label = "noise sigma (estimated)" if getattr(ident, "sigma_estimated", True) else "noise sigma (given)"
     doc.add(_axis_table([
         (sig_label, sigma),
@@ -817,8 +1092,13 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
         wrench = np.asarray(ident.wrench, dtype=float).reshape(n, 6)
         fitted = np.asarray(ident.fitted, dtype=float).reshape(n, 6)
         residuals = np.asarray(ident.residuals, dtype=float).reshape(n, 6)
-        _fit_figures(doc, figs, wrench, fitted, residuals, q, joints, rejected, outlier, sigma,
-                     "fitted", "residuals (measured − fitted)")
+        if dynamic:
+            _dynamic_fit_figures(doc, figs, wrench, fitted, residuals, t, q, qd, joints, rejected,
+                                 outlier, sigma, float(filt["cutoff"]) if filt else None,
+                                 "fitted", "residuals (measured − fitted)")
+        else:
+            _fit_figures(doc, figs, wrench, fitted, residuals, q, joints, rejected, outlier, sigma,
+                         "fitted", "residuals (measured − fitted)")
 
     # d) parameters
     params = list(ident.base_parameters)
@@ -842,7 +1122,7 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
         groups.append((f"drift ({drift})", [
             _drift_row(nm, float(dv[i]), float(ds[i]) if i < ds.size else math.nan, drift)
             for i, nm in enumerate(drift_names) if i < dv.size]))
-    _parameter_section(doc, groups)
+    _parameter_section(doc, groups, dynamic)
 
     # e) correlation
     corr = np.asarray(ident.correlation, dtype=float)
@@ -853,19 +1133,40 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
     # f) coverage
     gravity = np.asarray(ident.gravity, dtype=float).reshape(n, 3) if n else None
     _coverage_section(doc, figs, q, joints, gravity, n,
-                      " (taken along the measured force)" if getattr(ident, "gravity_from_force", False) else "")
+                      " (taken along the measured force)" if getattr(ident, "gravity_from_force", False) else "",
+                      qd)
     return doc.render()
 
 
-def _parameter_section(doc: _Doc, groups: Sequence[tuple[str, Sequence[_ParamRow]]]) -> None:
+def _motion_of(ident: Any) -> dict[str, Any]:
+    """The params file's "motion" object of an identification (gravity, sensor_moving)."""
+    try:
+        m = json.loads(ident.to_json()).get("motion")
+    except (AttributeError, ValueError):
+        return {}
+    return m if isinstance(m, dict) else {}
+
+
+def _parameter_section(doc: _Doc, groups: Sequence[tuple[str, Sequence[_ParamRow]]],
+                       dynamic: bool = False) -> None:
     table, poor = _param_table(groups)
     doc.add('<h2 id="parameters">Base parameters</h2>')
-    doc.add("<p>The combinations of link masses and first moments that a base sensor can "
-            "see, with one standard deviation. A row is highlighted when the parameter is "
-            f"poorly determined: its std exceeds {POOR_RELATIVE_STD * 100:.0f} % of its value, "
-            "or the value lies within 2 std of zero (then even its sign is uncertain). A "
-            "combination that is truly zero (a symmetric link) is always flagged so; more "
-            "poses or tilts that excite it shrink its std.</p>")
+    if dynamic:
+        doc.add("<p>The combinations of link masses (kg), first moments (kg m) and inertias "
+                "(kg m², about each link's origin, in the link frame) that the motion "
+                "determines, with one standard deviation. A row is highlighted when the "
+                f"parameter is poorly determined: its std exceeds {POOR_RELATIVE_STD * 100:.0f} % "
+                "of its value, or the value lies within 2 std of zero. Products of inertia of "
+                "nearly symmetric links are small by nature and always flagged so; a faster, "
+                "wider trajectory that turns the joints in every combination shrinks the std "
+                "of the others.</p>")
+    else:
+        doc.add("<p>The combinations of link masses and first moments that a base sensor can "
+                "see, with one standard deviation. A row is highlighted when the parameter is "
+                f"poorly determined: its std exceeds {POOR_RELATIVE_STD * 100:.0f} % of its value, "
+                "or the value lies within 2 std of zero (then even its sign is uncertain). A "
+                "combination that is truly zero (a symmetric link) is always flagged so; more "
+                "poses or tilts that excite it shrink its std.</p>")
     doc.add(table)
     doc.add(f'<p class="{"fair" if poor else "ok"}">'
             + (f"{poor} poorly determined parameter(s)." if poor
@@ -962,10 +1263,12 @@ def _num(v: Any) -> float:
 
 def _predict_html(robot: Union[PathType, Any], params: PathType,
                   data: Union[PathType, Mapping[str, Any]], title: Optional[str],
-                  figs: _Figures) -> str:
+                  figs: _Figures, cutoff: Optional[float] = None,
+                  root_gravity: Optional[Sequence[float]] = None) -> str:
+    motion_args: dict[str, Any] = {"cutoff": cutoff, "root_gravity": root_gravity}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        predicted = np.asarray(massid.predict(robot, params, data), dtype=float)
+        predicted = np.asarray(massid.predict(robot, params, data, **motion_args), dtype=float)
     warned = [str(w.message) for w in caught]
     params_path = os.fspath(params)
     with open(params_path, encoding="utf-8") as f:
@@ -976,10 +1279,29 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
                                   fixed={str(k): float(v) for k, v in held.items()} if held else None)
     else:
         model = robot
+    dynamic = pj.get("model") == "dynamic"
     cols, source = _data_columns(data)
     n = predicted.shape[0]
     predicted = predicted.reshape(n, 6)
     joints = _joint_infos(model)
+    t = qd = None
+    prepared_note = ""
+    if dynamic:
+        # The samples massid predict compares: derivatives given, or derived by the
+        # filter (positions, gravity and wrench smoothed alike; the ends dropped).
+        prep = massid.prepare_motion(model, data, decimation=1, **motion_args)
+        rows = np.asarray(prep["row"], dtype=int)
+        derived = rows.size < n or any(j.name + "_vel" not in cols for j in joints)
+        if derived:
+            prepared_note = (f" Joint velocities and accelerations derived from t and the "
+                             f"positions by the zero-phase low-pass; the {n - rows.size} rows "
+                             f"the filter drops at the ends are left out, and the measured "
+                             f"wrench is smoothed by the same filter.")
+        predicted = predicted[rows]
+        cols = {k: np.asarray(v, dtype=float) for k, v in prep.items() if k != "row"}
+        n = rows.size
+        t = cols.get("t")
+        qd = _joint_matrix({k[:-4]: v for k, v in cols.items() if k.endswith("_vel")}, joints, n)
     q = _joint_matrix(cols, joints, n)
     has_wrench = all(a in cols for a in AXES)
     if all(c in cols for c in ("gx", "gy", "gz")):
@@ -1000,7 +1322,8 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
             f"<span>parameters: <b>{_e(params_path)}</b></span>"
             f"<span>data: <b>{_e(source)}</b></span>"
             f"<span><b>{n}</b> samples</span>"
-            f"<span>massid {_e(_version())}</span></p>")
+            + ("<span>model: <b>dynamic</b> (in motion)</span>" if dynamic else "")
+            + f"<span>massid {_e(_version())}</span></p>")
     doc.add('<nav><a href="#summary">summary</a>'
             + ('<a href="#fit">fit</a><a href="#residuals">compensated wrench</a>' if has_wrench
                else '<a href="#wrench">predicted wrench</a>')
@@ -1009,11 +1332,15 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
     mass_std = next((_num(p.get("std")) for p in pj.get("base_parameters", []) if p.get("name") == "M"),
                     math.nan)
     cond = _num(pj.get("condition_number"))
-    cond_cls, cond_text = condition_verdict(cond)
+    cond_cls, cond_text = (condition_verdict_dynamic if dynamic else condition_verdict)(cond)
+    total = _num(pj.get("total_mass"))
     cards = [
-        _card("total mass (identified)", f"{format_value(_num(pj.get('total_mass')))} kg",
-              f"± {_e(format_std(mass_std))} kg, from {_e(pj.get('samples', '?'))} samples"),
-        _card("condition number (eq. 36)", _e(_fmt(cond, 4)),
+        _card("total mass (identified)",
+              f"{format_value(total)} kg" if math.isfinite(total) else "not identifiable",
+              f"± {_e(format_std(mass_std))} kg, from {_e(pj.get('samples', '?'))} samples"
+              if math.isfinite(total) else
+              _e("gravity was the same in every sample and the offsets were estimated")),
+        _card("condition number" + (" (columns scaled)" if dynamic else " (eq. 36)"), _e(_fmt(cond, 4)),
               _e("of the identification: " + cond_text), cond_cls),
     ]
     comp = None
@@ -1029,7 +1356,12 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
                            "good" if math.isfinite(rel) and rel < 0.01 else "fair"))
     doc.add('<h2 id="summary">Summary</h2>')
     doc.add(f'<div class="cards">{"".join(cards)}</div>')
-    if comp is not None:
+    if comp is not None and dynamic:
+        doc.add("<p>Compensated wrench = measured − predicted. The predicted wrench is the "
+                "mechanism's own in motion, weight and inertial forces, plus the identified "
+                "sensor offsets (as massid predict). What remains is noise, the load beyond "
+                "the robot itself, and model error." + _e(prepared_note) + "</p>")
+    elif comp is not None:
         doc.add("<p>Compensated wrench = measured − predicted (the predicted wrench includes "
                 "the identified sensor offsets, if any). What remains is noise, the load "
                 "beyond the robot's own weight, and model error.</p>")
@@ -1041,7 +1373,7 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
         ]))
     else:
         doc.add("<p>The data have no measured wrench (fx … mz): the report shows the "
-                "predicted gravity wrench only.</p>")
+                f"predicted {'wrench' if dynamic else 'gravity wrench'} only.</p>")
         doc.add(_axis_table([
             ("predicted min", np.nanmin(predicted, axis=0)),
             ("predicted max", np.nanmax(predicted, axis=0)),
@@ -1050,20 +1382,33 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
     doc.add(_warnings_html(warned))
 
     no_flags = np.zeros(n, dtype=bool)
-    if comp is not None:
+    if comp is not None and dynamic:
+        _dynamic_fit_figures(doc, figs, measured, predicted, comp, t, q, qd, joints, no_flags,
+                             no_flags, None, None, "predicted",
+                             "compensated wrench (measured − predicted)")
+    elif comp is not None:
         _fit_figures(doc, figs, measured, predicted, comp, q, joints, no_flags, no_flags, None,
                      "predicted", "compensated wrench (measured − predicted)")
     elif n:
         idx, k = _subsample(n, np.empty(0, dtype=int))
         sub = f" One sample in every {k} of the {n} is plotted." if k > 1 else ""
         doc.add('<h2 id="wrench">Predicted wrench</h2>')
-        doc.figure(figs.against_index(predicted, idx, no_flags, no_flags,
-                                      "predicted gravity wrench against sample index",
-                                      zero_line=False),
-                   "predicted wrench against sample index",
-                   f"The gravity wrench predicted at every row of the data.{sub}")
+        if dynamic:
+            doc.figure(figs.against_index(predicted, idx, no_flags, no_flags,
+                                          "predicted wrench along time", zero_line=False,
+                                          x=t, xlabel="time t [s]" if t is not None
+                                          else "sample index (row of the data, from 0)"),
+                       "predicted wrench along time",
+                       f"The wrench in motion (weight and inertial forces) predicted at every "
+                       f"sample.{_e(prepared_note)}{sub}")
+        else:
+            doc.figure(figs.against_index(predicted, idx, no_flags, no_flags,
+                                          "predicted gravity wrench against sample index",
+                                          zero_line=False),
+                       "predicted wrench against sample index",
+                       f"The gravity wrench predicted at every row of the data.{sub}")
 
-    _parameter_section(doc, _params_rows(pj))
+    _parameter_section(doc, _params_rows(pj), dynamic)
     cov = pj.get("covariance")
     if isinstance(cov, Mapping) and cov.get("matrix"):
         mat = np.asarray(cov["matrix"], dtype=float)
@@ -1072,13 +1417,14 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
             if len(labels) != mat.shape[0]:
                 labels = [f"u{i + 1}" for i in range(mat.shape[0])]
             _correlation_section(doc, figs, _correlation_from_covariance(mat), labels)
-    _coverage_section(doc, figs, q, joints, gravity, n, gnote)
+    _coverage_section(doc, figs, q, joints, gravity, n, gnote, qd)
     return doc.render()
 
 
 def write_predict_report(path: PathType, robot: Union[PathType, Any], params: PathType,
                          data: Union[PathType, Mapping[str, Any]], *,
-                         title: Optional[str] = None) -> None:
+                         title: Optional[str] = None, cutoff: Optional[float] = None,
+                         root_gravity: Optional[Sequence[float]] = None) -> None:
     """Write the HTML report of a prediction.
 
     Args:
@@ -1092,6 +1438,14 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any], params: Pa
             the report compares it with the prediction and shows the compensated
             wrench (measured − predicted); otherwise it shows the prediction.
         title: the page title; default "massid prediction — ROBOT".
+        cutoff: dynamic parameters and a log without ``JOINT_vel``/``JOINT_acc``:
+            the low-pass cutoff (Hz) that derives them from ``t`` and the positions
+            (default min(10, rate/20), as ``massid predict``).
+        root_gravity: gravity in the URDF root frame (a sensor below movable joints).
+
+    With dynamic parameters the report compares the full wrench in motion and
+    shows it along time, the spectrum of the compensated wrench and the
+    compensated wrench against each joint's velocity.
 
     Raises:
         massid.InputError: unreadable robot, params or data.
@@ -1099,7 +1453,7 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any], params: Pa
         OSError: the file cannot be written.
     """
     with _Figures() as figs:
-        text = _predict_html(robot, params, data, title, figs)
+        text = _predict_html(robot, params, data, title, figs, cutoff, root_gravity)
     _massid._write_file_atomically(path, text)
 
 
@@ -1142,12 +1496,43 @@ def _parser() -> argparse.ArgumentParser:
     ident.add_argument("--sigma-force", type=float, metavar="N", help="force noise, N")
     ident.add_argument("--sigma-moment", type=float, metavar="NM", help="moment noise, N m")
     ident.add_argument("--no-checks", action="store_true", help="skip the set-up checks")
+    ident.add_argument("--dynamic", action="store_true",
+                       help="identification in motion: ten parameters per link")
+    ident.add_argument("--cutoff", type=_positive, metavar="HZ",
+                       help="with --dynamic, a log without JOINT_vel/_acc: low-pass cutoff, Hz")
+    ident.add_argument("--root-gravity", type=_three_numbers, metavar="GX,GY,GZ",
+                       help="with --dynamic: gravity in the URDF root frame (sensor below joints)")
     pred = sub.add_parser("predict", help="predict, then write the report")
     pred.add_argument("robot", help="URDF file")
     pred.add_argument("params", help="params JSON from massid identify")
     pred.add_argument("data", help="data CSV")
     pred.add_argument("-o", "--output", required=True, help="the HTML report to write")
+    pred.add_argument("--cutoff", type=_positive, metavar="HZ",
+                      help="dynamic params, a log without JOINT_vel/_acc: low-pass cutoff, Hz")
+    pred.add_argument("--root-gravity", type=_three_numbers, metavar="GX,GY,GZ",
+                      help="gravity in the URDF root frame (sensor below movable joints)")
     return p
+
+
+def _positive(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not (v > 0 and math.isfinite(v)):
+        raise argparse.ArgumentTypeError(f"'{text}' is not a positive number")
+    return v
+
+
+def _three_numbers(text: str) -> list[float]:
+    parts = text.split(",")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(values) != 3 or not all(math.isfinite(v) for v in values):
+        raise argparse.ArgumentTypeError(f"'{text}' should read gx,gy,gz (three numbers)")
+    return values
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -1170,14 +1555,19 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         # has printed them already, so they are not printed twice.
         warnings.filterwarnings("ignore", category=getattr(massid, "MassidWarning", UserWarning))
         if args.command == "identify":
+            motion = ({"dynamic": True, "cutoff": args.cutoff, "root_gravity": args.root_gravity}
+                      if args.dynamic else {})
+            if not args.dynamic and (args.cutoff is not None or args.root_gravity is not None):
+                raise massid.InputError("--cutoff and --root-gravity go with --dynamic")
             ident = massid.identify(
                 args.robot, args.data, offset=args.offset, sensor=args.sensor,
                 fixed=_parse_fixed(args.fixed), robust=args.robust, drift=args.drift,
                 sigma_force=args.sigma_force, sigma_moment=args.sigma_moment,
-                checks=not args.no_checks)
+                checks=not args.no_checks, **motion)
             write_identify_report(args.output, ident)
         else:
-            write_predict_report(args.output, args.robot, args.params, args.data)
+            write_predict_report(args.output, args.robot, args.params, args.data,
+                                 cutoff=args.cutoff, root_gravity=args.root_gravity)
     except MatplotlibMissing:
         print(f"massid: error: {MATPLOTLIB_MISSING}", file=sys.stderr)
         return 2

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <climits>
+#include <limits>
 
 #include "bindings.hpp"
 #include "convert.hpp"
@@ -29,10 +31,11 @@ std::string strip_warning(std::string line) {
 // The set-up checks (setup_checks.hpp): errors raise InputError with every
 // error on its own line; warnings are returned.
 std::vector<std::string> run_checks(const Model& model, const py::handle& data,
-                                    const Samples* samples,
-                                    const std::vector<std::string>& header) {
+                                    const Samples* samples, const std::vector<std::string>& header,
+                                    bool motion) {
   SetupCheckOptions o;
   o.constant_joints = false;  // left to the identifiability diagnosis (exit 3), as the CLI
+  o.motion = motion;          // the force is not the weight alone
   const std::vector<SetupFinding> findings =
       samples ? check_setup(model, *samples, header, o) : check_setup_file(model, path_of(data), o);
   std::vector<std::string> errors, warnings;
@@ -46,7 +49,9 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
                             std::optional<std::string> sensor,
                             std::optional<std::map<std::string, double>> fixed, bool robust,
                             std::optional<std::string> drift, std::optional<double> sigma_force,
-                            std::optional<double> sigma_moment, bool checks) {
+                            std::optional<double> sigma_moment, bool checks, bool dynamic,
+                            std::optional<double> cutoff,
+                            std::optional<std::vector<double>> root_gravity) {
   Identification out;
   out.model = model_of(robot, sensor, fixed);
   IdentifyOptions opts;
@@ -64,26 +69,58 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
       throw InputError(fmt::format("{}: {} is not a positive number", name, *value));
   opts.sigma_force = sigma_force;
   opts.sigma_moment = sigma_moment;
+  if (!dynamic && (cutoff || root_gravity))
+    throw InputError(fmt::format("{} goes with dynamic=True (identification in motion)",
+                                 cutoff ? "cutoff" : "root_gravity"));
   BaseParameterOptions bopts;
   bopts.offset = offset || opts.drift != Drift::None;  // a drifting offset is an offset
-  out.base = find_base_parameters(out.model, bopts);
 
   std::vector<std::string> notes;
   std::string source;
-  if (is_path(data)) {
-    source = path_of(data);
-    if (checks) notes = run_checks(out.model, data, nullptr, {});
+  if (dynamic) {
+    // As massid identify --dynamic: the log (derivatives given, or derived by
+    // the zero-phase filter), the reduction the samples call for, the fit.
+    out.motion_options = motion_data_options(cutoff, root_gravity);
+    Samples raw;
+    if (is_path(data)) {
+      source = path_of(data);
+      if (checks) notes = run_checks(out.model, data, nullptr, {}, dynamic);
+      py::gil_scoped_release release;
+      out.samples = read_motion_samples(out.model, source, WrenchColumns::Required,
+                                        out.motion_options, &out.motion);
+    } else {
+      std::vector<std::string> header;
+      raw =
+          samples_of(out.model, data, WrenchColumns::Required, &header, out.motion_options.samples);
+      source = raw.source;
+      if (checks) notes = run_checks(out.model, data, &raw, header, dynamic);
+      py::gil_scoped_release release;
+      out.samples =
+          prepare_motion_samples(out.model, std::move(raw), out.motion_options, &out.motion);
+    }
     py::gil_scoped_release release;
-    out.summary = identify_file(out.model, out.base, source, opts, &out.samples);
-  } else {
-    std::vector<std::string> header;
-    out.samples = samples_of(out.model, data, WrenchColumns::Required, &header);
-    source = out.samples.source;
-    if (checks) notes = run_checks(out.model, data, &out.samples, header);
-    py::gil_scoped_release release;
+    out.base = find_base_parameters(out.model, motion_base_options(out.samples, bopts.offset));
     out.summary = identify(out.model, out.base, out.samples, opts);
+  } else {
+    out.base = find_base_parameters(out.model, bopts);
+    if (is_path(data)) {
+      source = path_of(data);
+      if (checks) notes = run_checks(out.model, data, nullptr, {}, dynamic);
+      py::gil_scoped_release release;
+      out.summary = identify_file(out.model, out.base, source, opts, &out.samples);
+    } else {
+      std::vector<std::string> header;
+      out.samples = samples_of(out.model, data, WrenchColumns::Required, &header);
+      source = out.samples.source;
+      if (checks) notes = run_checks(out.model, data, &out.samples, header, dynamic);
+      py::gil_scoped_release release;
+      out.summary = identify(out.model, out.base, out.samples, opts);
+    }
   }
-  out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
+  {
+    py::gil_scoped_release release;
+    out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
+  }
   if (out.summary.gravity_from_force)
     notes.push_back(fmt::format(
         "{} has no gx,gy,gz columns: gravity is taken along the measured force (paper eq. 37), "
@@ -96,6 +133,15 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   const py::object category = py::module_::import("massid").attr("MassidWarning");
   for (const std::string& w : out.warnings) warn(w, category, 3);
   return out;
+}
+
+double nan_or(bool present, double v) {
+  return present ? v : std::numeric_limits<double>::quiet_NaN();
+}
+
+// A motion part of the samples (None at rest or when absent).
+std::optional<Eigen::MatrixXd> optional_matrix_of(const Eigen::MatrixXd& m, bool motion) {
+  return motion && m.cols() > 0 ? std::optional<Eigen::MatrixXd>(m) : std::nullopt;
 }
 
 std::optional<Eigen::VectorXd> optional_vector(bool present, const Eigen::VectorXd& v) {
@@ -121,10 +167,20 @@ void bind_identify(py::module_& m) {
                 "Attributes mirror the params file.")
       .def_readonly("model", &I::model)
       .def_property_readonly("source", [](const I& i) { return i.samples.source; })
-      .def_property_readonly("total_mass",
-                             [sum](const I& i) { return sum(i).value[i.base.total_mass]; })
+      .def_property_readonly(
+          "total_mass",
+          [sum](const I& i) {
+            return nan_or(i.base.total_mass >= 0, sum(i).value[std::max(i.base.total_mass, 0)]);
+          },
+          "kg; nan when not identifiable (dynamic, constant gravity, offsets)")
       .def_property_readonly("total_mass_std",
-                             [sum](const I& i) { return sum(i).stddev[i.base.total_mass]; })
+                             [sum](const I& i) {
+                               return nan_or(i.base.total_mass >= 0,
+                                             sum(i).stddev[std::max(i.base.total_mass, 0)]);
+                             })
+      .def_property_readonly(
+          "dynamic", [](const I& i) { return i.base.motion(); },
+          "identified in motion (ten parameters per link; dynamic=True)")
       .def_property_readonly("base_parameters",
                              [sum](const I& i) {
                                std::vector<NamedParameter> out;
@@ -169,6 +225,32 @@ void bind_identify(py::module_& m) {
       .def_property_readonly("residual_rms", [sum](const I& i) { return sum(i).residual_rms; })
       .def_property_readonly("residual_max", [sum](const I& i) { return sum(i).residual_max; })
       .def_property_readonly("q", [](const I& i) { return i.samples.q; })
+      .def_property_readonly(
+          "qd", [](const I& i) { return optional_matrix_of(i.samples.qd, i.base.motion()); },
+          "[N, num_joints] joint velocities (dynamic; derived when the log had none), else None")
+      .def_property_readonly(
+          "qdd", [](const I& i) { return optional_matrix_of(i.samples.qdd, i.base.motion()); },
+          "[N, num_joints] joint accelerations (dynamic), else None")
+      .def_property_readonly(
+          "sensor_motion",
+          [](const I& i) { return optional_matrix_of(i.samples.sensor_motion, i.base.motion()); },
+          "[N, 9] wx wy wz, dwx dwy dwz, ax ay az of the sensor frame (dynamic, when the data "
+          "have it), else None")
+      .def_property_readonly(
+          "filter",
+          [](const I& i) -> py::object {
+            if (!i.motion.derived) return py::none();
+            py::dict d;
+            d["cutoff"] = i.motion.kernels.cutoff;
+            d["rate"] = 1.0 / i.motion.kernels.dt;
+            d["half_width"] = i.motion.kernels.half_width;
+            d["decimation"] = i.motion.decimation;
+            d["rows"] = i.motion.rows;
+            return d;
+          },
+          "dynamic, derivatives derived from t and the positions: the zero-phase low-pass "
+          "(cutoff Hz, rate Hz, half_width samples dropped at each end, decimation, rows of the "
+          "data); None otherwise")
       .def_property_readonly("gravity", [](const I& i) { return i.samples.gravity; })
       .def_property_readonly("wrench", [](const I& i) { return i.samples.wrench; })
       .def_property_readonly("fitted", [](const I& i) { return i.fitted; })
@@ -236,19 +318,23 @@ void bind_identify(py::module_& m) {
           },
           "A Predictor of these parameters.")
       .def("__repr__", [sum](const I& i) {
-        return fmt::format(
-            "Identification('{}', total_mass={:.6g} +- {:.2g} kg, {} samples, "
-            "condition number {:.4g})",
-            i.model.name, sum(i).value[i.base.total_mass], sum(i).stddev[i.base.total_mass],
-            sum(i).samples, sum(i).condition_number);
+        const std::string mass =
+            i.base.total_mass >= 0
+                ? fmt::format("total_mass={:.6g} +- {:.2g} kg", sum(i).value[i.base.total_mass],
+                              sum(i).stddev[i.base.total_mass])
+                : std::string("total_mass not identifiable");
+        return fmt::format("Identification('{}'{}, {}, {} samples, condition number {:.4g})",
+                           i.model.name, i.base.motion() ? ", dynamic" : "", mass, sum(i).samples,
+                           sum(i).condition_number);
       });
 
   m.def("identify", &run_identify, py::arg("robot"), py::arg("data"), py::kw_only(),
         py::arg("offset") = false, py::arg("sensor") = py::none(), py::arg("fixed") = py::none(),
         py::arg("robust") = false, py::arg("drift") = py::none(),
         py::arg("sigma_force") = py::none(), py::arg("sigma_moment") = py::none(),
-        py::arg("checks") = true,
-        R"(Identifies the base parameters from measured static wrenches (massid identify).
+        py::arg("checks") = true, py::arg("dynamic") = false, py::arg("cutoff") = py::none(),
+        py::arg("root_gravity") = py::none(),
+        R"(Identifies the base parameters from measured wrenches (massid identify [--dynamic]).
 
 robot: URDF path or Model. data: a CSV path (streamed, as the CLI) or columns by name
 (joints or JOINT_deg, gx, gy, gz, fx ... mz, optional t and block). offset: estimate the six
@@ -256,6 +342,10 @@ sensor offsets; sensor: sensor link; fixed: joints held still, name -> position;
 robust: reject samples with implausible residuals; drift: 'linear' (column t) or
 'per-block' (column block); sigma_force / sigma_moment: noise (default: from residuals);
 checks: the set-up checks (sign, frame, units, gravity, columns).
+dynamic: identification in motion, ten parameters per link (inertia about the link origin):
+the data add JOINT_vel and JOINT_acc, or t to derive them from the positions by a zero-phase
+low-pass (cutoff Hz; default min(10, rate/20)); optionally wx..wz, dwx..dwz, ax..az (sensor
+motion) and the joints above the sensor link (root_gravity: gravity in the URDF root frame).
 Raises InputError (bad input, failed check) or IdentifiabilityError; warnings are issued
 as MassidWarning and kept in .warnings.)");
 }

@@ -10,7 +10,9 @@
 #include "convert.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
+#include "massid/params_file.hpp"
 #include "massid/regressor.hpp"
+#include "massid/report.hpp"
 
 namespace massid::python {
 
@@ -70,6 +72,34 @@ std::string joint_list(const Model& model) {
 
 }  // namespace
 
+MotionArrays motion_arrays(const Model& model, Eigen::Index rows, const py::handle& qd,
+                           const py::handle& qdd, const py::handle& sensor_motion) {
+  MotionArrays m;
+  if (qd.is_none() != qdd.is_none())
+    throw InputError("qd and qdd: give both (velocities and accelerations), or neither");
+  m.present = !qd.is_none();
+  if (!m.present) {
+    if (!sensor_motion.is_none()) throw InputError("sensor_motion goes with qd and qdd");
+    return m;
+  }
+  const std::string joints = fmt::format("(joints {})", fmt::join(joint_names(model), ", "));
+  m.qd = optional_matrix(qd, rows, model.num_joints(), "qd " + joints);
+  m.qdd = optional_matrix(qdd, rows, model.num_joints(), "qdd " + joints);
+  m.sensor_motion = optional_matrix(sensor_motion, rows, 9,
+                                    "sensor_motion (wx, wy, wz, dwx, dwy, dwz, ax, ay, az)");
+  return m;
+}
+
+FrameMotion MotionArrays::sensor(Eigen::Index i) const {
+  FrameMotion f;
+  if (sensor_motion.cols() == 9) {
+    f.omega = sensor_motion.block<1, 3>(i, 0).transpose();
+    f.omega_dot = sensor_motion.block<1, 3>(i, 3).transpose();
+    f.accel = sensor_motion.block<1, 3>(i, 6).transpose();
+  }
+  return f;
+}
+
 std::pair<Eigen::MatrixXd, Eigen::MatrixXd> poses_of(const Model& model, const py::handle& q,
                                                      const py::handle& gravity) {
   Eigen::MatrixXd Q = to_matrix(q, model.num_joints(), joint_list(model));
@@ -127,8 +157,26 @@ void bind_model(py::module_& m) {
                                return n;
                              })
       .def(
-          "nominal_parameters", [](const Model& mo) { return nominal_standard_parameters(mo); },
-          "[4 L] the URDF's inertials as standard parameters: m, mx, my, mz per link")
+          "nominal_parameters",
+          [](const Model& mo, bool dynamic) {
+            return dynamic ? ParameterLayout::full().nominal(mo) : nominal_standard_parameters(mo);
+          },
+          py::arg("dynamic") = false,
+          "[4 L] the URDF's inertials as standard parameters: m, mx, my, mz per link; "
+          "dynamic=True: [10 L] m, mx, my, mz, ixx, ixy, ixz, iyy, iyz, izz per link (inertia "
+          "about the link origin, link frame)")
+      .def(
+          "parameter_names",
+          [](const Model& mo, bool dynamic) {
+            const ParameterLayout layout =
+                dynamic ? ParameterLayout::full() : ParameterLayout::first_moments();
+            std::vector<std::string> n;
+            for (int i = 0; i < layout.size(mo); ++i) n.push_back(layout.name(mo, i));
+            return n;
+          },
+          py::arg("dynamic") = false,
+          "Names of the standard parameters, 'm(link)', 'mx(link)', ... ([4 L]; dynamic=True: "
+          "[10 L] with 'ixx(link)' ... 'izz(link)')")
       .def("__repr__", [](const Model& mo) {
         return fmt::format("Model('{}', sensor_link='{}', {} links, {} joints)", mo.name,
                            mo.sensor_link(), mo.num_links(), mo.num_joints());
@@ -171,10 +219,6 @@ void bind_model(py::module_& m) {
                                  p.std, p.unit, p.expression);
       });
 
-  struct PyBase {
-    Model model;
-    BaseParameters base;
-  };
   py::class_<PyBase>(m, "BaseParameters", "The base parameters of a model (and the offsets).")
       .def_property_readonly("params",
                              [](const PyBase& b) {
@@ -193,50 +237,150 @@ void bind_model(py::module_& m) {
       .def_property_readonly("offset", [](const PyBase& b) { return b.base.offset; })
       .def_property_readonly("num_unknowns", [](const PyBase& b) { return b.base.num_unknowns(); })
       .def_property_readonly(
+          "dynamic", [](const PyBase& b) { return b.base.motion(); },
+          "ten standard parameters per link (motion) rather than four (rest)")
+      .def_property_readonly(
+          "gravity",
+          [](const PyBase& b) -> py::object {
+            if (!b.base.motion()) return py::none();
+            return py::str(b.base.fixed_gravity ? "level" : "varying");
+          },
+          "dynamic: 'level' (the same gravity in every sample) or 'varying'; None at rest")
+      .def_property_readonly(
+          "moving_sensor", [](const PyBase& b) { return b.base.sensor_moving; },
+          "dynamic: the sensor frame itself moves")
+      .def_property_readonly(
+          "total_mass_identifiable", [](const PyBase& b) { return b.base.total_mass >= 0; },
+          "False when the total mass joins offset fz (dynamic, level, offsets)")
+      .def_property_readonly(
+          "standard_parameter_names",
+          [](const PyBase& b) {
+            std::vector<std::string> n;
+            for (int i = 0; i < b.base.layout.size(b.model); ++i)
+              n.push_back(b.base.layout.name(b.model, i));
+            return n;
+          },
+          "names of K's columns: 'm(link)', 'mx(link)', ... (and 'ixx(link)' ... dynamic)")
+      .def_property_readonly(
           "K", [](const PyBase& b) { return b.base.K; },
-          "[num_mass x 4 L]: base values = K @ standard parameters");
+          "[num_mass x 4 L] (dynamic: [num_mass x 10 L]): base values = K @ standard parameters")
+      .def(
+          "report", [](const PyBase& b) { return model_report(b.model, b.base); },
+          "The text massid model prints.")
+      .def(
+          "to_json", [](const PyBase& b) { return params_json(b.model, b.base, nullptr); },
+          "The JSON massid model --json prints (a params file without values).")
+      .def("__repr__", [](const PyBase& b) {
+        return fmt::format("BaseParameters('{}'{}, {} base parameters{})", b.model.name,
+                           b.base.motion() ? ", dynamic" : "", b.base.num_mass(),
+                           b.base.offset ? " + 6 offsets" : "");
+      });
 
   m.def(
       "base_parameters",
-      [](const Model& model, bool offset) {
+      [](const py::object& robot, bool offset, bool dynamic, const std::string& gravity,
+         bool moving_sensor, std::optional<std::vector<double>> root_gravity) {
+        const Model model = model_of(robot, std::nullopt, std::nullopt);
         BaseParameterOptions o;
         o.offset = offset;
+        if (gravity != "level" && gravity != "varying")
+          throw InputError(fmt::format("gravity: '{}' is not 'level' or 'varying'", gravity));
+        if (dynamic) {
+          o.layout = ParameterLayout::full();
+          o.fixed_gravity = gravity == "level";
+          o.sensor_moving = moving_sensor;
+          if (root_gravity) o.gravity = root_gravity_of(root_gravity);
+        } else if (gravity != "varying" || moving_sensor || root_gravity) {
+          throw InputError("gravity, moving_sensor and root_gravity go with dynamic=True");
+        }
+        py::gil_scoped_release release;
         return PyBase{model, find_base_parameters(model, o)};
       },
-      py::arg("model"), py::arg("offset") = false,
-      "The base parameters of the model; offset=True adds the six sensor offsets as unknowns.");
+      py::arg("model"), py::arg("offset") = false, py::kw_only(), py::arg("dynamic") = false,
+      py::arg("gravity") = "varying", py::arg("moving_sensor") = false,
+      py::arg("root_gravity") = py::none(),
+      "The base parameters of the model (a Model or a URDF path; massid model [--dynamic]); "
+      "offset=True adds the six sensor offsets as unknowns. dynamic=True: in motion, ten "
+      "parameters per link; gravity='level' (the same gravity, root_gravity, in every sample: "
+      "some constants join the offsets) or 'varying' (a tilting platform); moving_sensor: the "
+      "sensor frame itself moves.");
 
   m.def(
       "standard_regressor",
-      [](const Model& model, const py::object& q, const py::object& gravity) {
+      [](const Model& model, const py::object& q, const py::object& gravity, const py::object& qd,
+         const py::object& qdd, const py::object& sensor_motion) {
         const auto [Q, G] = poses_of(model, q, gravity);
+        const MotionArrays mo = motion_arrays(model, Q.rows(), qd, qdd, sensor_motion);
         KinematicsData kin(model);
-        return stacked(Q.rows(), num_standard_parameters(model),
-                       [&](Eigen::Index i, Eigen::MatrixXd& Y) {
-                         forward_kinematics(model, kin, Q.row(i).transpose());
-                         standard_regressor(model, kin, G.row(i).transpose(), Y);
-                       });
+        if (!mo.present)
+          return stacked(Q.rows(), num_standard_parameters(model),
+                         [&](Eigen::Index i, Eigen::MatrixXd& Y) {
+                           forward_kinematics(model, kin, Q.row(i).transpose());
+                           standard_regressor(model, kin, G.row(i).transpose(), Y);
+                         });
+        return stacked(
+            Q.rows(), ParameterLayout::full().size(model), [&](Eigen::Index i, Eigen::MatrixXd& Y) {
+              forward_kinematics(model, kin, Q.row(i).transpose(), mo.qd.row(i).transpose(),
+                                 mo.qdd.row(i).transpose(), G.row(i).transpose(), mo.sensor(i));
+              motion_regressor(model, kin, Y);
+            });
       },
-      py::arg("model"), py::arg("q"), py::arg("gravity"),
+      py::arg("model"), py::arg("q"), py::arg("gravity"), py::kw_only(), py::arg("qd") = py::none(),
+      py::arg("qdd") = py::none(), py::arg("sensor_motion") = py::none(),
       "[N, 6, 4 L] Y(q, g) with wrench = Y @ standard parameters (paper eqs. 15, 25, 29).\n"
-      "q: [N, num_joints] rad or m; gravity: [N, 3] m/s^2 in the sensor frame.");
+      "q: [N, num_joints] rad or m; gravity: [N, 3] m/s^2 in the sensor frame.\n"
+      "With qd and qdd ([N, num_joints]; sensor_motion [N, 9] optional): in motion, [N, 6, 10 L] "
+      "over m, mx, my, mz, ixx ... izz per link (Model.nominal_parameters(dynamic=True)).");
 
   m.def(
       "regressor",
-      [](const Model& model, const py::object& q, const py::object& gravity, bool offset) {
+      [](const Model& model, const py::object& q, const py::object& gravity, bool offset,
+         const py::object& qd, const py::object& qdd, const py::object& sensor_motion,
+         const py::object& base_arg) {
         const auto [Q, G] = poses_of(model, q, gravity);
-        BaseParameterOptions o;
-        o.offset = offset;
-        const BaseParameters base = find_base_parameters(model, o);
+        const MotionArrays mo = motion_arrays(model, Q.rows(), qd, qdd, sensor_motion);
+        BaseParameters base;
+        if (!base_arg.is_none()) {
+          const PyBase& b = base_arg.cast<const PyBase&>();
+          if (b.model.name != model.name || b.model.sensor_link() != model.sensor_link() ||
+              b.model.num_joints() != model.num_joints())
+            throw InputError("base: the base parameters of another model");
+          if (offset && !b.base.offset)
+            throw InputError("offset=True with base=: use base_parameters(..., offset=True)");
+          base = b.base;
+        } else {
+          BaseParameterOptions o;
+          o.offset = offset;
+          if (mo.present) {
+            o.layout = ParameterLayout::full();
+            o.sensor_moving = mo.sensor_motion.cols() > 0;
+          }
+          base = find_base_parameters(model, o);
+        }
+        if (base.motion() && !mo.present)
+          throw InputError("dynamic base parameters: the regressor needs qd and qdd");
+        if (!base.motion() && mo.present)
+          throw InputError(
+              "qd and qdd go with dynamic base parameters (base_parameters(..., "
+              "dynamic=True))");
         RegressorData data(model, base);
         return stacked(Q.rows(), base.num_unknowns(), [&](Eigen::Index i, Eigen::MatrixXd& Y) {
-          base_regressor(model, base, data, Q.row(i).transpose(), G.row(i).transpose());
+          if (mo.present)
+            base_regressor(model, base, data, Q.row(i).transpose(), mo.qd.row(i).transpose(),
+                           mo.qdd.row(i).transpose(), G.row(i).transpose(), mo.sensor(i));
+          else
+            base_regressor(model, base, data, Q.row(i).transpose(), G.row(i).transpose());
           Y = data.base;
         });
       },
-      py::arg("model"), py::arg("q"), py::arg("gravity"), py::arg("offset") = false,
+      py::arg("model"), py::arg("q"), py::arg("gravity"), py::arg("offset") = false, py::kw_only(),
+      py::arg("qd") = py::none(), py::arg("qdd") = py::none(),
+      py::arg("sensor_motion") = py::none(), py::arg("base") = py::none(),
       "[N, 6, num_unknowns] Y_b(q, g) with wrench = Y_b @ [base values, offsets] (eq. 29), in "
-      "the order of base_parameters(model, offset).unknown_names.");
+      "the order of base_parameters(model, offset).unknown_names.\n"
+      "With qd and qdd: in motion, over the dynamic base parameters (base: a BaseParameters "
+      "from base_parameters(..., dynamic=True); default: gravity varying, the sensor moving "
+      "when sensor_motion is given).");
 }
 
 }  // namespace massid::python

@@ -1,12 +1,19 @@
 // Params files, the predictor and simulated measurements (massid/params_file.hpp,
 // predictor.hpp, simulate.hpp).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <pybind11/stl.h>
+
+#include <limits>
+#include <memory>
 
 #include "bindings.hpp"
 #include "convert.hpp"
 #include "massid/atomic_file.hpp"
+#include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
+#include "massid/motion_data.hpp"
+#include "massid/motion_predictor.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
 #include "massid/simulate.hpp"
@@ -30,21 +37,122 @@ Model model_for(const py::handle& robot, const std::string& sensor_link,
   return model_of(robot, sensor_link, held_dict(held));
 }
 
+// massid.Predictor: the static gravity predictor (predictor.hpp) or, for
+// dynamic parameters, the motion predictor (motion_predictor.hpp).
 struct PyPredictor {
   Model model;
-  Predictor predictor;
-  PredictorData data;
+  bool dynamic = false;
+  Predictor predictor;  // static
+  std::unique_ptr<PredictorData> data;
+  MotionPredictor motion;  // dynamic
+  std::unique_ptr<MotionPredictorData> motion_data;
+  std::optional<Eigen::Vector3d> level_gravity;  // dynamic, identified at one gravity
+  std::optional<Wrench> offset;                  // the identified offsets
 
-  PyPredictor(Model m, Predictor p)
-      : model(std::move(m)), predictor(std::move(p)), data(predictor) {}
+  PyPredictor(Model m, Predictor p, bool has_offset)
+      : model(std::move(m)), predictor(std::move(p)) {
+    data = std::make_unique<PredictorData>(predictor);
+    if (has_offset) offset = predictor.offset;
+  }
+  PyPredictor(Model m, const BaseParameters& base, const Eigen::VectorXd& values)
+      : model(std::move(m)), dynamic(true) {
+    motion = compile_motion_predictor(model, base, values);
+    motion_data = std::make_unique<MotionPredictorData>(motion);
+    if (base.fixed_gravity) level_gravity = base.gravity;
+    if (base.offset) offset = values.tail<6>();
+  }
 
-  py::object operator()(const py::object& q, const py::object& gravity) {
-    const auto [Q, G] = poses_of(model, q, gravity);
-    Eigen::MatrixXd W(Q.rows(), 6);
-    predict(predictor, data, Q, G, W);
+  // [N x 6] the full wrench (weight and motion) plus the identified offsets
+  // at every sample, as `massid predict` computes it (motion_data.hpp).
+  Eigen::MatrixXd predict_samples(const Samples& s) {
+    py::gil_scoped_release release;
+    return massid::predict_samples(motion, *motion_data, s);
+  }
+
+  py::object operator()(const py::object& q, const py::object& gravity, const py::object& qd,
+                        const py::object& qdd, const py::object& sensor_motion_arg,
+                        const py::object& t, std::optional<double> cutoff) {
     const py::object ndim = py::module_::import("numpy").attr("ndim");
-    const bool single = ndim(q).cast<int>() == 1 && ndim(gravity).cast<int>() == 1;
-    return single ? py::cast(Eigen::VectorXd(W.row(0).transpose())) : py::cast(std::move(W));
+    if (!dynamic) {
+      if (!qd.is_none() || !qdd.is_none() || !sensor_motion_arg.is_none() || !t.is_none() || cutoff)
+        throw InputError(
+            "static (first-moment) parameters predict the gravity wrench from q and gravity "
+            "alone: qd, qdd, sensor_motion, t and cutoff go with dynamic parameters");
+      if (gravity.is_none()) throw InputError("gravity (gx, gy, gz) is needed");
+      const auto [Q, G] = poses_of(model, q, gravity);
+      Eigen::MatrixXd W(Q.rows(), 6);
+      predict(predictor, *data, Q, G, W);
+      const bool single = ndim(q).cast<int>() == 1 && ndim(gravity).cast<int>() == 1;
+      return single ? py::cast(Eigen::VectorXd(W.row(0).transpose())) : py::cast(std::move(W));
+    }
+    // Dynamic.
+    Samples s;
+    s.source = "q";
+    s.q = to_matrix(q, model.num_joints(),
+                    fmt::format("q (joints {})", fmt::join(joint_names(model), ", ")));
+    const Eigen::Index N = s.q.rows();
+    if (gravity.is_none()) {
+      if (!level_gravity)
+        throw InputError(
+            "gravity (gx, gy, gz) is needed: the parameters were identified with varying "
+            "gravity");
+      s.gravity = level_gravity->transpose().replicate(N, 1);
+    } else {
+      s.gravity = to_matrix(gravity, 3, "gravity (gx, gy, gz)");
+      if (s.gravity.rows() != N)
+        throw InputError(fmt::format("q has {} rows and gravity {}: one of each per sample", N,
+                                     s.gravity.rows()));
+    }
+    const bool single =
+        ndim(q).cast<int>() == 1 && (gravity.is_none() || ndim(gravity).cast<int>() == 1);
+    if (!qd.is_none() || !qdd.is_none()) {
+      if (!t.is_none() || cutoff)
+        throw InputError("t and cutoff go with positions alone (qd and qdd derived from them)");
+      const MotionArrays mo = motion_arrays(model, N, qd, qdd, sensor_motion_arg);
+      s.qd = mo.qd;
+      s.qdd = mo.qdd;
+      s.sensor_motion = mo.sensor_motion;
+      Eigen::MatrixXd W = predict_samples(s);
+      return single ? py::cast(Eigen::VectorXd(W.row(0).transpose())) : py::cast(std::move(W));
+    }
+    if (t.is_none())
+      throw InputError(
+          "dynamic parameters predict the wrench in motion: give qd and qdd (joint velocities "
+          "and accelerations), or t to derive them from q (zero-phase low-pass, as massid "
+          "predict)");
+    s.time = to_vector(t, "t");
+    if (s.time.size() != N)
+      throw InputError(
+          fmt::format("q has {} rows and t {}: one of each per sample", N, s.time.size()));
+    if (!sensor_motion_arg.is_none())
+      s.sensor_motion = optional_matrix(sensor_motion_arg, N, 9,
+                                        "sensor_motion (wx, wy, wz, dwx, dwy, dwz, ax, ay, az)");
+    s.line.resize(N);
+    for (Eigen::Index i = 0; i < N; ++i) s.line[i] = static_cast<int>(i);
+    s.qd.resize(N, 0);
+    s.qdd.resize(N, 0);
+    MotionDataOptions o = motion_data_options(cutoff, std::nullopt);
+    o.filter.decimation = 1;
+    const Samples kept = prepare_motion_samples(model, std::move(s), o);
+    return py::cast(spread_rows(predict_samples(kept), kept.line, N, nullptr));
+  }
+
+  // [rows x 6]: row r of W at the data row of line[r] (table: file lines of
+  // the rows; null: the lines are row indices), NaN elsewhere.
+  static Eigen::MatrixXd spread_rows(const Eigen::MatrixXd& W, const std::vector<int>& line,
+                                     Eigen::Index rows, const std::vector<int>* table_lines) {
+    Eigen::MatrixXd out =
+        Eigen::MatrixXd::Constant(rows, 6, std::numeric_limits<double>::quiet_NaN());
+    Eigen::Index r = 0;
+    for (size_t k = 0; k < line.size(); ++k) {
+      if (table_lines) {
+        while (r < rows && (*table_lines)[r] != line[k]) ++r;
+      } else {
+        r = line[k];
+      }
+      if (r < rows) out.row(r) = W.row(static_cast<Eigen::Index>(k));
+    }
+    return out;
   }
 };
 
@@ -57,8 +165,9 @@ std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::o
         throw InputError(
             fmt::format("robot '{}' is not the identified robot '{}'", check.name, id.model.name));
     }
-    return std::make_unique<PyPredictor>(id.model,
-                                         compile_predictor(id.model, id.base, id.summary.value));
+    if (id.base.motion()) return std::make_unique<PyPredictor>(id.model, id.base, id.summary.value);
+    return std::make_unique<PyPredictor>(
+        id.model, compile_predictor(id.model, id.base, id.summary.value), id.base.offset);
   }
   const ParamsFile file = py::isinstance<ParamsFile>(params) ? params.cast<ParamsFile>()
                           : is_path(params)                  ? read_params(path_of(params))
@@ -66,8 +175,13 @@ std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::o
                                                                    "params: expected a params file path, "
                                                                                     "massid.Params or massid.Identification");
   Model model = model_for(robot, file.sensor_link, file.held);
+  if (file.dynamic) {
+    const BaseParameters base = find_base_parameters(model, base_parameter_options(file));
+    const Eigen::VectorXd values = values_in_basis(file, model, base);
+    return std::make_unique<PyPredictor>(std::move(model), base, values);
+  }
   Predictor predictor = compile_predictor(model, file);
-  return std::make_unique<PyPredictor>(std::move(model), std::move(predictor));
+  return std::make_unique<PyPredictor>(std::move(model), std::move(predictor), file.has_offset);
 }
 
 std::optional<Wrench> optional_wrench(bool present, const Wrench& w) {
@@ -84,7 +198,25 @@ void bind_predict(py::module_& m) {
       .def_property_readonly("held", [](const ParamsFile& p) { return held_dict(p.held); })
       .def_readonly("gravity_from", &ParamsFile::gravity_from)
       .def_readonly("samples", &ParamsFile::samples)
-      .def_readonly("total_mass", &ParamsFile::total_mass)
+      .def_readonly("total_mass", &ParamsFile::total_mass,
+                    "kg; nan when not identifiable (dynamic, level, offsets)")
+      .def_readonly("dynamic", &ParamsFile::dynamic,
+                    "identified in motion ('model': 'dynamic'): ten parameters per link")
+      .def_property_readonly(
+          "gravity",
+          [](const ParamsFile& p) -> py::object {
+            if (!p.dynamic) return py::none();
+            return py::str(p.fixed_gravity ? "level" : "varying");
+          },
+          "dynamic: 'level' (one gravity in every sample) or 'varying'; None at rest")
+      .def_property_readonly(
+          "gravity_vector",
+          [](const ParamsFile& p) -> std::optional<Eigen::Vector3d> {
+            if (p.dynamic && p.fixed_gravity) return p.gravity;
+            return std::nullopt;
+          },
+          "dynamic, level: the gravity of every sample (sensor frame), else None")
+      .def_readonly("moving_sensor", &ParamsFile::sensor_moving, "dynamic: the sensor frame moved")
       .def_property_readonly("base_parameters",
                              [](const ParamsFile& p) {
                                std::vector<NamedParameter> out;
@@ -109,8 +241,8 @@ void bind_predict(py::module_& m) {
       .def_readonly("condition_number", &ParamsFile::condition_number)
       .def_property_readonly("residual_rms", [](const ParamsFile& p) { return p.residual_rms; })
       .def("__repr__", [](const ParamsFile& p) {
-        return fmt::format("Params('{}', total_mass={:.6g}, {} base parameters)", p.source,
-                           p.total_mass, p.base_parameters.size());
+        return fmt::format("Params('{}'{}, total_mass={:.6g}, {} base parameters)", p.source,
+                           p.dynamic ? ", dynamic" : "", p.total_mass, p.base_parameters.size());
       });
 
   m.def(
@@ -118,49 +250,110 @@ void bind_predict(py::module_& m) {
       py::arg("path"),
       "Reads a params file written by identify (massid.InputError names file:line:column).");
 
+  const char* predict_doc =
+      "[N, 6] wrenches for q [N, num_joints] (rad or m) and gravity [N, 3] (m/s^2, sensor "
+      "frame); [6] for single vectors.\n"
+      "Dynamic parameters: the full wrench (weight and motion, plus the identified offsets, as "
+      "massid predict) from q, qd and qdd [N, num_joints] (and sensor_motion [N, 9]: wx wy wz, "
+      "dwx dwy dwz, ax ay az); gravity may be omitted for parameters identified at one "
+      "gravity. Or from q and t [N] alone: qd and qdd derived by the zero-phase low-pass of "
+      "massid predict (cutoff Hz; q and gravity smoothed alike), NaN in the rows at each end "
+      "that the filter drops.";
   py::class_<PyPredictor>(m, "Predictor",
-                          "The gravity wrench predictor compiled from identified parameters: "
-                          "w = Y_b(q, g) pi_b (paper eq. 29), about 50 ns per pose.")
+                          "The wrench predictor compiled from identified parameters: static, "
+                          "the gravity wrench w = Y_b(q, g) pi_b (paper eq. 29), about 50 ns per "
+                          "pose; dynamic, the full wrench in motion by Newton-Euler over the "
+                          "identified bodies.")
       .def(py::init(&make_predictor), py::arg("robot"), py::arg("params"),
            "robot: URDF path or Model (None with an Identification); params: a params file "
            "path, massid.Params or massid.Identification.")
       .def_readonly("model", &PyPredictor::model)
+      .def_readonly("dynamic", &PyPredictor::dynamic, "dynamic parameters (predicts in motion)")
+      .def_readonly("offset", &PyPredictor::offset,
+                    "[6] the identified sensor offsets (None without): included in the "
+                    "predictions (as massid predict)")
       .def_property_readonly("joint_names",
                              [](const PyPredictor& p) { return joint_names(p.model); })
-      .def("predict", &PyPredictor::operator(), py::arg("q"), py::arg("gravity"),
-           "[N, 6] wrenches for q [N, num_joints] (rad or m) and gravity [N, 3] (m/s^2, sensor "
-           "frame); [6] for single vectors.")
-      .def("__call__", &PyPredictor::operator(), py::arg("q"), py::arg("gravity"));
+      .def("predict", &PyPredictor::operator(), py::arg("q"), py::arg("gravity") = py::none(),
+           py::arg("qd") = py::none(), py::arg("qdd") = py::none(), py::kw_only(),
+           py::arg("sensor_motion") = py::none(), py::arg("t") = py::none(),
+           py::arg("cutoff") = py::none(), predict_doc)
+      .def("__call__", &PyPredictor::operator(), py::arg("q"), py::arg("gravity") = py::none(),
+           py::arg("qd") = py::none(), py::arg("qdd") = py::none(), py::kw_only(),
+           py::arg("sensor_motion") = py::none(), py::arg("t") = py::none(),
+           py::arg("cutoff") = py::none())
+      .def("__repr__", [](const PyPredictor& p) {
+        return fmt::format("Predictor('{}'{}, sensor_link='{}')", p.model.name,
+                           p.dynamic ? ", dynamic" : "", p.model.sensor_link());
+      });
 
   m.def(
       "predict",
-      [](const py::object& robot, const py::object& params, const py::object& data) {
+      [](const py::object& robot, const py::object& params, const py::object& data,
+         std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity) {
         auto p = make_predictor(robot, params);
-        const Samples s = samples_of(p->model, data, WrenchColumns::Optional);
-        Eigen::MatrixXd W(s.size(), 6);
-        predict(p->predictor, p->data, s.q, s.gravity, W);
-        return W;
+        SampleOptions sopts;
+        sopts.root_gravity = root_gravity_of(root_gravity);
+        if (!p->dynamic) {
+          if (cutoff) throw InputError("cutoff goes with dynamic parameters");
+          const Samples s = samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts);
+          Eigen::MatrixXd W(s.size(), 6);
+          predict(p->predictor, *p->data, s.q, s.gravity, W);
+          return W;
+        }
+        // As massid predict: derivatives from the columns, else derived (every
+        // filtered row kept); rows the filter drops are NaN.
+        CsvTable table;
+        Samples raw = samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts, &table);
+        const Eigen::Index rows = raw.size();
+        const bool from_file = is_path(data);
+        MotionDataOptions o = motion_data_options(cutoff, root_gravity);
+        o.filter.decimation = 1;
+        const Samples s = prepare_motion_samples(p->model, std::move(raw), o);
+        return PyPredictor::spread_rows(p->predict_samples(s), s.line, rows,
+                                        from_file ? &table.line : nullptr);
       },
-      py::arg("robot"), py::arg("params"), py::arg("data"),
-      "[N, 6] predicted gravity wrench at every row of data: a CSV path or columns by name "
-      "(joints or JOINT_deg, and gx, gy, gz or a measured force, as massid predict).");
+      py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),
+      py::arg("cutoff") = py::none(), py::arg("root_gravity") = py::none(),
+      "[N, 6] predicted wrench at every row of data: a CSV path or columns by name "
+      "(joints or JOINT_deg, and gx, gy, gz or a measured force, as massid predict).\n"
+      "Dynamic parameters: the full wrench in motion (plus the offsets) from JOINT_vel and "
+      "JOINT_acc, or derived from t and the positions by the zero-phase low-pass of massid "
+      "predict (cutoff Hz): the rows the filter drops at each end (of each block) are NaN. "
+      "root_gravity: gravity in the URDF root frame (sensor below movable joints).");
 
   m.def(
       "simulate",
       [](const py::object& robot, const py::object& plan, double noise_force, double noise_moment,
-         std::optional<std::vector<double>> offset, std::uint64_t seed, int repeat) {
+         std::optional<std::vector<double>> offset, std::uint64_t seed, int repeat, bool dynamic,
+         std::optional<std::vector<double>> root_gravity) {
         const Model model = model_of(robot, std::nullopt, std::nullopt);
+        SampleOptions sopts;
+        sopts.root_gravity = root_gravity_of(root_gravity);
         py::dict in;
         Samples s;
         if (py::isinstance<Plan>(plan)) {
           const auto& p = plan.cast<const Plan&>();
           in = plan_columns(p);
-          s = samples_of(model, in, WrenchColumns::Optional);
+          s = samples_of(model, in, WrenchColumns::Optional, nullptr, sopts);
         } else {
           in = is_path(plan) ? csv_columns(read_csv(path_of(plan))) : py::dict(plan);
-          s = samples_of(model, in, WrenchColumns::Optional);
+          s = samples_of(model, in, WrenchColumns::Optional, nullptr, sopts);
+          if (is_path(plan)) s.source = path_of(plan);
         }
         if (s.gravity_from_force) throw InputError(s.source + ": simulate needs gx,gy,gz columns");
+        if (dynamic) {  // as massid simulate --dynamic
+          if (model.num_joints() > 0 && s.qd.cols() != model.num_joints())
+            throw InputError(
+                fmt::format("{}: simulate with dynamic=True needs the trajectory's velocities and "
+                            "accelerations: columns JOINT_vel and JOINT_acc for every joint "
+                            "(fourier_trajectory makes them)",
+                            s.source));
+          if (s.q_upstream.cols() > 0 && s.qd_upstream.cols() == 0 && !s.has_sensor_motion())
+            throw InputError(fmt::format(
+                "{}: simulate with dynamic=True needs the upstream joints' _vel and _acc columns",
+                s.source));
+        }
         SimulateOptions o;
         if (!(noise_force >= 0) || !(noise_moment >= 0))
           throw InputError("noise_force and noise_moment must be >= 0");
@@ -173,7 +366,12 @@ void bind_predict(py::module_& m) {
         }
         o.seed = seed;
         o.repeat = repeat;
-        const Eigen::MatrixXd W = simulate_wrenches(model, s, o);
+        o.dynamic = dynamic;
+        Eigen::MatrixXd W;
+        {
+          py::gil_scoped_release release;
+          W = simulate_wrenches(model, s, o);
+        }
         py::dict out;
         const py::module_ np = py::module_::import("numpy");
         for (const auto& [k, v] : in)
@@ -183,10 +381,14 @@ void bind_predict(py::module_& m) {
       },
       py::arg("robot"), py::arg("plan"), py::kw_only(), py::arg("noise_force") = 0.0,
       py::arg("noise_moment") = 0.0, py::arg("offset") = py::none(), py::arg("seed") = 1,
-      py::arg("repeat") = 1,
+      py::arg("repeat") = 1, py::arg("dynamic") = false, py::arg("root_gravity") = py::none(),
       "The plan's columns (each repeated `repeat` times) with the wrenches fx ... mz that the "
       "URDF's inertials would produce, plus Gaussian noise (N, N m) and a constant offset: a "
-      "data set for identify.");
+      "data set for identify.\n"
+      "dynamic=True: the wrench in motion (weight and inertial forces, ten parameters per "
+      "link) along a trajectory with JOINT_vel and JOINT_acc columns (fourier_trajectory), "
+      "and the sensor's motion wx..az when given (massid simulate --dynamic). root_gravity: "
+      "gravity in the URDF root frame for a sensor below movable joints.");
 
   // For massid.report: the CLI's atomic write (InputError naming the path).
   m.def(

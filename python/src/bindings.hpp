@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -13,7 +14,9 @@
 #include "massid/base_parameters.hpp"
 #include "massid/design.hpp"
 #include "massid/estimation.hpp"
+#include "massid/kinematics.hpp"
 #include "massid/model.hpp"
+#include "massid/motion_data.hpp"
 #include "massid/samples.hpp"
 
 namespace massid::python {
@@ -32,15 +35,27 @@ const char* joint_type_name(JointType t);
 std::vector<std::string> joint_names(const Model& model);
 std::vector<std::string> unknown_names(const BaseParameters& base);  // params, then offsets
 
+// massid.BaseParameters: a model's base parameters (static or dynamic).
+struct PyBase {
+  Model model;
+  BaseParameters base;
+};
+
 // massid.Identification: a fit with the samples it was made from.
 struct Identification {
   Model model;
   BaseParameters base;
   IdentifySummary summary;
-  Samples samples;
+  Samples samples;                    // in motion: as prepared (filtered, decimated)
   Eigen::MatrixXd fitted;             // [N x 6] fitted_wrenches
   std::vector<std::string> warnings;  // one line each, without "massid: warning: "
+  MotionDataReport motion;            // dynamic: how the log became samples
+  MotionDataOptions motion_options;   // dynamic: cutoff and root gravity as given
 };
+
+// The motion options of the cutoff and root_gravity arguments (cutoff: Hz, > 0).
+MotionDataOptions motion_data_options(std::optional<double> cutoff,
+                                      const std::optional<std::vector<double>>& root_gravity);
 
 // massid.Plan: a designed experiment.
 struct Plan {
@@ -57,7 +72,18 @@ py::dict plan_columns(const Plan& plan);
 std::pair<Eigen::MatrixXd, Eigen::MatrixXd> poses_of(const Model& model, const py::handle& q,
                                                      const py::handle& gravity);
 
+// qd, qdd [N x num_joints] and sensor_motion [N x 9] (0 x 0 when None) of a
+// regressor or predictor call; present: qd and qdd were given.
+struct MotionArrays {
+  bool present = false;
+  Eigen::MatrixXd qd, qdd, sensor_motion;
+  FrameMotion sensor(Eigen::Index i) const;  // at rest without sensor_motion
+};
+MotionArrays motion_arrays(const Model& model, Eigen::Index rows, const py::handle& qd,
+                           const py::handle& qdd, const py::handle& sensor_motion);
+
 void bind_model(py::module_& m);     // Model, load_model, base_parameters, regressors
+void bind_motion(py::module_& m);    // fourier_trajectory
 void bind_predict(py::module_& m);   // Params, load_params, Predictor, predict, simulate
 void bind_identify(py::module_& m);  // Identification, identify
 void bind_design(py::module_& m);    // Plan, design

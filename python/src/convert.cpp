@@ -39,6 +39,22 @@ Eigen::MatrixXd to_matrix(const py::handle& array, int cols, const std::string& 
   return m;
 }
 
+Eigen::VectorXd to_vector(const py::handle& array, const std::string& what) {
+  py::array_t<double, py::array::c_style | py::array::forcecast> a;
+  try {
+    a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+  } catch (const py::error_already_set&) {
+  }
+  if (!a) throw InputError(fmt::format("{}: not an array of numbers", what));
+  if (a.ndim() != 1)
+    throw InputError(fmt::format("{}: expected a 1-D array, got {} dimensions", what, a.ndim()));
+  Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(a.data(), a.shape(0));
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      throw InputError(fmt::format("{}: element [{}] is {}, not a finite number", what, i, v[i]));
+  return v;
+}
+
 bool is_path(const py::handle& obj) {
   return py::isinstance<py::str>(obj) || py::hasattr(obj, "__fspath__");
 }
@@ -93,15 +109,44 @@ Columns columns_of(const py::handle& mapping) {
 }
 
 Samples samples_of(const Model& model, const py::handle& data, WrenchColumns wrench,
-                   std::vector<std::string>* header) {
+                   std::vector<std::string>* header, const SampleOptions& options,
+                   CsvTable* table_out) {
   if (is_path(data)) {
-    const CsvTable table = read_csv(path_of(data));
+    CsvTable table = read_csv(path_of(data));
     if (header) *header = table.header;
-    return read_samples(model, table, wrench);
+    Samples s = read_samples(model, table, wrench, options);
+    if (table_out) *table_out = std::move(table);
+    return s;
   }
   const Columns c = columns_of(data);
   if (header) *header = c.names;
-  return samples_from_columns(model, c.names, c.values, wrench, "data");
+  Samples s = samples_from_columns(model, c.names, c.values, wrench, "data", options.g0);
+  // samples_from_columns takes no root gravity: turn the given one into the
+  // sensor frame as read_samples does.
+  if (s.root_gravity != options.root_gravity) {
+    s.root_gravity = options.root_gravity;
+    if (s.gravity_from_upstream) resolve_upstream(model, s);
+  }
+  return s;
+}
+
+Eigen::Vector3d root_gravity_of(const std::optional<std::vector<double>>& root_gravity) {
+  if (!root_gravity) return SampleOptions{}.root_gravity;
+  if (root_gravity->size() != 3) throw InputError("root_gravity: three numbers gx, gy, gz");
+  for (double v : *root_gravity)
+    if (!std::isfinite(v))
+      throw InputError(fmt::format("root_gravity: {} is not a finite number", v));
+  return Eigen::Map<const Eigen::Vector3d>(root_gravity->data());
+}
+
+Eigen::MatrixXd optional_matrix(const py::handle& array, Eigen::Index rows, int cols,
+                                const std::string& what) {
+  if (array.is_none()) return Eigen::MatrixXd(0, 0);
+  Eigen::MatrixXd m = to_matrix(array, cols, what);
+  if (m.rows() != rows)
+    throw InputError(
+        fmt::format("{} has {} rows and q {}: one of each per sample", what, m.rows(), rows));
+  return m;
 }
 
 py::dict csv_columns(const CsvTable& table) {

@@ -27,6 +27,8 @@ namespace py = pybind11;
 // [N x cols] from an array-like of shape (N, cols), or (cols,) as one row.
 // `what` names the argument and its columns in errors: "q (joints j1, j2)".
 Eigen::MatrixXd to_matrix(const py::handle& array, int cols, const std::string& what);
+// [N] from a 1-D array-like (finite numbers).
+Eigen::VectorXd to_vector(const py::handle& array, const std::string& what);
 // os.fspath(obj) for str and os.PathLike.
 std::string path_of(const py::handle& obj);
 bool is_path(const py::handle& obj);
@@ -48,9 +50,19 @@ struct Columns {
 Columns columns_of(const py::handle& mapping);
 
 // Samples of a data argument (path: read_csv and read_samples' rules).
-// `header` receives the column names (for the set-up checks).
+// `header` receives the column names (for the set-up checks); `options` the
+// root gravity for a sensor below movable joints (default: SampleOptions{});
+// `table` (a path only) the CSV as read.
 Samples samples_of(const Model& model, const py::handle& data, WrenchColumns wrench,
-                   std::vector<std::string>* header = nullptr);
+                   std::vector<std::string>* header = nullptr, const SampleOptions& options = {},
+                   CsvTable* table = nullptr);
+
+// A root_gravity argument: three numbers gx, gy, gz (default 0, 0, -9.80665).
+Eigen::Vector3d root_gravity_of(const std::optional<std::vector<double>>& root_gravity);
+
+// [N x cols] of an optional array argument with N rows (0 x 0 when None).
+Eigen::MatrixXd optional_matrix(const py::handle& array, Eigen::Index rows, int cols,
+                                const std::string& what);
 
 // A CSV's numeric columns, by name.
 py::dict csv_columns(const CsvTable& table);

@@ -13,7 +13,7 @@ PYBIND11_MODULE(_massid, m) {
   namespace py = pybind11;
   m.doc() =
       "massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches "
-      "(compiled part; use the package `massid`).";
+      "and in motion (compiled part; use the package `massid`).";
   m.attr("__version__") = MASSID_VERSION;
   // The CLI's errors, with its messages: exit code 2 and 3 there.
   py::register_exception<massid::InputError>(m, "InputError", PyExc_ValueError).attr("__doc__") =
@@ -27,4 +27,5 @@ PYBIND11_MODULE(_massid, m) {
   massid::python::bind_predict(m);
   massid::python::bind_identify(m);
   massid::python::bind_design(m);
+  massid::python::bind_motion(m);
 }

@@ -130,3 +130,46 @@ def chromium() -> str:
         pytest.skip(f"{CHROMIUM} is not installed (Debian: apt-get install chromium; "
                     "scripts/test.sh installs it)")
     return CHROMIUM
+
+
+# --------------------------------------------------------------------------
+# Identification in motion: the UR-like arm on a level platform.
+
+UR = REPO / "examples" / "ur_like" / "ur_like.urdf"
+MOTION_OFFSET = [1.0, -2.0, 3.0, 0.1, -0.2, 0.3]
+
+
+@pytest.fixture(scope="session")
+def ur_urdf() -> Path:
+    return UR
+
+
+@pytest.fixture(scope="session")
+def ur_trajectory(massid: Any) -> dict[str, np.ndarray]:
+    """An exciting trajectory of the UR-like arm: 20 s at 200 Hz, two periods of 10 s."""
+    return massid.fourier_trajectory(str(UR), harmonics=5, period=10.0, duration=20.0, rate=200.0, seed=3)
+
+
+@pytest.fixture(scope="session")
+def ur_motion(massid: Any, ur_trajectory: Mapping[str, Any]) -> dict[str, np.ndarray]:
+    """The wrench along ur_trajectory (JOINT_vel, JOINT_acc given), with noise and no offset."""
+    return massid.simulate(str(UR), ur_trajectory, dynamic=True, noise_force=0.1, noise_moment=0.01, seed=5)
+
+
+@pytest.fixture(scope="session")
+def ur_motion_csv(tmp_path_factory: pytest.TempPathFactory, ur_motion: Mapping[str, Any]) -> Path:
+    return write_csv(tmp_path_factory.mktemp("motion") / "motion.csv", ur_motion)
+
+
+@pytest.fixture(scope="session")
+def ur_positions(massid: Any, ur_trajectory: Mapping[str, Any]) -> dict[str, np.ndarray]:
+    """A log of positions, t, gravity and the wrench only (with a sensor offset): the
+    derivatives are to be derived by the filter."""
+    data = massid.simulate(str(UR), ur_trajectory, dynamic=True, noise_force=0.1, noise_moment=0.01,
+                           offset=MOTION_OFFSET, seed=6)
+    return {k: v for k, v in data.items() if not k.endswith(("_vel", "_acc"))}
+
+
+@pytest.fixture(scope="session")
+def ur_positions_csv(tmp_path_factory: pytest.TempPathFactory, ur_positions: Mapping[str, Any]) -> Path:
+    return write_csv(tmp_path_factory.mktemp("motion") / "positions.csv", ur_positions)
