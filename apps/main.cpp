@@ -196,16 +196,13 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   IdentifySummary summary;
   if (motion.dynamic) {
     MotionDataReport mr;
-    const Samples samples =
-        read_motion_samples(model, data_path, WrenchColumns::Required, motion.data(), &mr);
+    summary = identify_motion_file(model, data_path, bopts.offset, opts, motion.data(), &base, &mr);
     if (mr.derived)
       std::cout << fmt::format(
           "velocities and accelerations derived from t and the positions: zero-phase low-pass "
           "at {:.3g} Hz (--cutoff), {} samples at each end dropped, every {} filtered sample "
           "kept: {} of {} rows\n",
-          mr.kernels.cutoff, mr.kernels.half_width, mr.decimation, samples.size(), mr.rows);
-    base = find_base_parameters(model, motion_base_options(samples, bopts.offset));
-    summary = identify(model, base, samples, opts);
+          mr.kernels.cutoff, mr.kernels.half_width, mr.decimation, summary.samples, mr.rows);
   } else {
     base = find_base_parameters(model, bopts);
     summary = identify_file(model, base, data_path, opts);

@@ -132,6 +132,24 @@ void BM_StandardRegressor(benchmark::State& state) {
 }
 BENCHMARK(BM_StandardRegressor)->DenseRange(0, 2);
 
+// forward_kinematics with velocities and accelerations (the one recursion
+// behind the motion regressor and the streamed motion rows).
+void BM_ForwardKinematicsMotion(benchmark::State& state) {
+  const Model model = load_urdf(kRobots[state.range(0)]);
+  KinematicsData kin(model);
+  const Samples s = random_samples(model, 1024, 2);
+  const Eigen::VectorXd qd = Eigen::VectorXd::Constant(model.num_joints(), 0.7);
+  const Eigen::VectorXd qdd = Eigen::VectorXd::Constant(model.num_joints(), -1.3);
+  int i = 0;
+  for (auto _ : state) {
+    forward_kinematics(model, kin, s.q.row(i).transpose(), qd, qdd, s.gravity.row(i).transpose());
+    benchmark::DoNotOptimize(kin.accel.data());
+    i = (i + 1) & 1023;
+  }
+  state.SetLabel(kNames[state.range(0)]);
+}
+BENCHMARK(BM_ForwardKinematicsMotion)->DenseRange(0, 2);
+
 void BM_FindBaseParameters(benchmark::State& state) {
   const Model model = load_urdf(kRobots[state.range(0)]);
   for (auto _ : state) benchmark::DoNotOptimize(find_base_parameters(model));

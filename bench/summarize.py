@@ -3,7 +3,8 @@
 
 Reads Google Benchmark's JSON (massid_bench --benchmark_format=json) and
 prints: the gravity wrench by massid's predictor against KDL and MuJoCo on the
-same robots, then every other benchmark with its counters. Standard library only.
+same robots, the full wrench in motion against KDL's recursive Newton-Euler,
+then every other benchmark with its counters. Standard library only.
 """
 import json
 import sys
@@ -34,6 +35,16 @@ def main(path):
             b = runs.get(f"{anchor}/{idx}")
             cells.append(f"{ns(b):7.0f} ns {ns(b) / ns(mine):5.1f}x" if b else "-")
         print(f"  {robot:<10} {cells[0]:>10} {cells[1]:>16} {cells[2]:>16} {cells[3]:>16}")
+
+    print("\nfull wrench in motion (weight and motion), per call (ratio = anchor / massid)")
+    print(f"  {'robot':<10} {'massid':>10} {'KDL RNE':>16}")
+    for idx, robot in robots.items():
+        mine = runs.get(f"BM_PredictMotionAnchor/{idx}")
+        b = runs.get(f"BM_KdlRneMotionWrench/{idx}")
+        if not mine:
+            continue
+        cell = f"{ns(b):7.0f} ns {ns(b) / ns(mine):5.1f}x" if b else "-"
+        print(f"  {robot:<10} {ns(mine):8.0f} ns {cell:>16}")
 
     print("\nall benchmarks")
     for name, b in runs.items():

@@ -4,8 +4,9 @@
 # and ratios (bench/summarize.py). Extra arguments go to massid_bench, e.g.
 # --benchmark_filter=Predict. The raw JSON is kept in $BUILD/bench.json.
 # Last, `massid identify` against the numpy pipeline (bench/numpy_identify.py)
-# on one 300 000-row log (86 MB, about 30 s for numpy), skipped when no python3
-# has numpy.
+# on one 300 000-row log (86 MB, about 30 s for numpy), and `massid identify
+# --dynamic` against bench/numpy_identify_dynamic.py on a 100 000-row motion
+# log, skipped when no python3 has numpy.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh
@@ -43,3 +44,36 @@ echo "identify from CSV, $ROWS rows of ur_like, end to end:"
 awk -v n="$ROWS" -v a="$t0" -v b="$t1" \
   'BEGIN { printf "  massid identify  %10.3g rows/s\n", n / (b - a) }'
 "$PY" bench/numpy_identify.py "$URDF" "$TMP/log.csv" --params "$TMP/params.json" | sed 's/^/  /'
+
+# Identification in motion: `massid identify --dynamic` (streamed from the CSV,
+# streaming.hpp) against the numpy pipeline (bench/numpy_identify_dynamic.py)
+# on one 100 000-row log of ur_like with the velocities given (52 MB, about
+# 30-70 s for numpy), both end to end; the anchor also checks that its
+# solution matches massid's params file.
+DROWS=100000
+"$PY" bench/make_dynamic_log.py "$URDF" "$TMP/dynamic.csv" --rows "$DROWS" \
+  --noise-force 0.1 --noise-moment 0.01 2>/dev/null
+t0=$(date +%s.%N)
+"$BUILD/massid" identify --dynamic "$URDF" "$TMP/dynamic.csv" -o "$TMP/dynamic.json" >/dev/null
+t1=$(date +%s.%N)
+echo
+echo "identify --dynamic from CSV, $DROWS rows of ur_like (velocities given), end to end:"
+awk -v n="$DROWS" -v a="$t0" -v b="$t1" \
+  'BEGIN { printf "  massid identify --dynamic  %10.3g rows/s\n", n / (b - a) }'
+"$PY" bench/numpy_identify_dynamic.py "$URDF" "$TMP/dynamic.csv" --params "$TMP/dynamic.json" |
+  sed 's/^/  /'
+
+# The same log with positions only: massid derives the velocities and
+# accelerations by its zero-phase filter in the stream; the anchor filters
+# with np.convolve and fits every filtered row (its default).
+"$PY" bench/make_dynamic_log.py "$URDF" "$TMP/positions.csv" --rows "$DROWS" --no-derivatives \
+  --noise-force 0.1 --noise-moment 0.01 2>/dev/null
+t0=$(date +%s.%N)
+"$BUILD/massid" identify --dynamic "$URDF" "$TMP/positions.csv" -o "$TMP/positions.json" >/dev/null
+t1=$(date +%s.%N)
+echo
+echo "identify --dynamic from CSV, $DROWS rows of ur_like (positions only), end to end:"
+awk -v n="$DROWS" -v a="$t0" -v b="$t1" \
+  'BEGIN { printf "  massid identify --dynamic  %10.3g rows/s\n", n / (b - a) }'
+"$PY" bench/numpy_identify_dynamic.py "$URDF" "$TMP/positions.csv" --params "$TMP/positions.json" |
+  sed 's/^/  /'

@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "csv_fields.hpp"
+#include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/samples.hpp"
 
@@ -105,7 +106,7 @@ int line_number(std::string_view text, size_t pos) {
 }
 
 SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
-                           double g0) {
+                           double g0, bool motion) {
   SampleColumns c;
   c.source = source;
   c.g0 = g0;
@@ -146,44 +147,134 @@ SampleColumns bind_columns(const Model& model, std::string_view text, const std:
   if (!any)
     throw InputError(fmt::format("{}:{}:1: header but no data rows", source, c.header_line));
 
-  const int nj = model.num_joints();
+  // The groups of read_samples (samples.cpp), in its order, with its rules and messages.
+  const int nj = model.num_joints(), nu = model.num_upstream_joints();
   c.num_joints = nj;
-  c.num_values = nj + 9;
-  c.target.assign(c.header.size(), -1);
-  c.scale.assign(c.header.size(), 1.0);
-  c.column_of.assign(c.num_values, -1);
-  auto bind = [&](int column, int value, double scale) {
-    c.target[column] = value;
-    c.scale[column] = scale;
-    c.column_of[value] = column;
+  c.num_upstream = nu;
+  c.motion = motion;
+  const std::string where = fmt::format("{}:{}", source, c.header_line);
+  // Joint positions (read_joint_columns): by name, or JOINT_deg in degrees.
+  struct Bound {
+    int column;
+    double scale;
   };
-  // read_joint_columns
-  for (int j = 0; j < nj; ++j) {
-    const Joint& joint = model.joints[j];
-    int col = find(c.header, joint.name);
-    double scale = 1.0;
-    if (col < 0 && joint.type == JointType::Revolute) {
-      col = find(c.header, joint.name + "_deg");
-      scale = std::numbers::pi / 180.0;
+  const auto positions = [&](const std::vector<Joint>& joints) {
+    std::vector<Bound> out;
+    for (const Joint& joint : joints) {
+      int col = find(c.header, joint.name);
+      double scale = 1.0;
+      if (col < 0 && joint.type == JointType::Revolute) {
+        col = find(c.header, joint.name + "_deg");
+        scale = std::numbers::pi / 180.0;
+      }
+      if (col < 0)
+        throw InputError(fmt::format(
+            "{}: no column for joint '{}' (expected '{}'{})", where, joint.name, joint.name,
+            joint.type == JointType::Revolute ? fmt::format(" or '{}_deg'", joint.name) : ""));
+      out.push_back({col, scale});
     }
-    if (col < 0)
-      throw InputError(fmt::format(
-          "{}:{}: no column for joint '{}' (expected '{}'{})", source, c.header_line, joint.name,
-          joint.name,
-          joint.type == JointType::Revolute ? fmt::format(" or '{}_deg'", joint.name) : ""));
-    bind(col, j, scale);
+    return out;
+  };
+  // NAME + suffix for every joint, or none (optional_joint_columns).
+  const auto suffixed = [&](const std::vector<Joint>& joints, const char* suffix) {
+    std::vector<Bound> out;
+    std::vector<std::string> missing;
+    for (const Joint& j : joints) {
+      const int col = find(c.header, j.name + suffix);
+      if (col < 0) missing.push_back(j.name + suffix);
+      out.push_back({col, 1.0});
+    }
+    if (missing.size() == joints.size()) return std::vector<Bound>{};
+    if (!missing.empty())
+      throw InputError(
+          fmt::format("{}: column(s) {} missing (the header has {} columns for some "
+                      "joints but not all)",
+                      where, fmt::join(missing, ","), suffix));
+    return out;
+  };
+  const std::vector<Bound> q = positions(model.joints);
+  std::vector<Bound> qd = suffixed(model.joints, "_vel"), qdd = suffixed(model.joints, "_acc");
+  if (qd.size() != qdd.size())
+    throw InputError(
+        fmt::format("{}: the header has joint {} columns but no {} columns: give "
+                    "both, or neither (derived from t and the positions)",
+                    where, qd.size() ? "_vel" : "_acc", qd.size() ? "_acc" : "_vel"));
+  const std::vector<int> sm =
+      column_group(c, {"wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az"});
+  // Joints above the sensor link: all or none (optional_positions), with their _vel/_acc.
+  std::vector<Bound> qu, qdu, qddu;
+  {
+    size_t found = 0;
+    for (const Joint& j : model.upstream_joints)
+      if (find(c.header, j.name) >= 0 || find(c.header, j.name + "_deg") >= 0) ++found;
+    if (found > 0) {
+      qu = positions(model.upstream_joints);
+      qdu = suffixed(model.upstream_joints, "_vel");
+      qddu = suffixed(model.upstream_joints, "_acc");
+      if (qdu.size() != qddu.size())
+        throw InputError(
+            fmt::format("{}: the upstream joints have _vel or _acc columns but not both", where));
+    }
   }
   const std::vector<int> w = column_group(c, {"fx", "fy", "fz", "mx", "my", "mz"});
   if (w.empty())
     throw InputError(
-        fmt::format("{}:{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed", source,
-                    c.header_line));
-  for (int k = 0; k < 6; ++k) bind(w[k], c.wrench_value() + k, 1.0);
+        fmt::format("{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed", where));
+  const int t = find(c.header, "t"), block = find(c.header, "block");
   const std::vector<int> g = column_group(c, {"gx", "gy", "gz"});
+  c.gravity_from_upstream = g.empty() && !qu.empty();
+  c.gravity_from_force = g.empty() && qu.empty();
+
+  // Values, in read_samples' order of groups.
+  c.target.assign(c.header.size(), -1);
+  c.scale.assign(c.header.size(), 1.0);
+  int next = 0;
+  std::vector<std::pair<int, double>> column_at;  // per value: column, scale
+  const auto group = [&](const std::vector<Bound>& cols) {
+    if (cols.empty()) return -1;
+    const int first = next;
+    for (const Bound& b : cols) {
+      column_at.push_back({b.column, b.scale});
+      ++next;
+    }
+    return first;
+  };
+  const auto plain = [](const std::vector<int>& cols) {
+    std::vector<Bound> out;
+    for (int col : cols) out.push_back({col, 1.0});
+    return out;
+  };
+  group(q);
+  if (motion) {
+    c.qd = group(qd);
+    c.qdd = group(qdd);
+    c.sensor = group(plain(sm));
+  }
+  if (motion || c.gravity_from_upstream) c.q_up = group(qu);
+  if (motion) {
+    c.qd_up = group(qdu);
+    c.qdd_up = group(qddu);
+  }
+  c.wrench = group(plain(w));
+  if (motion) {
+    c.time = group(t >= 0 ? std::vector<Bound>{{t, 1.0}} : std::vector<Bound>{});
+    c.block = group(block >= 0 ? std::vector<Bound>{{block, 1.0}} : std::vector<Bound>{});
+  }
+  c.gravity = next;
   if (!g.empty()) {
-    for (int k = 0; k < 3; ++k) bind(g[k], c.gravity_value() + k, 1.0);
+    group(plain(g));
   } else {
-    c.gravity_from_force = true;
+    for (int k = 0; k < 3; ++k) column_at.push_back({-1, 1.0});  // computed
+    next += 3;
+  }
+  c.num_values = next;
+  c.column_of.assign(c.num_values, -1);
+  for (int v = 0; v < c.num_values; ++v) {
+    const auto [col, scale] = column_at[v];
+    if (col < 0) continue;
+    c.target[col] = v;
+    c.scale[col] = scale;
+    c.column_of[v] = col;
   }
   return c;
 }
@@ -228,6 +319,20 @@ bool parse_line_slow(std::string_view text, size_t line_begin, size_t line_end,
     vals[t] = c.scale[col] == 1.0 ? x : c.scale[col] * x;
   }
   return true;
+}
+
+void throw_not_integer(std::string_view text, size_t line_begin, const SampleColumns& c,
+                       double value) {
+  size_t end = text.find('\n', line_begin);
+  if (end == std::string_view::npos) end = text.size();
+  if (end > line_begin && text[end - 1] == '\r') --end;
+  const int line_no = line_number(text, line_begin);
+  std::vector<std::string> fields;
+  std::vector<int> offsets;
+  split(text.substr(line_begin, end - line_begin), c.source, line_no, fields, offsets);
+  const int col = c.column_of[c.block];
+  throw InputError(fmt::format("{}:{}:{}: column '{}': '{}' is not an integer", c.source, line_no,
+                               offsets[col], c.header[col], format_number(value)));
 }
 
 void throw_zero_force(std::string_view text, size_t line_begin, const SampleColumns& c) {

@@ -1,8 +1,10 @@
 // Private: a data CSV read in place from a memory-mapped file, for streaming
 // identification. The same rules and messages as read_csv + read_samples
 // (csv.hpp, samples.hpp): a UTF-8 BOM, CRLF, blank and `#` lines, quoted
-// fields, joints by name or JOINT_deg, gx,gy,gz optional (else gravity along
-// the force, eq. 37), errors as file:line:column.
+// fields, joints by name or JOINT_deg, gx,gy,gz optional (else gravity from
+// the joints above the sensor link, or along the force, eq. 37), the motion
+// columns (JOINT_vel, JOINT_acc, wx..az, upstream joints, t, block), errors as
+// file:line:column.
 //
 // Rows are parsed straight into doubles with fast_float; a line the fast path
 // does not understand (quotes, stray characters, a bad cell, a wrong field
@@ -18,6 +20,7 @@
 #include <cstring>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "massid/model.hpp"
@@ -41,28 +44,55 @@ class MappedFile {
   std::size_t size_ = 0;
 };
 
-// The header of a data file bound to a model. Row values are laid out as
-// [joints (Model::joints order), fx..mz, gx gy gz].
+// The header of a data file bound to a model: where each value of a row comes
+// from. Row values are laid out in read_samples' order of column groups (so
+// that a line with several bad cells reports the one read_samples would):
+//   static binding:  [joints (Model::joints order)] [upstream joints (only when
+//                    they give gravity)] [fx..mz] [gx gy gz]
+//   motion binding:  [joints] [JOINT_vel] [JOINT_acc] [wx..az] [upstream joints]
+//                    [their _vel] [their _acc] [fx..mz] [t] [block] [gx gy gz]
+// with absent optional groups taking no room. The gravity values are always
+// there: read, or from the force (parse_block), or from the upstream joints
+// (the caller's, with upstream_kinematics).
 struct SampleColumns {
   std::string source;
   int header_line = 0;
   std::vector<std::string> header;
   std::vector<int> target;     // [columns] index into the row values, -1 unused
   std::vector<double> scale;   // [columns] 1, or pi/180 for JOINT_deg
-  std::vector<int> column_of;  // [values] the CSV column of each value
+  std::vector<int> column_of;  // [values] the CSV column of each value, -1 when computed
   int num_joints = 0;
-  int num_values = 0;  // num_joints + 9
+  int num_upstream = 0;  // Model::upstream_joints (whether or not the file has them)
+  int num_values = 0;
+  bool motion = false;  // bound for a motion log (bind_columns' `motion`)
   bool gravity_from_force = false;
+  bool gravity_from_upstream = false;  // no gx,gy,gz, upstream joint columns: gravity from them
   double g0 = 0.0;
   std::size_t data_begin = 0;  // byte offset of the line after the header
-  int wrench_value() const { return num_joints; }
-  int gravity_value() const { return num_joints + 6; }
+  // Value offsets; -1 when the group is absent (or not bound: static binding
+  // binds only joints, wrench, gravity and, for gravity, the upstream joints).
+  int wrench = 0, gravity = 0;
+  int qd = -1, qdd = -1;                   // [num_joints] JOINT_vel, JOINT_acc
+  int sensor = -1;                         // [9] wx wy wz dwx dwy dwz ax ay az
+  int q_up = -1, qd_up = -1, qdd_up = -1;  // [num_upstream]
+  int time = -1, block = -1;               // t, block
+  int wrench_value() const { return wrench; }
+  int gravity_value() const { return gravity; }
 };
 
 // Reads the header and binds it (InputError as read_csv/read_samples with
-// WrenchColumns::Required, incl. "header but no data rows").
+// WrenchColumns::Required, incl. "header but no data rows"). Every optional
+// group is checked with read_samples' rules and messages (all or none of
+// JOINT_vel, of wx..az, ...); with `motion` they are bound too.
 SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
-                           double g0);
+                           double g0, bool motion = false);
+
+// Throws read_samples' error for a block cell that is not an integer, for
+// the line at `line_begin`.
+[[noreturn]] void throw_not_integer(std::string_view text, std::size_t line_begin,
+                                    const SampleColumns& c, double value);
+// read_samples' test of a block cell.
+inline bool is_block_number(double b) { return b == std::round(b) && std::abs(b) <= 1e9; }
 
 // 1-based line number of byte `pos`.
 int line_number(std::string_view text, std::size_t pos);
@@ -165,17 +195,21 @@ inline int parse_line(const char* p, const char* le, const SampleColumns& c, dou
 
 }  // namespace csv_fast
 
-// Calls sink(const double* vals) for every sample whose line starts in
-// [begin, end); gravity from the force (eq. 37) when the file has no gx,gy,gz.
+// Calls sink(vals, pos) -- or sink(vals, pos, line), `line` counting the
+// lines from the one at `begin` (0) -- for every sample whose line starts in
+// [begin, end), pos the byte offset of its line; gravity from the force
+// (eq. 37) when the file has no gx,gy,gz and no upstream joints. Returns the
+// number of lines that start in [begin, end).
 template <class Sink>
-void parse_block(std::string_view text, const SampleColumns& c, std::size_t begin, std::size_t end,
-                 Sink&& sink) {
+std::size_t parse_block(std::string_view text, const SampleColumns& c, std::size_t begin,
+                        std::size_t end, Sink&& sink) {
   std::vector<double> vals(c.num_values);
   const char* const base = text.data();
   const char* const eof = base + text.size();
   const char* p = base + begin;
   const char* const stop = base + end;
   const int w = c.wrench_value(), g = c.gravity_value();
+  std::size_t lines = 0;
   while (p < stop) {
     const void* found = std::memchr(p, '\n', static_cast<std::size_t>(eof - p));
     const char* nl = found ? static_cast<const char*>(found) : eof;
@@ -196,11 +230,17 @@ void parse_block(std::string_view text, const SampleColumns& c, std::size_t begi
         vals[g + 1] = c.g0 * f1 / n;
         vals[g + 2] = c.g0 * f2 / n;
       }
-      sink(static_cast<const double*>(vals.data()), static_cast<std::size_t>(p - base));
+      if constexpr (std::is_invocable_v<Sink&, const double*, std::size_t, int>)
+        sink(static_cast<const double*>(vals.data()), static_cast<std::size_t>(p - base),
+             static_cast<int>(lines));
+      else
+        sink(static_cast<const double*>(vals.data()), static_cast<std::size_t>(p - base));
     }
+    ++lines;
     if (nl == eof) break;
     p = nl + 1;
   }
+  return lines;
 }
 
 }  // namespace massid::detail

@@ -2,6 +2,7 @@
 
 #include <climits>
 #include <filesystem>
+#include <stdexcept>
 
 #include "massid/csv.hpp"
 #include "massid/setup_checks.hpp"
@@ -44,6 +45,31 @@ IdentifySummary identify_file(const Model& model, const BaseParameters& base,
     return in_memory();
   if (samples) *samples = read_samples_head(model, path, INT_MAX);
   return summary;
+}
+
+IdentifySummary identify_motion_file(const Model& model, const std::string& path, bool offset,
+                                     const IdentifyOptions& options, const MotionDataOptions& data,
+                                     BaseParameters* base, MotionDataReport* report,
+                                     Samples* head) {
+  if (!base) throw std::invalid_argument("identify_motion_file: base is required");
+  const auto in_memory = [&] {
+    MotionDataReport r;
+    Samples s = read_motion_samples(model, path, WrenchColumns::Required, data, &r);
+    *base = find_base_parameters(model, motion_base_options(s, offset));
+    IdentifySummary summary = identify(model, *base, s, options);
+    if (report) *report = r;
+    if (head) *head = std::move(s);
+    return summary;
+  };
+  if (options.robust || options.drift != Drift::None) return in_memory();  // iterated fits
+  MotionIdentification m = identify_motion_csv(model, path, offset, options, data);
+  // Implausible residuals: the in-memory fit (the same estimate) names the samples.
+  if (largest_residuals_implausible(m.summary) && small_enough_to_name_samples(path))
+    return in_memory();
+  *base = std::move(m.base);
+  if (report) *report = m.report;
+  if (head) *head = std::move(m.head);
+  return m.summary;
 }
 
 }  // namespace massid

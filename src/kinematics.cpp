@@ -1,6 +1,7 @@
 #include "massid/kinematics.hpp"
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 namespace massid {
 namespace {
@@ -14,10 +15,22 @@ struct JointPose {
 JointPose joint_pose(JointType type, const Eigen::Isometry3d& origin, const Eigen::Vector3d& axis,
                      double q) {
   JointPose j{origin.linear(), origin.translation()};
-  if (type == JointType::Revolute)
+  if (type == JointType::Revolute) {
+    const double s = std::sin(q), c = std::cos(q);
+    // An axis +-e_i (most URDFs): the rotation turns the other two columns.
+    for (int i = 0; i < 3; ++i) {
+      const int u = (i + 1) % 3, v = (i + 2) % 3;
+      if (std::abs(axis[i]) != 1.0 || axis[u] != 0.0 || axis[v] != 0.0) continue;
+      const double ss = axis[i] * s;
+      const Eigen::Vector3d cu = j.R.col(u), cv = j.R.col(v);
+      j.R.col(u) = c * cu + ss * cv;
+      j.R.col(v) = c * cv - ss * cu;
+      return j;
+    }
     j.R = j.R * Eigen::AngleAxisd(q, axis).toRotationMatrix();
-  else if (type == JointType::Prismatic)
+  } else if (type == JointType::Prismatic) {
     j.t += j.R * (q * axis);
+  }
   return j;
 }
 
@@ -26,10 +39,11 @@ void propagate_motion(JointType type, const Eigen::Vector3d& s, const JointPose&
                       double qdd, const Eigen::Vector3d& wp, const Eigen::Vector3d& dwp,
                       const Eigen::Vector3d& ap, Eigen::Vector3d& w, Eigen::Vector3d& dw,
                       Eigen::Vector3d& a) {
-  const Eigen::Matrix3d Rt = j.R.transpose();
-  w = Rt * wp;
-  dw = Rt * dwp;
-  a = Rt * (ap + dwp.cross(j.t) + wp.cross(wp.cross(j.t)));
+  const auto Rt = j.R.transpose();
+  w.noalias() = Rt * wp;
+  dw.noalias() = Rt * dwp;
+  const Eigen::Vector3d at = ap + dwp.cross(j.t) + wp.cross(wp.cross(j.t));
+  a.noalias() = Rt * at;
   if (type == JointType::Revolute) {
     w += s * qd;
     dw += s * qdd + w.cross(s * qd);
@@ -48,8 +62,8 @@ void recursion(const Model& model, KinematicsData& data, const Eigen::Ref<const 
     const int p = link.parent, j = link.joint_index;
     const JointPose jp = joint_pose(link.type, link.origin, link.axis, j >= 0 ? q[j] : 0.0);
     const Eigen::Matrix3d& Rp = data.rotation[p];
-    data.rotation[l] = Rp * jp.R;
-    data.position[l] = data.position[p] + Rp * jp.t;
+    data.rotation[l].noalias() = Rp * jp.R;
+    data.position[l].noalias() = data.position[p] + Rp * jp.t;
     if constexpr (kMotion)
       propagate_motion(link.type, link.axis, jp, j >= 0 ? qd[j] : 0.0, j >= 0 ? qdd[j] : 0.0,
                        data.omega[p], data.omega_dot[p], data.accel[p], data.omega[l],

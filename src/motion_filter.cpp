@@ -101,6 +101,26 @@ int kernel_samples(double dt, double cutoff) {
   return 2 * static_cast<int>(std::floor(kKernelSpan / (cutoff * dt) * (1.0 + 1e-9))) + 1;
 }
 
+FilterPlan plan_filter(double dt, const MotionFilterOptions& options, const std::string& source,
+                       int first_line, int last_line) {
+  const double rate = 1.0 / dt;
+  if (!(options.cutoff >= 0.0) || !std::isfinite(options.cutoff))
+    throw InputError(fmt::format("{}: cutoff {} Hz is not positive", source, options.cutoff));
+  const double cutoff = options.cutoff > 0.0 ? options.cutoff : default_cutoff(rate);
+  if (cutoff >= 0.5 * rate)
+    throw InputError(fmt::format(
+        "{}:{}-{}: cutoff {:.6g} Hz is at or above the Nyquist limit {:.6g} Hz (half the sample "
+        "rate {:.6g} Hz of t); choose a cutoff below {:.6g} Hz",
+        source, first_line, last_line, cutoff, 0.5 * rate, rate, 0.5 * rate));
+  if (options.decimation < 0)
+    throw InputError(
+        fmt::format("{}: decimation {} is negative (0: default)", source, options.decimation));
+  FilterPlan plan;
+  plan.decimation = options.decimation > 0 ? options.decimation : default_decimation(rate, cutoff);
+  plan.kernels = make_kernels(dt, cutoff);
+  return plan;
+}
+
 FilterKernels make_kernels(double dt, double cutoff) {
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw InputError(fmt::format("filter: sample period {} s is not positive", dt));
@@ -331,19 +351,9 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   steps = {};
   const double rate = 1.0 / dt;
 
-  if (!(options.cutoff >= 0.0) || !std::isfinite(options.cutoff))
-    throw InputError(fmt::format("{}: cutoff {} Hz is not positive", source, options.cutoff));
-  const double cutoff = options.cutoff > 0.0 ? options.cutoff : default_cutoff(rate);
-  if (cutoff >= 0.5 * rate)
-    throw InputError(fmt::format(
-        "{}:{}-{}: cutoff {:.6g} Hz is at or above the Nyquist limit {:.6g} Hz (half the sample "
-        "rate {:.6g} Hz of t); choose a cutoff below {:.6g} Hz",
-        source, line_of(0), line_of(n - 1), cutoff, 0.5 * rate, rate, 0.5 * rate));
-  if (options.decimation < 0)
-    throw InputError(
-        fmt::format("{}: decimation {} is negative (0: default)", source, options.decimation));
-  const int D = options.decimation > 0 ? options.decimation : default_decimation(rate, cutoff);
-  const FilterKernels K = make_kernels(dt, cutoff);
+  const FilterPlan plan = plan_filter(dt, options, source, line_of(0), line_of(n - 1));
+  const int D = plan.decimation;
+  const FilterKernels& K = plan.kernels;
   const int H = K.half_width, L = K.size();
 
   // Runs of one block; each must hold a full kernel. Count the kept rows.
@@ -364,7 +374,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
           "use a higher --cutoff or a longer log",
           where(source, line_of(b)), m, line_of(b), line_of(e - 1),
           blocks ? fmt::format(", block {}", samples.block[b]) : std::string(), (m - 1) * dt, rate,
-          cutoff, L, H, (L - 1) * dt));
+          K.cutoff, L, H, (L - 1) * dt));
     kept += (m - L) / D + 1;
   }
 

@@ -769,8 +769,8 @@ TEST_F(Cli, BenchPrintsItsFiguresAsJson) {
   const Result r = run({"bench", kPumaUrdf, "--json", "--rows", "2000"});
   ASSERT_EQ(r.code, 0) << r;
   const json j = json::parse(r.out);
-  for (const char* key :
-       {"predict_ns", "regressor_ns", "identify_rows_per_s", "identify_csv_rows_per_s"}) {
+  for (const char* key : {"predict_ns", "predict_dynamic_ns", "regressor_ns", "identify_rows_per_s",
+                          "identify_csv_rows_per_s"}) {
     ASSERT_TRUE(j.contains(key)) << key;
     EXPECT_GT(j[key].get<double>(), 0.0) << key;
   }

@@ -96,6 +96,17 @@ FilterKernels make_kernels(double dt, double cutoff);
 // 2 floor(kKernelSpan/(cutoff dt)) + 1: the samples one filtered output needs.
 int kernel_samples(double dt, double cutoff);
 
+// The filter a log of sample period dt gets from `options` (defaults filled
+// in): its kernels and decimation. InputError naming `source` and the lines
+// first_line-last_line of the log for a cutoff that is not positive or at or
+// above the Nyquist limit, or a negative decimation.
+struct FilterPlan {
+  FilterKernels kernels;
+  int decimation = 1;
+};
+FilterPlan plan_filter(double dt, const MotionFilterOptions& options, const std::string& source,
+                       int first_line, int last_line);
+
 // Streaming form, constant memory: rows of `width` values pushed one at a time;
 // columns [0, num_derived) are differentiated (positions -> value, velocity,
 // acceleration), all `width` columns are smoothed. After a push, pop() yields

@@ -65,8 +65,8 @@ namespace massid {
 
 // Per-body arrays come in blocks of four bodies, structure of arrays within
 // a block: in an array of C components per body, component c of body k is at
-// [4 C (k / 4) + 4 c + k % 4]. Bodies 0..num_bodies-1,
-// then padding to `lanes` (a multiple of 4: no mass, the identity, no joint).
+// [4 C (k / 4) + 4 c + k % 4]. Bodies 0..num_bodies-1, then padding to
+// `lanes` (a multiple of 4: no mass, the identity, no joint).
 struct MotionPredictor {
   int num_joints = 0;
   int num_bodies = 1;              // n + 1: the sensor body and one per movable joint
@@ -78,7 +78,7 @@ struct MotionPredictor {
   std::vector<double> revolute;    // [lanes] sigma_k for a revolute joint, else 0
   std::vector<double> prismatic;   // [lanes] sigma_k for a prismatic joint, else 0
   std::vector<double> angle;       // [lanes] phi_k, added to theta_k
-  std::vector<double> axes;        // [lanes x 9] A_k, row-major: A(i, j) is component 3 i + j
+  std::vector<double> axes;        // [lanes x 9] A_k, row-major (axis e_m: only column 2, e_m)
   std::vector<double> origin;      // [lanes x 3] t_k
   std::vector<double> inertial;    // [lanes x 10] m, hx, hy, hz, ixx, ixy, ixz, iyy, iyz, izz
   Wrench offset = Wrench::Zero();  // f_0, m_0 (zero without offsets)
@@ -95,10 +95,10 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
 struct MotionPredictorData {
   explicit MotionPredictorData(const MotionPredictor& predictor);
   // Joint stage:
-  std::vector<double> sincos;       // [lanes x 2] sin theta_k, cos theta_k
+  std::vector<double> sincos;       // [lanes x 2] sin, cos of theta_k + phi_k
   std::vector<double> rotation;     // [lanes x 9] B_k = A_k Rz(theta_k), row-major (general)
   std::vector<double> translation;  // [lanes x 3] r_k = t_k + d_k A_k e_z, parent frame
-  // [lanes x 4] qd_k, qdd_k of a revolute joint, 2 qd_k, qdd_k of a prismatic one (else 0)
+  // [lanes x 4] sigma (qd_k, qdd_k) of a revolute joint, sigma (2 qd_k, qdd_k) of a prismatic one
   std::vector<double> joint_rates;
   // Forward stage, body frames:
   std::vector<double> motion;  // [lanes x 9] w_k (rad/s), dw_k (rad/s^2), a_k (m/s^2, minus g)

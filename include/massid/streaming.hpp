@@ -29,6 +29,31 @@
 // came from elsewhere) is a second pass over the data made (residual_max_csv);
 // without StreamOptions::residual_max the value is NaN.
 //
+// Motion (base.motion(), the full layout: BaseParameters::motion()). Every
+// axis' rows then involve most mass unknowns: the force axes those whose
+// column is a mass or first moment (an inertia has no force), the moment axes
+// all but M (whose moment rows are zero), each with its axis' offset. Rows
+// are computed one sample at a time in the sensor frame (equal to
+// base_regressor's motion form to round-off) and folded by the same kernel;
+// finish() reports eq. 36 as identify() does in motion (the column-scaled
+// condition number of all rows), and the identifiability diagnosis sees the
+// kept samples' velocities, accelerations and sensor motion.
+//
+// Motion logs from CSV (identify_motion_csv): the same columns and rules as
+// read_motion_samples (JOINT_vel/JOINT_acc, wx..az, the joints above the
+// sensor link, t, block). Without velocities, the zero-phase filter of
+// motion_filter.hpp derives them in the stream: blocks of the file are parsed
+// on threads, then each block is filtered on its own with the rows before it
+// as a margin (MotionFilter restarted where filter_motion's decimation phase
+// would have it), so the filtered rows are filter_motion's, bit for bit. What
+// the whole log decides (the sample period: the median step of t; a fixed
+// gravity; a moving sensor) is taken from the head of the file (the first
+// 2 MB, or more until a full filter window) and checked during the stream:
+// the period by counting steps below and at it, the other two by watching
+// every filtered row (they can only change one way). When a check fails the
+// stream is run again with what the whole file says (an exact median of the
+// steps by radix selection over t, in constant memory).
+//
 // Determinism. Rows are cut into fixed blocks (a fixed number of rows in
 // memory, a fixed number of bytes in a file, cut at line starts), each block is
 // reduced on its own from an empty accumulator and the blocks are merged in
@@ -44,6 +69,7 @@
 #include "massid/base_parameters.hpp"
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
+#include "massid/motion_data.hpp"
 #include "massid/samples.hpp"
 
 namespace massid {
@@ -53,6 +79,24 @@ struct StreamOptions {
   std::size_t block_bytes = 4u << 20;  // CSV bytes per block (results depend on it, not on threads)
   int block_rows = 16384;              // rows per block when identifying from memory
   bool residual_max = true;            // second pass for IdentifySummary::residual_max
+  std::size_t pilot_bytes = 2u << 20;  // the head of a CSV file read first (pilot estimate,
+                                       // and a motion log's gravity and sensor motion)
+  std::size_t keep_bytes = 48u << 20;  // motion logs: the prepared samples are kept for the
+                                       // largest residual while they fit (216 B a sample for
+                                       // six joints; a filtered log keeps one row in D)
+};
+
+// One sample in motion: arrays in Model::joints order; qd, qdd and
+// sensor_motion may be null (zero: at rest, the sensor frame at rest).
+// sensor_motion: wx wy wz, dwx dwy dwz, ax ay az (samples.hpp).
+struct MotionRow {
+  const double* q = nullptr;
+  const double* qd = nullptr;
+  const double* qdd = nullptr;
+  const double* gravity = nullptr;  // [3] sensor frame
+  const double* sensor_motion = nullptr;
+  const double* wrench = nullptr;  // [6] fx..mz
+  int line = 0;                    // for the identifiability diagnosis (0 if none)
 };
 
 namespace detail {
@@ -71,9 +115,14 @@ class IdentifyAccumulator {
   IdentifyAccumulator& operator=(IdentifyAccumulator&&) noexcept;
 
   // One sample: q [num_joints], gravity in the sensor frame, wrench fx..mz.
-  // `line` is only kept for the identifiability diagnosis (0 if none).
+  // `line` is only kept for the identifiability diagnosis (0 if none). With
+  // a motion base: at rest (zero velocities and accelerations).
   void add(const double* q, const double* gravity, const double* wrench, int line = 0);
-  // Every row of samples (which must have a wrench).
+  // One sample in motion (base.motion(); with a static base only q, gravity
+  // and wrench are used).
+  void add(const MotionRow& row);
+  // Every row of samples (which must have a wrench); their qd, qdd and sensor
+  // motion with a motion base.
   void add(const Samples& samples);
   // Appends `later`'s rows after this one's (merging is exact in exact
   // arithmetic; in floating point the result depends on the order of merges).
@@ -86,14 +135,27 @@ class IdentifyAccumulator {
   // the final estimate moved, stay below it), else NaN. Every accumulator
   // merged into this one must track the same estimate.
   void track_residuals(const Eigen::VectorXd& estimate);
+  // The same, `estimate` being pilot.rough_estimate(): also bounds how much
+  // a row's residual can move by its leverage in the pilot's metric,
+  // |a (x - xhat)| <= |a R_p^-1| |R_p (x - xhat)| (R_p: the pilot's factor),
+  // and keeps 1024 candidate rows per axis: with a pilot drawn from across
+  // the data this proves the maximum where the plain bound cannot (motion,
+  // where rows have many columns of different scales).
+  void track_residuals(const Eigen::VectorXd& estimate, const IdentifyAccumulator& pilot);
+  // A new, empty accumulator for the same model and base, tracking the same
+  // estimate (the partials of a stream: cheaper than track_residuals with a
+  // pilot for each).
+  IdentifyAccumulator empty_like() const;
   // An unweighted least-squares estimate of the rows so far (minimum norm when
   // they do not determine every unknown).
   Eigen::VectorXd rough_estimate() const;
 
   long long samples() const;
   // Where the samples came from, for messages, and whether their gravity was
-  // taken from the measured force (eq. 37).
-  void set_source(const std::string& source, bool gravity_from_force);
+  // taken from the measured force (eq. 37) or from the joints above the
+  // sensor link (IdentifySummary::gravity_from_upstream).
+  void set_source(const std::string& source, bool gravity_from_force,
+                  bool gravity_from_upstream = false);
   bool gravity_from_force() const;
   const std::string& source() const;
 
@@ -116,6 +178,7 @@ class ResidualMax {
   ~ResidualMax();
   ResidualMax(ResidualMax&&) noexcept;
   void add(const double* q, const double* gravity, const double* wrench);
+  void add(const MotionRow& row);
   void merge(const ResidualMax& other);
   Eigen::Matrix<double, 6, 1> max() const;
 
@@ -144,5 +207,29 @@ Eigen::Matrix<double, 6, 1> residual_max_csv(const Model& model, const BaseParam
 IdentifySummary identify_csv(const Model& model, const BaseParameters& base,
                              const std::string& path, const IdentifyOptions& options = {},
                              const StreamOptions& stream = {});
+
+// ------------------------------------------------------------------ motion logs
+
+// identify_motion_csv's result: what the in-memory path (read_motion_samples,
+// motion_base_options, find_base_parameters, identify) gives, and how.
+struct MotionIdentification {
+  BaseParameters base;         // found for what the whole log is (motion_base_options)
+  IdentifySummary summary;     // of identify(model, base, read_motion_samples(...))
+  MotionDataReport report;     // rows, derived, kernels, decimation
+  Samples head;                // the prepared samples of the head of the file (the pilot)
+  int passes = 0;              // streamed passes (1 unless a head assumption failed)
+  bool residual_pass = false;  // a further pass found residual_max
+};
+
+// Identification of a motion log (read_motion_samples' columns and rules,
+// with WrenchColumns::Required), streamed in constant memory: the same
+// results as the in-memory path to round-off, the same errors (InputError
+// naming file:line:column; with several errors in a file, the first in the
+// file). `offset`: estimate the six sensor offsets (BaseParameterOptions).
+// Without StreamOptions::residual_max, residual_max may be NaN.
+MotionIdentification identify_motion_csv(const Model& model, const std::string& path, bool offset,
+                                         const IdentifyOptions& options = {},
+                                         const MotionDataOptions& data = {},
+                                         const StreamOptions& stream = {});
 
 }  // namespace massid

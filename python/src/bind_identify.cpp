@@ -83,11 +83,15 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
     out.motion_options = motion_data_options(cutoff, root_gravity);
     Samples raw;
     if (is_path(data)) {
+      // Streamed as the CLI does (the same params file), then the arrays.
       source = path_of(data);
       if (checks) notes = run_checks(out.model, data, nullptr, {}, dynamic);
       py::gil_scoped_release release;
-      out.samples = read_motion_samples(out.model, source, WrenchColumns::Required,
-                                        out.motion_options, &out.motion);
+      out.summary = identify_motion_file(out.model, source, bopts.offset, opts, out.motion_options,
+                                         &out.base, &out.motion, &out.samples);
+      if (out.samples.size() < out.summary.samples)  // only the head: read them all
+        out.samples =
+            read_motion_samples(out.model, source, WrenchColumns::Required, out.motion_options);
     } else {
       std::vector<std::string> header;
       raw =
@@ -98,9 +102,11 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
       out.samples =
           prepare_motion_samples(out.model, std::move(raw), out.motion_options, &out.motion);
     }
-    py::gil_scoped_release release;
-    out.base = find_base_parameters(out.model, motion_base_options(out.samples, bopts.offset));
-    out.summary = identify(out.model, out.base, out.samples, opts);
+    if (!is_path(data)) {
+      py::gil_scoped_release release;
+      out.base = find_base_parameters(out.model, motion_base_options(out.samples, bopts.offset));
+      out.summary = identify(out.model, out.base, out.samples, opts);
+    }
   } else {
     out.base = find_base_parameters(out.model, bopts);
     if (is_path(data)) {

@@ -54,6 +54,16 @@ def gravity_of(cols: dict[str, np.ndarray]) -> np.ndarray:
     return np.column_stack([cols["gx"], cols["gy"], cols["gz"]])
 
 
+def assert_same_fit(a: Any, b: Any) -> None:
+    """Two identifications of the same samples, one in memory and one streamed
+    from the file: the same base, values and std to round-off."""
+    assert [p.name for p in a.base_parameters] == [p.name for p in b.base_parameters]
+    np.testing.assert_allclose(a.values, b.values, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(a.std, b.std, rtol=1e-9)
+    np.testing.assert_allclose(a.residual_rms, b.residual_rms, rtol=1e-9)
+    assert a.samples == b.samples
+
+
 def random_motion(model: Any, n: int, rng: np.random.Generator) -> tuple[np.ndarray, ...]:
     q = np.column_stack([rng.uniform(j.lower, j.upper, n) if j.limited else rng.uniform(-np.pi, np.pi, n)
                          for j in model.joints]).reshape(n, model.num_joints)
@@ -187,9 +197,10 @@ def test_identify_dynamic_gives_the_clis_params_file(massid: Any, cli_fits: dict
     np.testing.assert_allclose(ident.fitted, Yb @ ident.values, rtol=1e-10, atol=1e-9)
     np.testing.assert_allclose(ident.residuals, ident.wrench - ident.fitted, atol=1e-12)
     np.testing.assert_allclose(np.sqrt((ident.residuals ** 2).mean(axis=0)), ident.residual_rms, rtol=1e-9)
-    # columns in memory: the same fit
+    # columns in memory: the same fit (in memory; the file was streamed: equal to round-off)
     from_dict = massid.identify(UR, cols, dynamic=True)
-    assert from_dict.to_json() == text and from_dict.source == "data"
+    assert from_dict.source == "data"
+    assert_same_fit(from_dict, ident)
 
 
 def test_identify_dynamic_recovers_the_urdf(massid: Any, ur_motion: dict[str, np.ndarray]) -> None:
@@ -222,8 +233,9 @@ def test_identify_from_positions_derives_like_the_cli(massid: Any, cli_fits: dic
     assert "not identifiable" in repr(ident)
     # (fx, fy, mz: gravity along -z puts the weight into fz and constant moments into mx, my)
     np.testing.assert_allclose(ident.offset[[0, 1, 5]], np.array(MOTION_OFFSET)[[0, 1, 5]], atol=0.05)
-    # columns in memory, and the samples prepare_motion makes: the same
-    assert massid.identify(UR, ur_positions, dynamic=True, offset=True, cutoff=8.0).to_json() == text
+    # columns in memory (the file was streamed: equal to round-off), and the
+    # samples prepare_motion makes: the same
+    assert_same_fit(massid.identify(UR, ur_positions, dynamic=True, offset=True, cutoff=8.0), ident)
     prep = massid.prepare_motion(UR, ur_positions_csv, cutoff=8.0)
     names = ident.model.joint_names
     np.testing.assert_array_equal(joint_matrix(prep, names), ident.q)
@@ -255,7 +267,7 @@ def test_moving_sensor_below_joints_with_root_gravity(massid: Any, tmp_path: Pat
     assert ident.to_json() == (tmp_path / "wrist.json").read_text()
     assert ident.sensor_motion.shape == (len(data["t"]), 9) and np.abs(ident.sensor_motion).max() > 0.1
     assert json.loads(ident.to_json())["motion"]["sensor_moving"] is True
-    assert massid.identify(wrist, data, dynamic=True, root_gravity=root_gravity).to_json() == ident.to_json()
+    assert_same_fit(massid.identify(wrist, data, dynamic=True, root_gravity=root_gravity), ident)
     assert massid.identify(wrist, data, dynamic=True).to_json() != ident.to_json()  # another gravity
     assert ident.total_mass == pytest.approx(wrist.nominal_total_mass, abs=5 * ident.total_mass_std)
     # prediction with the sensor's motion: the fit, and massid predict
