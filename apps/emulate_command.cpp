@@ -28,10 +28,15 @@ void add_emulate_command(CLI::App& app, EmulateCommand& c) {
   e->add_option("-o,--output", c.output, "Trace CSV to write (the identified run)")->required();
   e->add_option("--summary", c.summary, "Summary JSON to write");
   e->add_option("--platform", c.platform, "Platform geometry JSON (default: docs/emulator.md)");
-  e->add_option("--spacecraft-mass", c.mass, "Emulated spacecraft mass, kg (default 50)")
+  e->add_option("--spacecraft-mass", c.mass,
+                "Emulated spacecraft mass, kg (default: sized to the robot, see below; 50 "
+                "when only --spacecraft-inertia is given)")
       ->check(sign_check(true));
   e->add_option("--spacecraft-inertia", c.inertia,
-                "Principal inertia about its centre of mass IXX,IYY,IZZ, kg m^2 (default 5,5,5)");
+                "Principal inertia about its centre of mass IXX,IYY,IZZ, kg m^2 (default: sized "
+                "to the robot; 5,5,5 when only --spacecraft-mass is given). Neither option: 50 "
+                "kg and 5,5,5 kg m^2, doubled until the free-floating reference stays within "
+                "half the platform's workspace");
   e->add_option("--trajectory", c.trajectory,
                 "Joint trajectory CSV: t and one column per joint (default: a smooth maneuver)");
   e->add_option("--duration", c.duration, "Seconds (default 10)")->check(sign_check(true));
@@ -122,6 +127,19 @@ int run_emulate(const EmulateCommand& c) {
   }
   o.tare = !c.no_tare;
   if (!c.trajectory.empty()) o.trajectory = trajectory_from_csv(model, c.trajectory);
+  std::string sizing;
+  if (!c.app->count("--spacecraft-mass") && !c.app->count("--spacecraft-inertia")) {
+    const SpacecraftSizing sized = size_spacecraft(plant, o);
+    o.spacecraft = sized.spacecraft;
+    sizing = fmt::format(
+        "spacecraft sized to the robot: {:.4g} kg, inertia {:.4g},{:.4g},{:.4g} kg m^2 ({}x 50 kg "
+        "and 5 kg m^2: the free-floating reference then moves {:.3g} m and {:.3g} deg{}); set "
+        "--spacecraft-mass and --spacecraft-inertia to choose\n",
+        o.spacecraft.mass, o.spacecraft.inertia(0, 0), o.spacecraft.inertia(1, 1),
+        o.spacecraft.inertia(2, 2), sized.factor, sized.excursion.position_m,
+        sized.excursion.angle_rad * 180 / std::numbers::pi,
+        sized.factor > 1 ? ", within half the platform's workspace" : "");
+  }
 
   std::vector<TraceRow> trace;
   const EmulationSummary runs[3] = {run_emulation(plant, identified, o, true, &trace),
@@ -154,7 +172,8 @@ int run_emulate(const EmulateCommand& c) {
   const double realtime = c.duration / runs[0].seconds;
   std::cout << fmt::format(
       "emulated {:.3g} s of {} on a {:.4g} kg spacecraft at {:.4g} Hz ({:.3g}x real time)\n",
-      c.duration, model.name, c.mass, c.rate, realtime);
+      c.duration, model.name, o.spacecraft.mass, c.rate, realtime);
+  std::cout << sizing;
   std::cout << fmt::format("  {:<11} {:>12} {:>12} {:>12} {:>12} {:>6}\n", "gravity", "pos max m",
                            "pos rms m", "att max deg", "att rms deg", "stops");
   nlohmann::ordered_json j;
@@ -173,7 +192,8 @@ int run_emulate(const EmulateCommand& c) {
                    {"supervisor_stops", s.supervisor_stops},
                    {"first_stop_s", s.first_stop_s >= 0 ? nlohmann::ordered_json(s.first_stop_s)
                                                         : nlohmann::ordered_json()},
-                   {"stop_reason", to_string(s.stop_reason)}};
+                   {"stop_reason", to_string(s.stop_reason)},
+                   {"stop_detail", describe_stop(s, o)}};
   }
   const auto relative = [&](const EmulationSummary& s) {
     return fmt::format("{:.3g} % and {:.3g} %",
@@ -185,10 +205,11 @@ int run_emulate(const EmulateCommand& c) {
   for (int r = 0; r < 3; ++r) {
     std::cout << fmt::format("  {:<11} error {} of it", names[r], relative(runs[r]));
     if (runs[r].supervisor_stops > 0)
-      std::cout << fmt::format("; supervisor stopped at {:.3g} s ({})", runs[r].first_stop_s,
-                               to_string(runs[r].stop_reason));
+      std::cout << fmt::format("; supervisor stopped at {:.3g} s ({}): {}", runs[r].first_stop_s,
+                               to_string(runs[r].stop_reason), describe_stop(runs[r], o));
     std::cout << "\n";
   }
+  j["spacecraft_mass_kg"] = o.spacecraft.mass;
   j["realtime_factor"] = realtime;
   j["control_step_ns"] = runs[0].control_step_ns;
   if (!c.summary.empty()) write_file_atomically(c.summary, j.dump(2) + "\n");

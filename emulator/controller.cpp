@@ -47,6 +47,7 @@ void reset(const EmulatorModel& model, EmulatorData& data) {
   data.tare.setZero();
   data.state = SupervisorState::Running;
   data.reason = StopReason::None;
+  data.stop = StopDetail{};
   data.time = 0.0;
 }
 
@@ -69,11 +70,32 @@ Eigen::Isometry3d stopping_pose(const EmulatorModel& model, const Eigen::Isometr
   return apply_twist(pose, d);
 }
 
-StopReason violation(const EmulatorModel& model, const Eigen::Isometry3d& pose) {
-  if (!within_workspace(model.geometry, pose)) return StopReason::Workspace;
-  if (!legs_within_limits(model.geometry, leg_lengths(model.geometry, pose),
-                          model.supervisor.leg_margin))
+StopReason violation(const EmulatorModel& model, const Eigen::Isometry3d& pose,
+                     StopDetail& detail) {
+  const PlatformGeometry& g = model.geometry;
+  if (!within_workspace(g, pose)) {
+    // The limit exceeded by the largest fraction.
+    const Eigen::Vector3d t = translation_from_home(g, pose).cwiseAbs();
+    const double tilt = tilt_from_home(g, pose);
+    detail = {3, tilt, g.workspace.max_tilt};
+    double worst = tilt / g.workspace.max_tilt;
+    for (int k = 0; k < 3; ++k)
+      if (t[k] / g.workspace.max_translation[k] > worst)
+        worst = t[k] / g.workspace.max_translation[k],
+        detail = {k, t[k], g.workspace.max_translation[k]};
+    return StopReason::Workspace;
+  }
+  const LegVector legs = leg_lengths(g, pose);
+  const double margin = model.supervisor.leg_margin;
+  if (!legs_within_limits(g, legs, margin)) {
+    double worst = 0.0;
+    for (int i = 0; i < kNumLegs; ++i) {
+      const double below = g.leg_min[i] + margin - legs[i], above = legs[i] - g.leg_max[i] + margin;
+      if (below > worst) worst = below, detail = {i, legs[i], g.leg_min[i] + margin};
+      if (above > worst) worst = above, detail = {i, legs[i], g.leg_max[i] - margin};
+    }
     return StopReason::LegLimit;
+  }
   return StopReason::None;
 }
 
@@ -116,6 +138,9 @@ void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& 
         angle > model.supervisor.max_tracking_angle) {
       data.state = SupervisorState::Stopping;
       data.reason = StopReason::TrackingError;
+      data.stop = dp.norm() > model.supervisor.max_tracking_error
+                      ? StopDetail{0, dp.norm(), model.supervisor.max_tracking_error}
+                      : StopDetail{1, angle, model.supervisor.max_tracking_angle};
     }
   }
 
@@ -140,7 +165,8 @@ void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& 
     accel.head<3>() = a.linear + alpha.cross(rc) + w.cross(w.cross(rc));
     accel.tail<3>() = alpha;
     // Stop before a limit: the pose where braking from here would end must be safe.
-    const StopReason reason = violation(model, stopping_pose(model, command, twist));
+    StopDetail detail;
+    const StopReason reason = violation(model, stopping_pose(model, command, twist), detail);
     if (reason == StopReason::None) {
       data.spacecraft = next;
       data.command = command;
@@ -149,6 +175,7 @@ void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& 
     } else {
       data.state = SupervisorState::Stopping;
       data.reason = reason;
+      data.stop = detail;
     }
   }
 

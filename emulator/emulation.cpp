@@ -1,5 +1,7 @@
 #include "massid/emulator/emulation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -85,6 +87,7 @@ EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
       if (s.supervisor_stops++ == 0) {
         s.first_stop_s = t + em.dt;
         s.stop_reason = data.reason;
+        s.stop_detail = data.stop;
       }
     }
     previous = data.state;
@@ -116,6 +119,105 @@ EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
   s.control_step_ns = 1e9 * step_seconds / std::max(1, ticks);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
+}
+
+Excursion reference_excursion(const Model& model, const EmulationOptions& o) {
+  PlantOptions plant_options = o.plant;
+  plant_options.platform_T_sensor = o.platform_T_sensor;
+  const Eigen::Isometry3d interface0 = o.geometry.home * o.platform_T_sensor;
+  FreeFloatingReference reference(model, o.spacecraft, interface0, plant_options);
+  const JointTrajectory trajectory =
+      o.trajectory ? o.trajectory : smooth_maneuver(model, o.duration);
+  const int n = model.num_joints();
+  Eigen::VectorXd q(n), qd(n), qdd(n);
+  trajectory(0.0, q, qd, qdd);
+  reference.set_joints(q);
+  const int ticks = static_cast<int>(std::lround(o.duration * o.rate));
+  Excursion e;
+  for (const Eigen::Isometry3d& pose :
+       run_reference(reference, trajectory, n, ticks, 1.0 / o.rate)) {
+    e.position_m = std::max(e.position_m, (pose.translation() - interface0.translation()).norm());
+    e.angle_rad = std::max(
+        e.angle_rad, Eigen::AngleAxisd(interface0.linear().transpose() * pose.linear()).angle());
+  }
+  return e;
+}
+
+SpacecraftSizing size_spacecraft(const Model& model, const EmulationOptions& options,
+                                 double fraction) {
+  EmulationOptions o = options;
+  SpacecraftSizing s;
+  const double max_m = fraction * o.geometry.workspace.max_translation.minCoeff();
+  const double max_rad = fraction * o.geometry.workspace.max_tilt;
+  for (int doubling = 0; doubling <= 10; ++doubling) {
+    s.factor = std::ldexp(1.0, doubling);
+    o.spacecraft.mass = 50.0 * s.factor;
+    o.spacecraft.inertia = Eigen::Matrix3d::Identity() * 5.0 * s.factor;
+    s.spacecraft = o.spacecraft;
+    s.excursion = reference_excursion(model, o);
+    if (s.excursion.position_m <= max_m && s.excursion.angle_rad <= max_rad) break;
+  }
+  return s;
+}
+
+std::string describe_stop(const EmulationSummary& s, const EmulationOptions& o) {
+  if (s.supervisor_stops == 0) return "";
+  const StopDetail& d = s.stop_detail;
+  constexpr double deg = 180.0 / std::numbers::pi;
+  const char* axes = "xyz";
+  std::string what;
+  switch (s.stop_reason) {
+    case StopReason::Workspace:
+      what = d.index == 3 ? fmt::format(
+                                "braking would end {:.3g} deg from home, beyond the platform "
+                                "workspace's {:.3g} deg",
+                                d.value * deg, d.limit * deg)
+                          : fmt::format(
+                                "braking would end {:.3g} m from home along {}, beyond the "
+                                "platform workspace's {:.3g} m",
+                                d.value, axes[std::clamp(d.index, 0, 2)], d.limit);
+      break;
+    case StopReason::LegLimit:
+      what = fmt::format(
+          "leg {} would reach {:.5g} m, {:.3g} mm past {:.5g} m (its stroke end "
+          "less the {:.3g} m margin)",
+          d.index + 1, d.value, 1e3 * std::abs(d.value - d.limit), d.limit,
+          o.supervisor.leg_margin);
+      break;
+    case StopReason::TrackingError:
+      what = d.index == 1 ? fmt::format(
+                                "the platform was {:.3g} deg off its command, limit "
+                                "{:.3g} deg",
+                                d.value * deg, d.limit * deg)
+                          : fmt::format(
+                                "the platform was {:.3g} m off its command, limit "
+                                "{:.3g} m",
+                                d.value, d.limit);
+      break;
+    case StopReason::None:
+      return "";
+  }
+  const double ws_m = o.geometry.workspace.max_translation.minCoeff();
+  const double ws_deg = o.geometry.workspace.max_tilt * deg;
+  std::string fix;
+  if (s.stop_reason == StopReason::TrackingError)
+    fix =
+        "the platform servo cannot follow: a slower --trajectory, a heavier spacecraft "
+        "(--spacecraft-mass, --spacecraft-inertia)";
+  else if (s.reference_excursion_m > ws_m || s.reference_excursion_deg > ws_deg)
+    fix = fmt::format(
+        "the free-floating reference itself moves {:.3g} m and {:.3g} deg, more than the "
+        "workspace ({:.3g} m, {:.3g} deg): a heavier spacecraft (--spacecraft-mass, "
+        "--spacecraft-inertia), a gentler --trajectory or a larger platform (--platform)",
+        s.reference_excursion_m, s.reference_excursion_deg, ws_m, ws_deg);
+  else
+    fix = fmt::format(
+        "the reference fits the workspace ({:.3g} m, {:.3g} deg of {:.3g} m, {:.3g} deg), so "
+        "the emulation's own error drove the platform there: a wrong or missing gravity "
+        "model; else a heavier spacecraft (--spacecraft-mass, --spacecraft-inertia) or a "
+        "larger platform (--platform)",
+        s.reference_excursion_m, s.reference_excursion_deg, ws_m, ws_deg);
+  return fmt::format("{}; to fix: {}", what, fix);
 }
 
 }  // namespace massid::emulator

@@ -67,7 +67,8 @@ void emit_body(const Model& model, const PlantOptions& options, int index,
                const Eigen::Isometry3d& pose, int indent, std::ostringstream& x) {
   const Link& link = model.links[static_cast<std::size_t>(index)];
   const std::string pad(static_cast<std::size_t>(indent), ' ');
-  x << pad << "<body name=\"" << link.name << "\" " << pose_attributes(pose) << ">\n";
+  x << pad << "<body name=\"" << mjcf_body_name(link.name) << "\" " << pose_attributes(pose)
+    << ">\n";
   if (link.type != JointType::Fixed) {
     x << pad << "  <joint name=\"" << link.joint << "\" type=\""
       << (link.type == JointType::Revolute ? "hinge" : "slide") << "\" axis=\"" << vec(link.axis)
@@ -138,6 +139,12 @@ struct VfsDeleter {
 
 }  // namespace
 
+std::string mjcf_body_name(const std::string& link) {
+  for (const char* reserved : {"world", "massid_platform", "massid_spacecraft"})
+    if (link == reserved) return "massid_link_" + link;
+  return link;
+}
+
 std::string robot_mjcf(const Model& model, const PlantOptions& options,
                        const Eigen::Isometry3d& parent_T_sensor, int indent) {
   check_options(model, options);
@@ -190,7 +197,7 @@ class MujocoSimulation {
     free_body_ = id(mjOBJ_BODY, free_body);
     free_qadr_ = m_->jnt_qposadr[free_joint];
     free_dadr_ = m_->jnt_dofadr[free_joint];
-    sensor_body_ = id(mjOBJ_BODY, model.sensor_link());
+    sensor_body_ = id(mjOBJ_BODY, mjcf_body_name(model.sensor_link()));
     force_adr_ = m_->sensor_adr[id(mjOBJ_SENSOR, "massid_ft_force")];
     torque_adr_ = m_->sensor_adr[id(mjOBJ_SENSOR, "massid_ft_torque")];
     if (m_->nv != 6 + model.num_joints()) {

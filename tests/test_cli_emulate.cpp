@@ -155,3 +155,48 @@ TEST_F(CliEmulate, BadInputExitsTwo) {
 }
 
 }  // namespace
+
+// A ROS description whose root link is named "world" (MuJoCo's world body):
+// emulate runs (it failed with "repeated name in body array"), sizes the
+// default spacecraft to the 21 kg arm, and every stop names its limit with
+// numbers and the options to change.
+TEST_F(CliEmulate, RosUr5WithRootLinkWorldRunsOnASpacecraftSizedToIt) {
+  const std::string ur5 = kSource + "/tests/data/ur5_robot.urdf";
+  Result r = run({"design", ur5, "-o", path("plan.csv"), "--poses", "24", "--tilt-max", "25",
+                  "--candidates", "300"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"simulate", ur5, path("plan.csv"), "-o", path("data.csv")});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"identify", ur5, path("data.csv"), "-o", path("params.json")});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"emulate", ur5, path("params.json"), "-o", path("trace.csv"), "--summary",
+           path("summary.json"), "--duration", "2"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_EQ(read_table(path("trace.csv")).rows.size(), 2000u);
+  EXPECT_NE(r.out.find("spacecraft sized to the robot"), std::string::npos) << r;
+  const auto j = nlohmann::json::parse(read_file(path("summary.json")));
+  // Sized so that the reference stays within half the workspace (25 deg, 0.15 m).
+  EXPECT_GT(j["spacecraft_mass_kg"].get<double>(), 50.0);
+  for (const char* run : {"identified", "nominal", "none"}) {
+    EXPECT_LE(j[run]["reference_excursion_deg"].get<double>(), 12.5) << run;
+    EXPECT_LE(j[run]["reference_excursion_m"].get<double>(), 0.075) << run;
+  }
+  // With the sized spacecraft the compensated runs complete.
+  for (const char* run : {"identified", "nominal"})
+    EXPECT_EQ(j[run]["supervisor_stops"].get<int>(), 0) << run << "\n" << r;
+  // On the old default 50 kg the reference itself turns beyond the workspace:
+  // the stop names the limit, its numbers and the options.
+  r = run({"emulate", ur5, path("params.json"), "-o", path("trace50.csv"), "--summary",
+           path("summary50.json"), "--duration", "2", "--spacecraft-mass", "50"});
+  ASSERT_EQ(r.code, 0) << r;
+  const auto k = nlohmann::json::parse(read_file(path("summary50.json")));
+  EXPECT_GT(k["identified"]["reference_excursion_deg"].get<double>(), 25.0);
+  ASSERT_GE(k["identified"]["supervisor_stops"].get<int>(), 1) << r;
+  EXPECT_EQ(k["identified"]["stop_reason"], "workspace");
+  const std::string detail = k["identified"]["stop_detail"];
+  for (const char* piece :
+       {"deg from home", "beyond the platform workspace's 25 deg", "--spacecraft-mass",
+        "--spacecraft-inertia", "--trajectory", "--platform", "more than the workspace"})
+    EXPECT_NE(detail.find(piece), std::string::npos) << piece << "\n" << detail;
+  EXPECT_NE(r.out.find("(workspace): braking would end"), std::string::npos) << r;
+}

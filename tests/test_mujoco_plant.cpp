@@ -446,3 +446,44 @@ TEST(Emulation, IdentifiedParametersMeetTheFivePercentTarget) {
 
 }  // namespace
 }  // namespace massid::emulator
+
+// A ROS description's root link named "world" clashes with MuJoCo's world
+// body: the MJCF body gets another name, the plant loads and reads the sensor
+// at that body, and every other name is kept.
+TEST(MjcfNames, RootLinkNamedWorldIsRenamedInternallyOnly) {
+  using massid::emulator::mjcf_body_name;
+  EXPECT_EQ(mjcf_body_name("world"), "massid_link_world");
+  EXPECT_EQ(mjcf_body_name("massid_platform"), "massid_link_massid_platform");
+  EXPECT_EQ(mjcf_body_name("base_link"), "base_link");
+  EXPECT_EQ(mjcf_body_name("World"), "World");
+  const std::string urdf =
+      "<robot name=\"r\"><link name=\"world\"/>"
+      "<joint name=\"fix\" type=\"fixed\"><parent link=\"world\"/><child link=\"base\"/></joint>"
+      "<link name=\"base\"><inertial><mass value=\"2\"/><origin xyz=\"0 0 0.05\"/>"
+      "<inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>"
+      "</link>"
+      "<joint name=\"j1\" type=\"revolute\"><parent link=\"base\"/><child link=\"arm\"/>"
+      "<origin xyz=\"0 0 0.1\"/><axis xyz=\"0 1 0\"/>"
+      "<limit lower=\"-2\" upper=\"2\" effort=\"1\" velocity=\"1\"/></joint>"
+      "<link name=\"arm\"><inertial><mass value=\"1\"/><origin xyz=\"0.2 0 0\"/>"
+      "<inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>"
+      "</link></robot>";
+  const Model model = massid::load_urdf_string(urdf);
+  ASSERT_EQ(model.sensor_link(), "world");
+  const std::string mjcf =
+      massid::emulator::robot_mjcf(model, {}, Eigen::Isometry3d::Identity(), 0);
+  EXPECT_NE(mjcf.find("<body name=\"massid_link_world\""), std::string::npos) << mjcf;
+  EXPECT_EQ(mjcf.find("<body name=\"world\""), std::string::npos) << mjcf;
+  EXPECT_NE(mjcf.find("<body name=\"base\""), std::string::npos) << mjcf;
+  EXPECT_NE(mjcf.find("<joint name=\"j1\""), std::string::npos) << mjcf;
+  // The plant loads (it threw "repeated name in body array" before), and the
+  // sensor reads the static weight: 3 kg, and the moment of the arm's 1 kg at
+  // 0.2 m plus nothing of the base's centred mass.
+  massid::emulator::PlatformPlant plant(model, massid::emulator::default_geometry());
+  plant.set_joints(Eigen::VectorXd::Zero(1));
+  const massid::Wrench w = plant.measured_wrench();
+  EXPECT_NEAR(w[2], -3 * 9.80665, 1e-6);
+  EXPECT_NEAR(w[4], 0.2 * 9.80665, 1e-6);  // (0.2, 0, z) x (0, 0, -9.81): my = 0.2 * 9.81
+  EXPECT_NEAR(plant.sensor_pose().translation().z(),
+              massid::emulator::default_geometry().home.translation().z(), 1e-12);
+}

@@ -48,6 +48,18 @@ struct EmulatorModel {
   bool compensate_gravity = true;  // false: feed the raw measured wrench (for comparison)
 };
 
+// What the supervisor stopped for, in numbers (no allocation in the control
+// step). Workspace: `index` 0..2 the base-frame axis x, y, z of the
+// translation from home (value |p - p_home| in m), 3 the rotation from home
+// (rad); leg limit: `index` the leg 0..5, value its length and limit the end
+// of its stroke less the margin (m); tracking error: index 0 position (m), 1
+// attitude (rad). For workspace and leg limits the pose checked is where
+// braking from the next command would end (stopping distance included).
+struct StopDetail {
+  int index = -1;
+  double value = 0.0, limit = 0.0;
+};
+
 // Workspace and state of the emulator, grouped by the stage that writes it.
 struct EmulatorData {
   explicit EmulatorData(const EmulatorModel& model);
@@ -69,6 +81,7 @@ struct EmulatorData {
   // supervisor
   SupervisorState state = SupervisorState::Running;
   StopReason reason = StopReason::None;
+  StopDetail stop;
   double time = 0.0;  // s since start
 };
 

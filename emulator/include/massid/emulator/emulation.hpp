@@ -5,6 +5,8 @@
 // interface (sensor frame) poses is how well the platform emulates orbit.
 #pragma once
 
+#include <string>
+
 #include "massid/emulator/controller.hpp"
 #include "massid/emulator/joint_trajectory.hpp"
 #include "massid/emulator/mujoco_plant.hpp"
@@ -31,6 +33,7 @@ struct EmulationSummary {
   int supervisor_stops = 0;
   double first_stop_s = -1.0;  // time the supervisor first stopped, -1: never
   StopReason stop_reason = StopReason::None;
+  StopDetail stop_detail;        // the limit and by how much (controller.hpp)
   double seconds = 0.0;          // wall-clock time of the run
   double control_step_ns = 0.0;  // mean wall-clock time of control_step
 };
@@ -50,5 +53,32 @@ struct TraceRow {
 EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
                                const EmulationOptions& options, bool compensate,
                                std::vector<TraceRow>* trace = nullptr);
+
+// How far the free-floating reference alone (the robot on options.spacecraft,
+// following the trajectory, or smooth_maneuver) moves its interface from the
+// start: the largest distance (m) and rotation (rad). The platform must
+// reproduce this, so it must fit in the workspace.
+struct Excursion {
+  double position_m = 0.0, angle_rad = 0.0;
+};
+Excursion reference_excursion(const Model& model, const EmulationOptions& options);
+
+// The default spacecraft sized to the robot: 50 kg and 5 kg m^2 about every
+// axis (a 0.32 m radius of gyration), both doubled until the reference's
+// excursion stays within `fraction` of the workspace (translation: the
+// smallest per-axis limit; rotation: max_tilt), at most 2^10 times.
+// A light robot keeps 50 kg; a UR5 (21 kg) on the default maneuver gets 400 kg.
+struct SpacecraftSizing {
+  SpacecraftParameters spacecraft;
+  double factor = 1.0;  // on 50 kg and 5 kg m^2
+  Excursion excursion;  // of the reference on the sized spacecraft
+};
+SpacecraftSizing size_spacecraft(const Model& model, const EmulationOptions& options,
+                                 double fraction = 0.5);
+
+// One line on why a run stopped: which limit (workspace axis, leg, tracking),
+// the value against the limit, and the options that would help. "" when the
+// run did not stop.
+std::string describe_stop(const EmulationSummary& summary, const EmulationOptions& options);
 
 }  // namespace massid::emulator

@@ -77,6 +77,13 @@ struct PlantOptions {
   double default_radius_of_gyration = 0.05;  // m
 };
 
+// The MJCF body name of a URDF link: the link's name, except names MuJoCo or
+// the plants use themselves ("world", MuJoCo's world body, as in ROS
+// descriptions whose root link is "world"; "massid_platform",
+// "massid_spacecraft"), which get the prefix "massid_link_". Internal only:
+// users and files keep the URDF names.
+std::string mjcf_body_name(const std::string& link);
+
 // The robot's bodies as MJCF <body> elements (17 significant digits), the
 // sensor link's body first with a site "massid_ft" at its origin; `indent`
 // spaces before each line. The sensor link's body gets pos/quat `parent_T_sensor`.
