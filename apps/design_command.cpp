@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <iostream>
 #include <numbers>
+#include <optional>
 
 #include "massid/csv.hpp"
 #include "massid/design.hpp"
@@ -40,7 +42,13 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
   d->add_option("--fixed", c.fixed, "Hold a joint: JOINT=VALUE (rad or m); repeatable");
   d->add_option("--limits", c.limits, "Narrow a joint's range: JOINT=LO:HI; repeatable");
   d->add_option("--min-height", c.min_height,
-                "Moving link origins at least H m above the platform plane");
+                "Every moving link origin, centre of mass and primitive collision shape at least "
+                "H m above the platform plane (through the sensor origin, normal to level "
+                "gravity); default 0.05; 'none': no constraint");
+  d->add_option("--level-poses", c.level_poses,
+                "Poses kept level when tilts are allowed (default: a quarter of them; 0: the "
+                "optimiser chooses every tilt)")
+      ->check(CLI::Range(0, 100000));
   d->add_option("--criterion", c.criterion, "cond (paper eq. 36, default) or d-opt")
       ->check(CLI::IsMember({"cond", "d-opt"}));
   d->add_option("--noise-force", c.noise_force,
@@ -74,10 +82,40 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
 
 namespace {
 
+// --min-height H (m), or none/off: no constraint; absent: the default.
+std::optional<double> parse_min_height(const DesignCommand& c) {
+  if (!c.app->count("--min-height")) return kDefaultMinHeight;
+  if (c.min_height == "none" || c.min_height == "off") return std::nullopt;
+  const double h = parse_number(c.min_height, "--min-height");
+  if (!std::isfinite(h))
+    throw InputError(
+        fmt::format("--min-height: '{}' should be a height in m or 'none'", c.min_height));
+  return h;
+}
+
+// The trajectory's lowest point above the platform plane (design --dynamic
+// does not constrain it yet): a warning with the time, link and height.
+void check_trajectory_clearance(const Model& model, const Samples& traj,
+                                const Eigen::Vector3d& gravity, std::optional<double> min_height) {
+  if (!min_height) return;
+  DesignOptions o;
+  o.level_gravity = gravity;
+  o.min_height = min_height;
+  const Clearance c = lowest_clearance(model, o, traj);
+  if (c.height < *min_height)
+    std::cerr << fmt::format(
+        "warning: the trajectory takes link '{}' {:.3g} m {} the platform plane at t = {:.4g} s "
+        "(row {}; wanted: at least {:.3g} m above, --min-height; design --dynamic does not "
+        "constrain it yet): narrow the joints' ranges with --limits JOINT=LO:HI or try another "
+        "--seed\n",
+        c.link, std::abs(c.height), c.height < 0 ? "below" : "above",
+        traj.time.size() > c.row ? traj.time[c.row] : 0.0, c.row + 1, *min_height);
+}
+
 int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterOptions& bo_in) {
   if (c.output.empty()) throw InputError("design --dynamic: -o TRAJ.csv is required");
-  for (const char* opt : {"--tilt-max", "--tilts", "--tilt-groups", "--min-height", "--criterion",
-                          "--poses", "--evaluate"})
+  for (const char* opt : {"--tilt-max", "--tilts", "--tilt-groups", "--criterion", "--poses",
+                          "--evaluate", "--level-poses"})
     if (c.app->count(opt))
       throw InputError(fmt::format(
           "design --dynamic: {} is not supported with --dynamic in this version (the trajectory "
@@ -128,7 +166,9 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
   const BaseParameters base = find_base_parameters(model, bo);
   const ExcitationSummary s = design_excitation(model, base, o);
   if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);
-  write_trajectory(c.output, model, sample_trajectory(s.trajectory, o.duration, o.rate, o.gravity));
+  const Samples traj = sample_trajectory(s.trajectory, o.duration, o.rate, o.gravity);
+  check_trajectory_clearance(model, traj, o.gravity, parse_min_height(c));
+  write_trajectory(c.output, model, traj);
   std::cout << fmt::format(
       "exciting trajectory for {} (sensor link '{}'): {} harmonics, period {:.6g} s, {:.6g} s at "
       "{:.6g} Hz, the best of {} random Fourier trajectories (seed {})\n",
@@ -200,7 +240,9 @@ int run_design(const DesignCommand& c) {
     o.limits[joint] = {parse_number(range.substr(0, colon), "--limits " + joint),
                        parse_number(range.substr(colon + 1), "--limits " + joint)};
   }
-  if (c.app->count("--min-height")) o.min_height = c.min_height;
+  o.min_height = parse_min_height(c);
+  o.min_height_required = c.app->count("--min-height") > 0;
+  if (c.app->count("--level-poses")) o.level_poses = c.level_poses;
 
   if (!c.evaluate.empty()) {
     const Samples plan = read_samples(model, read_csv(c.evaluate), WrenchColumns::Optional);

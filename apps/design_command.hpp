@@ -11,8 +11,9 @@ struct DesignCommand {
   CLI::App* app = nullptr;
   std::string urdf, sensor, output, evaluate, tilts, gravity, criterion = "cond";
   std::vector<std::string> fixed, limits;
-  int poses = 0, candidates = 0, tilt_groups = 4;
-  double tilt_max_deg = 0.0, min_height = 0.0, noise_force = 0.05, noise_moment = 0.005;
+  std::string min_height;  // a number (m) or "none"
+  int poses = 0, candidates = 0, tilt_groups = 4, level_poses = -1;
+  double tilt_max_deg = 0.0, noise_force = 0.05, noise_moment = 0.005;
   bool offset = false;
   unsigned long long seed = 1;
   // --dynamic: an exciting trajectory (excitation.hpp)

@@ -86,9 +86,10 @@ void add_pose(Working& w, const PlanPose& pose, const Eigen::MatrixXd& rows) {
 
 // Greedy D-optimal start on the criterion rows (a small ridge keeps the first
 // steps defined): each step adds the candidate with the largest
-// log det(I + R^T R) = log det I + log det(1 + R I^-1 R^T).
+// log det(I + R^T R) = log det I + log det(1 + R I^-1 R^T). The first
+// `level` poses come from the level candidates (level[c]), the rest from the others.
 Working greedy_start(const std::vector<PlanPose>& cand,
-                     const std::vector<Eigen::MatrixXd>& cand_rows, int poses, int n) {
+                     const std::vector<Eigen::MatrixXd>& cand_rows, int poses, int level, int n) {
   Working w;
   double trace = 0.0;
   for (const auto& r : cand_rows) trace += r.squaredNorm();
@@ -99,6 +100,7 @@ Working greedy_start(const std::vector<PlanPose>& cand,
     double best = -kInfinity;
     size_t pick = 0;
     for (size_t c = 0; c < cand.size(); ++c) {
+      if (cand[c].level != (t < level)) continue;
       const Eigen::MatrixXd& R = cand_rows[c];
       Eigen::MatrixXd S = R * inv * R.transpose();
       S.diagonal().array() += 1.0;
@@ -128,6 +130,7 @@ bool exchange(Working& w, const std::vector<PlanPose>& cand,
       size_t best_c = cand.size();
       for (size_t k = 0; k < scan; ++k) {
         const size_t c = scan == cand.size() ? k : pick(rng);
+        if (cand[c].level != w.poses[i].level) continue;  // level slots stay level
         const double v = crit.value(without + cand_rows[c].transpose() * cand_rows[c]);
         if (v < best) best = v, best_c = c;
       }
@@ -274,26 +277,51 @@ void figures(const Model& model, const BaseParameters& base, const Samples& plan
   out.expected_error = (sum / draws).cwiseSqrt();
 }
 
+void clearance_figures(const Model& model, DesignSpace& space, DesignSummary& out) {
+  out.lowest_clearance = kInfinity;
+  for (const PlanPose& p : out.plan) {
+    int link = -1;
+    const double h = space.clearance(p.q, &link);
+    if (h < out.lowest_clearance) {
+      out.lowest_clearance = h;
+      out.lowest_link = link >= 0 ? model.links[link].name : "";
+    }
+  }
+  out.links_with_meshes = 0;
+  for (const Link& l : model.links) out.links_with_meshes += l.collision_meshes > 0;
+}
+
 }  // namespace
 
 DesignSummary design(const Model& model, const BaseParameters& base, const DesignOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   if (o.poses < 1) throw InputError("--poses must be at least 1");
-  DesignSpace space(model, o);
-  CriterionRows crit(model, base, o);
+  DesignOptions opts = o;
+  {
+    DesignSpace probe(model, opts);
+    probe.relax_min_height_if_infeasible(o.min_height_required);
+    if (probe.min_height_relaxed()) opts.min_height.reset();
+  }
+  DesignSpace space(model, opts);
+  CriterionRows crit(model, base, opts);
   std::mt19937_64 rng(o.seed);
 
   const int count =
       o.candidates > 0 ? o.candidates : std::clamp(300 * (space.dimension() + 1), 1000, 3000);
+  // Level poses kept when level and other tilts are allowed (see DesignOptions).
+  int level = 0;
+  if (space.level_allowed() && space.tilts_other_than_level() && o.poses >= 2)
+    level = o.level_poses < 0 ? std::max(1, o.poses / 4) : std::min(o.level_poses, o.poses - 1);
   std::vector<PlanPose> cand;
   std::vector<Eigen::MatrixXd> cand_rows;
-  for (int c = 0; c < count; ++c) {
-    cand.push_back(space.sample(rng));
+  const int level_count = level > 0 ? std::max(count / 4, 200) : 0;
+  for (int c = 0; c < count + level_count; ++c) {
+    cand.push_back(space.sample(rng, c >= count));
     cand_rows.emplace_back(crit.num_rows(), crit.size());
     crit.rows(cand.back(), cand_rows.back());
   }
 
-  Working w = greedy_start(cand, cand_rows, o.poses, crit.size());
+  Working w = greedy_start(cand, cand_rows, o.poses, level, crit.size());
   w.value = crit.value(w.info);
   for (int round = 0; round < 4; ++round) {
     const bool exchanged = exchange(w, cand, cand_rows, crit, rng);
@@ -303,19 +331,42 @@ DesignSummary design(const Model& model, const BaseParameters& base, const Desig
   }
 
   DesignSummary out;
+  out.level_poses = level;
+  out.min_height_relaxed = !opts.min_height.has_value() && o.min_height.has_value();
   out.plan = order_plan(w.poses);
   const Samples plan = to_samples(out.plan, model.num_joints());
   // The expected error is over every feasible pose: any tilt in the cone, not
   // only the plan's tilt groups (as evaluate_plan sees the plan too).
-  DesignOptions anywhere = o;
+  DesignOptions anywhere = opts;
   anywhere.tilt_groups = 0;
   DesignSpace feasible(model, anywhere);
   figures(model, base, plan, o, feasible, out);
+  clearance_figures(model, feasible, out);
   const PlanTravel travel = plan_travel(out.plan);
   out.tilt_changes = travel.tilt_changes;
   out.joint_travel = travel.joint_travel;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+Clearance lowest_clearance(const Model& model, const DesignOptions& options,
+                           const Samples& samples) {
+  DesignOptions o = options;
+  o.tilt_max.reset();
+  o.tilts.clear();
+  DesignSpace space(model, o);
+  Clearance c;
+  c.height = kInfinity;
+  for (int r = 0; r < samples.q.rows(); ++r) {
+    int link = -1;
+    const double h = space.clearance(samples.q.row(r).transpose(), &link);
+    if (h < c.height) {
+      c.height = h;
+      c.row = r;
+      c.link = link >= 0 ? model.links[link].name : "";
+    }
+  }
+  return c;
 }
 
 DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, const Samples& plan,
@@ -351,7 +402,10 @@ DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, cons
   }
   opts.tilt_groups = 0;  // random poses: any tilt in the cone
   DesignSpace space(model, opts);
+  space.relax_min_height_if_infeasible(opts.min_height_required);
+  out.min_height_relaxed = space.min_height_relaxed();
   figures(model, base, plan, opts, space, out);
+  clearance_figures(model, space, out);
   const PlanTravel travel = plan_travel(out.plan);
   out.tilt_changes = travel.tilt_changes;
   out.joint_travel = travel.joint_travel;

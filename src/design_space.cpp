@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "massid/errors.hpp"
@@ -59,30 +60,80 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
   } else {
     tilts_ = o.tilts.empty() ? std::vector<Tilt>{Tilt{}} : o.tilts;
   }
-  // Links whose origin moves: compare forward kinematics at random poses.
+  for (size_t k = 0; k < tilts_.size() && !cone_; ++k)
+    if (tilt_angle(level_, tilts_[k]) < 1e-12) {
+      level_group_ = static_cast<int>(k);
+      break;
+    }
+  // The points checked for clearance, those that move: compare forward
+  // kinematics at random poses.
+  std::vector<Point> all;
+  for (int l = 0; l < model.num_links(); ++l) {
+    const Link& link = model.links[l];
+    all.push_back({l, Eigen::Vector3d::Zero(), 0.0});
+    if (link.mass > 0.0) all.push_back({l, link.com, 0.0});
+    for (const Link::Sphere& c : link.collision) all.push_back({l, c.centre, c.radius});
+  }
+  // Only points whose height changes: one that moves at a constant height
+  // (a centre of mass off a vertical axis) is where the mount puts it, as
+  // the fixed links are.
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<Eigen::Vector3d> first;
-  std::vector<bool> moves(model.num_links(), false);
-  for (int trial = 0; trial < 4; ++trial) {
+  const Eigen::Vector3d up = -level_.normalized();
+  std::vector<double> first(all.size());
+  std::vector<bool> moves(all.size(), false);
+  for (int trial = 0; trial < 6; ++trial) {
     Eigen::VectorXd q(model.num_joints());
     for (int j = 0; j < model.num_joints(); ++j) q[j] = model.joints[j].generic_position(u(rng));
     forward_kinematics(model, kin_, q);
-    if (trial == 0) first = kin_.position;
-    for (int l = 0; l < model.num_links(); ++l)
-      if ((kin_.position[l] - first[l]).norm() > 1e-9) moves[l] = true;
+    for (size_t i = 0; i < all.size(); ++i) {
+      const double h = up.dot(kin_.position[all[i].link] + kin_.rotation[all[i].link] * all[i].p);
+      if (trial == 0) first[i] = h;
+      if (std::abs(h - first[i]) > 1e-9) moves[i] = true;
+    }
   }
-  for (int l = 0; l < model.num_links(); ++l)
-    if (moves[l]) moving_links_.push_back(l);
+  for (size_t i = 0; i < all.size(); ++i)
+    if (moves[i]) points_.push_back(all[i]);
+}
+
+bool DesignSpace::level_allowed() const { return cone_ || level_group_ >= 0; }
+
+bool DesignSpace::tilts_other_than_level() const {
+  if (cone_) return tilt_max_ > 0.0;
+  for (const Tilt& t : tilts_)
+    if (tilt_angle(level_, t) >= 1e-12) return true;
+  return false;
+}
+
+double DesignSpace::clearance(const Eigen::VectorXd& q, int* link) {
+  forward_kinematics(model_, kin_, q);
+  const Eigen::Vector3d up = -level_.normalized();
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const Point& pt : points_) {
+    const double h = up.dot(kin_.position[pt.link] + kin_.rotation[pt.link] * pt.p) - pt.radius;
+    if (h < lowest) {
+      lowest = h;
+      if (link) *link = pt.link;
+    }
+  }
+  return lowest;
+}
+
+void DesignSpace::relax_min_height_if_infeasible(bool required) {
+  if (!min_height_ || required || points_.empty()) return;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Eigen::VectorXd q(model_.num_joints());
+  for (int attempt = 0; attempt < 2000; ++attempt) {
+    for (const Free& f : free_) q[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
+    if (clearance(q) >= *min_height_) return;
+  }
+  min_height_.reset();
+  relaxed_ = true;
 }
 
 bool DesignSpace::high_enough(const Eigen::VectorXd& q) {
-  if (!min_height_) return true;
-  forward_kinematics(model_, kin_, q);
-  const Eigen::Vector3d up = -level_.normalized();
-  for (int l : moving_links_)
-    if (up.dot(kin_.position[l]) < *min_height_) return false;
-  return true;
+  return !min_height_ || clearance(q) >= *min_height_;
 }
 
 Tilt DesignSpace::clamp_to_cone(Tilt t) const {
@@ -95,14 +146,18 @@ Tilt DesignSpace::clamp_to_cone(Tilt t) const {
   return {lo * t.x, lo * t.y};
 }
 
-PlanPose DesignSpace::sample(std::mt19937_64& rng) {
+PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   PlanPose pose;
   pose.q.resize(model_.num_joints());
   for (int attempt = 0; attempt < 10000; ++attempt) {
     for (const Free& f : free_) pose.q[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
     if (!high_enough(pose.q)) continue;
-    if (own_tilt()) {
+    pose.level = level;
+    if (level) {
+      pose.tilt = Tilt{};
+      pose.group = cone_ ? -1 : level_group_;
+    } else if (own_tilt()) {
       // Half on the cone's rim (where optimal plans go), half inside.
       // Half on the cone's rim (where good plans go: overshoot, then clamp), half inside.
       const double az = 2 * std::numbers::pi * u(rng);
@@ -116,7 +171,8 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng) {
     return pose;
   }
   throw InputError(fmt::format(
-      "design: no pose satisfies the constraints (--min-height {} m with the joint ranges given)",
+      "design: no pose satisfies the constraints (--min-height {} m with the joint ranges "
+      "given): lower it, or --min-height none to allow links below the platform plane",
       min_height_.value_or(0.0)));
 }
 
@@ -132,7 +188,9 @@ bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPo
   for (size_t i = 0; i < free_.size(); ++i)
     out.q[free_[i].joint] = std::clamp(x[i], free_[i].lo, free_[i].hi);
   out.group = like.group;
-  out.tilt = own_tilt() ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]}) : like.tilt;
+  out.level = like.level;
+  out.tilt = own_tilt() && !like.level ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]})
+                                       : like.tilt;
   out.gravity = tilted_gravity(level_, out.tilt);
   return high_enough(out.q);
 }

@@ -18,7 +18,20 @@ class DesignSpace {
   DesignSpace(const Model& model, const DesignOptions& options);
 
   // A random feasible pose; InputError when none is found after many tries.
-  PlanPose sample(std::mt19937_64& rng);
+  // `level`: at the level tilt (PlanPose::level), for the reserved level poses.
+  PlanPose sample(std::mt19937_64& rng, bool level = false);
+  // Whether the level tilt is among the allowed ones (always within a cone),
+  // and whether any other is.
+  bool level_allowed() const;
+  bool tilts_other_than_level() const;
+  // The lowest clearance of the checked points above the platform plane at q
+  // (m; +inf when nothing moves), and which link it belongs to.
+  double clearance(const Eigen::VectorXd& q, int* link = nullptr);
+  // The default minimum height is dropped when no random pose satisfies it
+  // (a sensor link below the arm's mount, say); `required`: the user asked
+  // for it, keep it (sample() then fails with its message).
+  void relax_min_height_if_infeasible(bool required);
+  bool min_height_relaxed() const { return relaxed_; }
   // Continuous coordinates of a pose: free joints, then its own tilt x, y
   // when every pose may have its own tilt (a cone without tilt groups).
   int dimension() const { return static_cast<int>(free_.size()) + (own_tilt() ? 2 : 0); }
@@ -56,7 +69,17 @@ class DesignSpace {
   int groups_ = 0;           // tilt groups within the cone; 0: a tilt per pose
   std::vector<Tilt> tilts_;  // listed tilts or tilt groups (level only when neither)
   std::optional<double> min_height_;
-  std::vector<int> moving_links_;  // links whose origin moves with the joints
+  // Points checked against the minimum height: link origins, centres of mass
+  // and primitive collision shapes' bounding spheres (link frame), those that
+  // move with the joints.
+  struct Point {
+    int link;
+    Eigen::Vector3d p;
+    double radius;
+  };
+  std::vector<Point> points_;
+  int level_group_ = -1;
+  bool relaxed_ = false;  // index of the level tilt in a list, -1: none (or a cone)
   KinematicsData kin_;
 };
 

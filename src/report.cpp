@@ -199,6 +199,43 @@ std::string design_report(const Model& model, const BaseParameters& base, const 
                         model.name, model.sensor_link());
   out += fmt::format("order: {} tilt changes, joint travel {:.3g} (rad or m)\n", s.tilt_changes,
                      s.joint_travel);
+  if (evaluated.empty() && s.level_poses > 0)
+    out += fmt::format(
+        "level poses: {} of {} kept level, so that fz varies (it separates the total mass from "
+        "the fz offset); --level-poses 0 lets the optimiser tilt every pose\n",
+        s.level_poses, s.plan.size());
+  const std::string meshes =
+      s.links_with_meshes > 0
+          ? fmt::format(
+                " ({} links have collision meshes: checked at their origin and centre of "
+                "mass only)",
+                s.links_with_meshes)
+          : "";
+  if (s.min_height_relaxed && evaluated.empty())
+    out += fmt::format(
+        "clearance: not applied: no pose keeps every moving point {:.3g} m above the platform "
+        "plane (through the sensor origin, normal to level gravity); --min-height H requires a "
+        "height\n",
+        o.min_height.value_or(kDefaultMinHeight));
+  else if (o.min_height && evaluated.empty())
+    out += fmt::format(
+        "clearance: every moving link origin, centre of mass and primitive collision shape at "
+        "least {:.3g} m above the platform plane (through the sensor origin, normal to level "
+        "gravity){}; lowest {:.3g} m ('{}'); --min-height H sets it, --min-height none turns it "
+        "off\n",
+        *o.min_height, meshes, s.lowest_clearance, s.lowest_link);
+  else if (evaluated.empty())
+    out +=
+        "clearance: not constrained (--min-height none): poses may put links below the "
+        "platform plane\n";
+  else if (std::isfinite(s.lowest_clearance))
+    out += fmt::format(
+        "clearance: the lowest moving link origin, centre of mass or primitive collision shape "
+        "is {:.3g} m {} the platform plane ('{}'){}\n",
+        std::abs(s.lowest_clearance), s.lowest_clearance < 0 ? "below" : "above", s.lowest_link,
+        o.min_height && !s.min_height_relaxed && s.lowest_clearance < *o.min_height
+            ? fmt::format(", closer than --min-height {:.3g} m", *o.min_height)
+            : "");
   out += fmt::format("condition number (eq. 36, moment rows): {:.4g}\n", s.condition_number);
   if (!s.identifiable) return out + "the plan does not determine every base parameter\n";
   out += fmt::format(

@@ -337,6 +337,30 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
         throw InputError(fmt::format("{}:{}: link '{}' has a negative mass", source,
                                      element_line(doc, "link", link.name), link.name));
     }
+    for (const auto& c : cur.link->collision_array) {
+      if (!c || !c->geometry) continue;
+      double radius = -1.0;
+      switch (c->geometry->type) {
+        case urdf::Geometry::SPHERE:
+          radius = static_cast<const urdf::Sphere&>(*c->geometry).radius;
+          break;
+        case urdf::Geometry::BOX: {
+          const urdf::Vector3& d = static_cast<const urdf::Box&>(*c->geometry).dim;
+          radius = 0.5 * std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+          break;
+        }
+        case urdf::Geometry::CYLINDER: {
+          const auto& cyl = static_cast<const urdf::Cylinder&>(*c->geometry);
+          radius = std::hypot(cyl.radius, 0.5 * cyl.length);
+          break;
+        }
+        default:
+          ++link.collision_meshes;
+      }
+      const auto& p = c->origin.position;
+      if (radius >= 0.0 && std::isfinite(radius))
+        link.collision.push_back({Eigen::Vector3d(p.x, p.y, p.z), radius});
+    }
     if (cur.parent >= 0) {
       const urdf::JointConstSharedPtr j = cur.link->parent_joint;
       const int line = element_line(doc, "joint", j->name);

@@ -307,7 +307,10 @@ TEST_F(CliDesign, TiltGroupsLimitTheDistinctTiltsInTheCone) {
       tilts.insert({t.rows[i][t.col("tilt_x_deg")], t.rows[i][t.col("tilt_y_deg")]});
       EXPECT_LE(angle_between(gravity_of(t, i), level), 20 * kDeg + 1e-9) << "row " << i;
     }
-    EXPECT_LE(tilts.size(), static_cast<size_t>(groups));
+    // The groups, plus level for the poses kept level (14 / 4 = 3 of them).
+    EXPECT_LE(tilts.size(), static_cast<size_t>(groups) + 1);
+    EXPECT_EQ(tilts.count({"0", "0"}), 1u);
+    EXPECT_NE(r.out.find("level poses: 3 of 14"), std::string::npos) << r;
     EXPECT_EQ(tilt_blocks(t), static_cast<int>(tilts.size())) << "grouped";
   }
   expect_input_error(run({"design", kPumaUrdf, "-o", path("x.csv"), "--poses", "12", "--tilts",
@@ -594,3 +597,92 @@ TEST_F(CliDesign, BadUsageExits2AndLeavesTheOutputUntouched) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------- defaults: clearance, level poses
+
+// A ROS UR5 (root link "world", sensor frame = the mounting plate, z up): by
+// default every moving link origin stays 5 cm above the plate, a quarter of
+// the poses are level, the output says both and how to turn them off, and the
+// plan still identifies.
+TEST_F(CliDesign, DefaultPlanKeepsTheUr5AboveItsMountingPlateWithLevelPoses) {
+  const std::string ur5 = kSource + "/tests/data/ur5_robot.urdf";
+  const massid::Model m = massid::load_urdf(ur5);
+  const Result r = design(ur5, "plan.csv", 24, {"--tilt-max", "25"});
+  ASSERT_EQ(r.code, 0) << r;
+  const Table t = read_plan(path("plan.csv"));
+  expect_valid_plan(t, m, 24, {0, 0, -kG});
+  expect_min_height(t, m, {0, 0, -kG}, 0.05);
+  for (const char* piece :
+       {"clearance: every moving link origin", "0.05 m above the platform",
+        "--min-height none turns it off", "level poses: 6 of 24", "--level-poses 0"})
+    EXPECT_NE(r.out.find(piece), std::string::npos) << piece << "\n" << r;
+  int level = 0;
+  double gz_min = INFINITY, gz_max = -INFINITY;
+  for (size_t i = 0; i < t.rows.size(); ++i) {
+    level += t.num(i, "tilt_x_deg") == 0.0 && t.num(i, "tilt_y_deg") == 0.0;
+    gz_min = std::min(gz_min, t.num(i, "gz"));
+    gz_max = std::max(gz_max, t.num(i, "gz"));
+  }
+  EXPECT_EQ(level, 6);
+  // fz varies: gz spans at least most of g (1 - cos 25 deg).
+  EXPECT_GT(gz_max - gz_min, 0.9 * kG * (1 - std::cos(25 * std::numbers::pi / 180)));
+  // The plan identifies: noise-free data give a finite, small condition number
+  // and back the URDF's total mass.
+  ASSERT_EQ(run({"simulate", ur5, path("plan.csv"), "-o", path("data.csv")}).code, 0);
+  const Result id = run({"identify", ur5, path("data.csv"), "-o", path("params.json")});
+  ASSERT_EQ(id.code, 0) << id;
+  const std::string cond = "condition number";
+  EXPECT_NE(id.out.find(cond), std::string::npos) << id;
+  const Result ev = run({"design", ur5, "--evaluate", path("plan.csv")});
+  ASSERT_EQ(ev.code, 0) << ev;
+  const size_t at = ev.out.find("condition number (eq. 36, moment rows): ");
+  ASSERT_NE(at, std::string::npos) << ev;
+  const double c = std::stod(ev.out.substr(at + 41));
+  EXPECT_TRUE(std::isfinite(c) && c < 10) << ev;
+  EXPECT_NE(ev.out.find("above the platform plane"), std::string::npos) << ev;
+}
+
+TEST_F(CliDesign, MinHeightNoneAndLevelPosesZeroTurnTheDefaultsOff) {
+  const std::string ur5 = kSource + "/tests/data/ur5_robot.urdf";
+  const massid::Model m = massid::load_urdf(ur5);
+  const Result r = design(ur5, "plan.csv", 24,
+                          {"--tilt-max", "25", "--min-height", "none", "--level-poses", "0"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.out.find("clearance: not constrained (--min-height none)"), std::string::npos) << r;
+  EXPECT_EQ(r.out.find("level poses:"), std::string::npos) << r;
+  // Unconstrained, the optimiser does drive links through the plate (what the
+  // default prevents), and tilts every pose.
+  const Table t = read_plan(path("plan.csv"));
+  double lowest = INFINITY;
+  int level = 0;
+  for (size_t i = 0; i < t.rows.size(); ++i) {
+    lowest = std::min(lowest, lowest_origin(m, joints_of(t, i, m), {0, 0, -kG}));
+    level += t.num(i, "tilt_x_deg") == 0.0 && t.num(i, "tilt_y_deg") == 0.0;
+  }
+  EXPECT_LT(lowest, 0.0);
+  EXPECT_EQ(level, 0);
+  // A height that is neither a number nor none is bad usage.
+  expect_input_error(design(ur5, "bad.csv", 12, {"--min-height", "low"}), {"--min-height"});
+}
+
+TEST_F(CliDesign, DynamicTrajectoryWarnsWhenItGoesBelowThePlate) {
+  const std::string ur5 = kSource + "/tests/data/ur5_robot.urdf";
+  const Result r = run(
+      {"design", ur5, "--dynamic", "-o", path("traj.csv"), "--duration", "10", "--rate", "100"});
+  ASSERT_EQ(r.code, 0) << r;
+  // Independent check of the warning: the lowest moving link origin over the rows.
+  const massid::Model m = massid::load_urdf(ur5);
+  const Table t = read_plan(path("traj.csv"));
+  double lowest = INFINITY;
+  for (size_t i = 0; i < t.rows.size(); ++i)
+    lowest = std::min(lowest, lowest_origin(m, joints_of(t, i, m), {0, 0, -kG}));
+  // Unconstrained Fourier series swing the UR5 through its plate.
+  EXPECT_LT(lowest, 0.0);
+  EXPECT_NE(r.err.find("warning: the trajectory takes link"), std::string::npos) << r;
+  EXPECT_NE(r.err.find("below the platform plane"), std::string::npos) << r;
+  EXPECT_NE(r.err.find("--limits JOINT=LO:HI"), std::string::npos) << r;
+  const Result off = run({"design", ur5, "--dynamic", "-o", path("traj2.csv"), "--duration", "10",
+                          "--rate", "100", "--min-height", "none"});
+  ASSERT_EQ(off.code, 0) << off;
+  EXPECT_EQ(off.err.find("warning: the trajectory takes link"), std::string::npos) << off;
+}

@@ -3,6 +3,7 @@
 // predicted standard deviations against the errors of real identifications.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -63,6 +64,7 @@ TEST_F(PumaDesign, PapersConstraintsBeatThePapersTenPointEight) {
 TEST_F(PumaDesign, AnyTiltUpTo25DegreesReaches2Point5) {
   DesignOptions o = puma_options();
   o.tilt_max = 25 * kDeg;
+  o.level_poses = 0;  // the optimum over the whole cone (the default keeps a quarter level)
   const DesignSummary d = design(model, base, o);
   EXPECT_LE(test::paper_condition_number(as_samples(d.plan)), 2.5);  // about 2.26 is reachable
   for (const PlanPose& p : d.plan)
@@ -72,6 +74,7 @@ TEST_F(PumaDesign, AnyTiltUpTo25DegreesReaches2Point5) {
 TEST_F(PumaDesign, FourTiltGroupsKeepTheTargetWithThreeTiltChanges) {
   DesignOptions o = puma_options();
   o.tilt_max = 25 * kDeg;
+  o.level_poses = 0;  // the optimum over the whole cone (the default keeps a quarter level)
   o.tilt_groups = 4;
   const DesignSummary d = design(model, base, o);
   EXPECT_LE(test::paper_condition_number(as_samples(d.plan)), 2.5);
@@ -191,6 +194,122 @@ TEST(Design, HeldJointsNarrowedRangesAndMinimumHeight) {
       EXPECT_GE(kin.position[l].z(), 0.05 - 1e-12) << model.links[l].name;
     }
   }
+}
+
+// Forward kinematics written out here (not the library's): link frames in the
+// sensor frame from the URDF joint origins and axes.
+std::vector<Eigen::Isometry3d> own_fk(const Model& m, const Eigen::VectorXd& q) {
+  std::vector<Eigen::Isometry3d> T(m.num_links());
+  for (int l = 0; l < m.num_links(); ++l) {
+    const Link& link = m.links[l];
+    Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+    if (link.type == JointType::Revolute)
+      motion.linear() = Eigen::AngleAxisd(q[link.joint_index], link.axis).toRotationMatrix();
+    if (link.type == JointType::Prismatic) motion.translation() = q[link.joint_index] * link.axis;
+    T[l] =
+        (link.parent < 0 ? Eigen::Isometry3d::Identity() : T[link.parent]) * link.origin * motion;
+  }
+  return T;
+}
+
+// The lowest z (level gravity -z) of the moving link origins and centres of
+// mass; which move is found by comparing two configurations.
+double lowest_moving_point(const Model& m, const Eigen::VectorXd& q) {
+  const auto a = own_fk(m, Eigen::VectorXd::Constant(m.num_joints(), 0.3));
+  const auto b = own_fk(m, Eigen::VectorXd::Constant(m.num_joints(), -1.1));
+  const auto T = own_fk(m, q);
+  double lowest = INFINITY;
+  for (int l = 0; l < m.num_links(); ++l) {
+    for (const Eigen::Vector3d& p : {Eigen::Vector3d::Zero().eval(), m.links[l].com}) {
+      if (((a[l] * p) - (b[l] * p)).norm() < 1e-9) continue;
+      lowest = std::min(lowest, (T[l] * p).z());
+    }
+  }
+  return lowest;
+}
+
+// The UR5 of a ROS description: root link "world" is the mounting plate.
+// Default options keep every moving point 5 cm above it, a quarter of the
+// poses level, and the plan identifies; without the constraint the optimiser
+// does go through the plate, so the default is what keeps it out.
+TEST(Design, Ur5DefaultsKeepTheArmAboveItsMountingPlateAndLevelPoses) {
+  const Model model = load_urdf(MASSID_SOURCE_DIR "/tests/data/ur5_robot.urdf");
+  ASSERT_EQ(model.sensor_link(), "world");
+  const BaseParameters base = find_base_parameters(model);
+  DesignOptions o;
+  o.poses = 40;
+  o.candidates = 600;
+  o.tilt_max = 25 * kDeg;
+  ASSERT_TRUE(o.min_height.has_value());
+  EXPECT_EQ(*o.min_height, 0.05);
+  const DesignSummary d = design(model, base, o);
+  ASSERT_TRUE(d.identifiable) << d.identifiability_message;
+  EXPECT_LT(d.condition_number, 10.0);
+  EXPECT_EQ(d.level_poses, 10);
+  int level = 0;
+  for (const PlanPose& p : d.plan) {
+    EXPECT_GE(lowest_moving_point(model, p.q), 0.05 - 1e-9);
+    if (p.level) {
+      ++level;
+      EXPECT_EQ(p.gravity, o.level_gravity);
+    }
+  }
+  EXPECT_EQ(level, 10);
+  EXPECT_GE(d.lowest_clearance, 0.05 - 1e-12);
+  EXPECT_EQ(d.links_with_meshes, 7);  // base_link ... wrist_3_link: STL collision meshes
+  // The same plan's figures from the estimation side: the condition number
+  // identify reports.
+  EXPECT_NEAR(evaluate_plan(model, base, as_samples(d.plan), o).condition_number,
+              d.condition_number, 1e-9 * d.condition_number);
+
+  o.min_height.reset();
+  o.level_poses = 0;
+  const DesignSummary free = design(model, base, o);
+  double lowest = INFINITY;
+  for (const PlanPose& p : free.plan) lowest = std::min(lowest, lowest_moving_point(model, p.q));
+  EXPECT_LT(lowest, 0.0);
+  for (const PlanPose& p : free.plan) EXPECT_FALSE(p.level);
+}
+
+// Primitive collision shapes count by their bounding sphere: a 0.2 m box
+// (half-diagonal 0.173 m) centred on a swinging link keeps its centre 0.173 m
+// + the margin above the plane, more than the link origin alone would need.
+TEST(Design, CollisionBoxesKeepTheirBoundingSphereAboveThePlane) {
+  const std::string urdf =
+      "<robot name=\"r\"><link name=\"plate\"/>"
+      "<joint name=\"j\" type=\"revolute\"><parent link=\"plate\"/><child link=\"arm\"/>"
+      "<origin xyz=\"0 0 0.3\"/><axis xyz=\"0 1 0\"/>"
+      "<limit lower=\"-3\" upper=\"3\" effort=\"1\" velocity=\"1\"/></joint>"
+      "<link name=\"arm\"><inertial><mass value=\"1\"/><origin xyz=\"0 0 0\"/>"
+      "<inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/>"
+      "</inertial><collision><origin xyz=\"0.4 0 0\"/><geometry><box size=\"0.2 0.2 0.2\"/>"
+      "</geometry></collision></link>"
+      "<joint name=\"k\" type=\"revolute\"><parent link=\"arm\"/><child link=\"tip\"/>"
+      "<origin xyz=\"0.5 0 0\"/><axis xyz=\"0 0 1\"/>"
+      "<limit lower=\"-3\" upper=\"3\" effort=\"1\" velocity=\"1\"/></joint>"
+      "<link name=\"tip\"><inertial><mass value=\"0.5\"/><origin xyz=\"0.1 0 0\"/>"
+      "<inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/>"
+      "</inertial></link></robot>";
+  const Model model = load_urdf_string(urdf);
+  ASSERT_EQ(model.links[1].collision.size(), 1u);
+  EXPECT_NEAR(model.links[1].collision[0].radius, std::sqrt(3.0) * 0.1, 1e-15);
+  const BaseParameters base = find_base_parameters(model);
+  DesignOptions o;
+  o.poses = 12;
+  o.candidates = 300;
+  o.tilt_max = 20 * kDeg;
+  const DesignSummary d = design(model, base, o);
+  ASSERT_TRUE(d.identifiable);
+  const double r = std::sqrt(3.0) * 0.1;
+  for (const PlanPose& p : d.plan) {
+    // The arm swings about y at 0.3 m: the box centre is at z = 0.3 - 0.4 sin(q).
+    const double box_z = 0.3 - 0.4 * std::sin(p.q[0]);
+    EXPECT_GE(box_z - r, 0.05 - 1e-9) << p.q[0];
+  }
+  // Without the box, the link origins alone would allow sin q up to 0.5.
+  double lowest = INFINITY;
+  for (const PlanPose& p : d.plan) lowest = std::min(lowest, 0.3 - 0.4 * std::sin(p.q[0]) - r);
+  EXPECT_NEAR(d.lowest_clearance, lowest, 1e-9);
 }
 
 TEST(Design, DOptimalityMaximisesTheLogDeterminant) {

@@ -468,7 +468,7 @@ TEST(MjcfNames, RootLinkNamedWorldIsRenamedInternallyOnly) {
       "<link name=\"arm\"><inertial><mass value=\"1\"/><origin xyz=\"0.2 0 0\"/>"
       "<inertia ixx=\"0.01\" iyy=\"0.01\" izz=\"0.01\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>"
       "</link></robot>";
-  const Model model = massid::load_urdf_string(urdf);
+  const massid::Model model = massid::load_urdf_string(urdf);
   ASSERT_EQ(model.sensor_link(), "world");
   const std::string mjcf =
       massid::emulator::robot_mjcf(model, {}, Eigen::Isometry3d::Identity(), 0);

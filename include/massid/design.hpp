@@ -46,6 +46,8 @@ Eigen::Vector3d tilted_gravity(const Eigen::Vector3d& level, const Tilt& tilt);
 // Angle between tilted and level gravity, radians.
 double tilt_angle(const Eigen::Vector3d& level, const Tilt& tilt);
 
+inline constexpr double kDefaultMinHeight = 0.05;  // m
+
 struct DesignOptions {
   int poses = 30;
   std::optional<double> tilt_max;  // rad: any tilt within this cone around level
@@ -53,7 +55,21 @@ struct DesignOptions {
   std::vector<Tilt> tilts;         // or only these (empty and no tilt_max: level only)
   Eigen::Vector3d level_gravity{0.0, 0.0, -kStandardGravity};  // sensor frame, platform level
   std::map<std::string, std::pair<double, double>> limits;     // joint -> narrowed range
-  std::optional<double> min_height;  // m: moving link origins above the platform plane
+  // m: every point that moves with the joints (link origins, centres of mass,
+  // the bounding spheres of primitive collision shapes) stays this far above
+  // the platform plane: the plane through the sensor-frame origin normal to
+  // level gravity (the mounting plate). Default 5 cm; nullopt: no constraint.
+  std::optional<double> min_height = kDefaultMinHeight;
+  // false: when no pose satisfies min_height (a sensor link below the mount,
+  // say), design goes on without it and says so (DesignSummary::
+  // min_height_relaxed); true (the CLI's explicit --min-height): InputError.
+  bool min_height_required = false;
+  // Poses kept level when level and other tilts are allowed (a cone, or a
+  // list with 0:0): fz then varies by M g (1 - cos tilt), which separates the
+  // total mass from the fz offset and checks the plan where the robot works.
+  // -1: automatic, a quarter of the poses (at least 1 of 2 or more); 0: none
+  // (the optimiser chooses every tilt).
+  int level_poses = -1;
   Criterion criterion = Criterion::Cond;
   double noise_force = 0.05;    // N, per axis: for the predicted standard deviations
   double noise_moment = 0.005;  // N m
@@ -65,6 +81,7 @@ struct PlanPose {
   Eigen::VectorXd q;  // [num_joints]
   Tilt tilt;
   int group = -1;           // index of a shared tilt (listed or tilt group), -1: its own
+  bool level = false;       // one of the poses kept level (DesignOptions::level_poses)
   Eigen::Vector3d gravity;  // sensor frame
 };
 
@@ -79,6 +96,15 @@ struct DesignSummary {
   double joint_travel = 0.0;      // sum of |dq| along the order (rad or m)
   double seconds = 0.0;           // optimisation time
   std::string identifiability_message;  // when !identifiable
+  int level_poses = 0;                  // poses kept level (reserved)
+  bool min_height_relaxed = false;      // min_height dropped: no pose satisfies it
+  // Lowest clearance over the plan of the checked points above the platform
+  // plane (m, as for DesignOptions::min_height; +inf when nothing moves), its
+  // link, and how many links have collision meshes (checked at their origin
+  // and centre of mass only).
+  double lowest_clearance = 0.0;
+  std::string lowest_link;
+  int links_with_meshes = 0;
 };
 
 // Throws InputError for options that contradict the model (unknown joints,
@@ -89,6 +115,18 @@ DesignSummary design(const Model& model, const BaseParameters& base, const Desig
 // the level gravity and the constraints of the random poses for expected_error.
 DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, const Samples& plan,
                             const DesignOptions& options);
+
+// The lowest clearance above the platform plane over the rows of `samples`
+// of the points options.min_height constrains (those that move with the
+// joints; options.level_gravity sets "up"): height (m; +inf when nothing
+// moves), its row and link.
+struct Clearance {
+  double height = 0.0;
+  int row = -1;
+  std::string link;
+};
+Clearance lowest_clearance(const Model& model, const DesignOptions& options,
+                           const Samples& samples);
 
 // Joints held still (the CLI's --fixed) are fixed in the model given to
 // design: see hold_joints() in model.hpp.

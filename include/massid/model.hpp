@@ -27,6 +27,16 @@ struct Link {
   // dynamic simulation uses it; static wrenches do not depend on it).
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
   bool has_inertial = false;
+  // Bounding spheres of the link's primitive <collision> shapes (box, cylinder,
+  // sphere): centre in the link frame, radius (m). Meshes are not read:
+  // collision_meshes counts them (design then checks the link's origin and
+  // centre of mass only).
+  struct Sphere {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    double radius = 0.0;
+  };
+  std::vector<Sphere> collision;
+  int collision_meshes = 0;
 };
 
 // A movable joint (revolute, continuous or prismatic) of the measured subtree.

@@ -145,7 +145,7 @@ void bind_design(py::module_& m) {
         py::arg("sensor") = py::none(), py::arg("fixed") = py::none(), py::arg("offset") = false,
         py::arg("tilt_max_deg") = py::none(), py::arg("tilt_groups") = 4,
         py::arg("tilts_deg") = py::none(), py::arg("limits") = py::none(),
-        py::arg("min_height") = py::none(), py::arg("criterion") = "cond",
+        py::arg("min_height") = kDefaultMinHeight, py::arg("criterion") = "cond",
         py::arg("noise_force") = 0.05, py::arg("noise_moment") = 0.005,
         py::arg("level_gravity") = std::vector<double>{0.0, 0.0, -kStandardGravity},
         py::arg("seed") = 1, py::arg("candidates") = 0,
@@ -153,7 +153,9 @@ void bind_design(py::module_& m) {
 
 tilt_max_deg: any platform tilt up to this angle (with tilt_groups shared tilts, 0: one
 per pose); tilts_deg: or only these (x, y) tilts; neither: level only. limits: joint ->
-(lo, hi) narrowed range; min_height: link origins above the platform, m; criterion:
+(lo, hi) narrowed range; min_height: every moving link origin, centre of mass and primitive collision shape at least
+this far above the platform plane, m (default 0.05; None: no constraint); with tilts, a quarter
+of the poses are kept level; criterion:
 'cond' (paper eq. 36) or 'd-opt'; noise_*: per-axis noise for the predicted std.)");
 }
 
