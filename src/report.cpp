@@ -51,8 +51,19 @@ std::string model_report(const Model& model, const BaseParameters& base) {
   for (const Joint& j : model.joints) {
     out += fmt::format("  {:<20} {:<10}", j.name, joint_type_name(j));
     if (j.limited) out += fmt::format(" [{:.6g}, {:.6g}]", j.lower, j.upper);
+    if (j.limited && (j.lower != j.urdf_lower || j.upper != j.urdf_upper))
+      out += fmt::format(" (URDF [{:.6g}, {:.6g}], narrowed by its mimic joints' limits)",
+                         j.urdf_lower, j.urdf_upper);
     out += "\n";
   }
+  if (!model.mimics.empty()) {
+    out += fmt::format("mimic joints: {} (they follow their master; no column in any file)\n",
+                       model.mimics.size());
+    for (const MimicJoint& m : model.mimics)
+      out += fmt::format("  {:<20} = {:.6g} x {}{}\n", m.name, m.multiplier, m.master,
+                         m.offset == 0.0 ? "" : fmt::format(" {:+.6g}", m.offset));
+  }
+  for (const std::string& w : model.warnings) out += "note: " + w + "\n";
   if (base.motion())
     out += fmt::format(
         "standard parameters: {} (m, mx, my, mz, ixx, ixy, ixz, iyy, iyz, izz per link; inertia "
