@@ -230,7 +230,8 @@ int run_predict(const std::string& urdf, const std::string& params_path,
 
   CsvTable table = read_csv(data_path);
   Samples samples;
-  Eigen::MatrixXd P;
+  Eigen::MatrixXd P;  // what the sensor reads: the mechanism's wrench plus the offsets
+  Wrench offset = Wrench::Zero();
   if (params.dynamic) {
     // The full wrench, weight and motion, from the dynamic base parameters.
     MotionDataReport mr;
@@ -252,8 +253,10 @@ int run_predict(const std::string& urdf, const std::string& params_path,
         compile_motion_predictor(model, base, values_in_basis(params, model, base));
     MotionPredictorData data(predictor);
     P = predict_samples(predictor, data, samples);
+    offset = predictor.offset;
   } else {
     const Predictor predictor = compile_predictor(model, params);
+    offset = predictor.offset;
     PredictorData data(predictor);
     samples = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
     P.resize(samples.size(), 6);
@@ -264,7 +267,10 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   }
   if (!out.empty()) {
     OutputTable t(table);
-    for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_pred", P.col(k));
+    // _pred: the mechanism's wrench alone; _comp: measured - predicted - offset.
+    for (int k = 0; k < 6; ++k)
+      t.set_column(std::string(kWrenchColumns[k]) + "_pred",
+                   (P.col(k).array() - offset[k]).matrix());
     if (samples.has_wrench())
       for (int k = 0; k < 6; ++k)
         t.set_column(std::string(kWrenchColumns[k]) + "_comp", samples.wrench.col(k) - P.col(k));
