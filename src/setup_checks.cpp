@@ -112,7 +112,7 @@ struct Context {
         out(o),
         N(samples.size()),
         M(m.nominal_total_mass()),
-        F(samples.wrench.leftCols(3)),
+        F(samples.has_wrench() ? Eigen::MatrixXd(samples.wrench.leftCols(3)) : Eigen::MatrixXd()),
         G(samples.gravity) {}
   const Model& model;
   const Samples& s;
@@ -591,6 +591,44 @@ void check_moment_units(Context& c) {
                       c.s.source, r, rms_meas, lever, c.reach, c.s.line.front(), c.s.line.back()));
 }
 
+// force-units / moment-units when the URDF has no mass (no <inertial> on any
+// measured link): nothing to compare the wrench with but the robot's size.
+// Statistic: the lever arm L = RMS |m_i| / RMS |f_i| (the distance of the
+// centre of mass from the sensor origin across gravity, RMS over the poses)
+// against the reach (the farthest link origin from the sensor origin, over
+// the poses). Moments in N mm make L ~1000 x too long: error when L > 30 x
+// reach + 1 cm (no centre of mass lies that far outside the links). Forces in
+// mN make L ~1000 x too short and the implied mass huge: error when L <
+// reach / 300 and the implied mass median |f| / g0 exceeds 1000 kg per cubic
+// metre of reach^3 (a robot denser than a block of water its own size; the
+// UR5, 21 kg at 0.9 m, is 29 kg/m^3). Needs a reach of at least 5 cm.
+void check_units_without_mass(Context& c) {
+  if (c.M > 0 || c.N < 1 || !(c.reach >= 0.05)) return;
+  const double rms_f = std::sqrt(c.F.squaredNorm() / c.N);
+  const double rms_m = std::sqrt(c.s.wrench.rightCols(3).squaredNorm() / c.N);
+  if (!(rms_f > 0)) return;
+  const double lever = rms_m / rms_f;
+  std::vector<double> n(c.N);
+  for (int i = 0; i < c.N; ++i) n[i] = c.F.row(i).norm();
+  const double mass = median(n) / kStandardGravity;
+  const std::string why = fmt::format(
+      "the URDF has no mass (no <inertial> on a measured link), so the wrench is judged by the "
+      "robot's size: RMS |m| / RMS |f| puts the centre of mass {:.3g} m from the sensor origin, "
+      "for "
+      "a robot that reaches {:.3g} m, lines {}-{}",
+      lever, c.reach, c.s.line.front(), c.s.line.back());
+  if (lever > 30.0 * c.reach + 0.01)
+    c.add(Severity::Error, "moment-units",
+          fmt::format("{}: {}: the moments look like N mm; divide mx,my,mz by 1000 (massid wants "
+                      "N m)",
+                      c.s.source, why));
+  else if (lever < c.reach / 300.0 && mass > 1000.0 * std::pow(c.reach, 3))
+    c.add(Severity::Error, "force-units",
+          fmt::format("{}: {}, and fx,fy,fz imply a total mass of {:.4g} kg: the forces look like "
+                      "mN; divide fx,fy,fz by 1000 (massid wants N)",
+                      c.s.source, why, mass));
+}
+
 // joint-degrees / joint-millimetres. Statistic per joint column named as the
 // joint (not JOINT_deg): the largest excursion beyond the URDF limits, and
 // whether every value divided by 57.2958 (revolute) or 1000 (prismatic) lies
@@ -688,9 +726,10 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
   if (c.nom.rows() > 0) range = c.nom.colwise().maxCoeff() - c.nom.colwise().minCoeff();
   const double kind_range[2] = {std::max(range.head<3>().maxCoeff(), 0.0),
                                 range.tail<3>().maxCoeff()};
+  const bool wrench = c.s.has_wrench();  // a plan has none
   bool wrench_constant[6];
   for (int a = 0; a < 6; ++a) {
-    wrench_constant[a] = constant(W.col(a));
+    wrench_constant[a] = wrench && constant(W.col(a));
     const double scale = kind_range[a / 3];
     if (wrench_constant[a] && scale > 0 && range[a] > 0.05 * scale) {
       force_broken |= a < 3;
@@ -704,7 +743,7 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
   }
   for (int a = 0; a < 6; ++a)
     for (int b = a + 1; b < 6; ++b) {
-      if (wrench_constant[a] || wrench_constant[b] || W.col(a) != W.col(b)) continue;
+      if (!wrench || wrench_constant[a] || wrench_constant[b] || W.col(a) != W.col(b)) continue;
       const double scale = std::max(kind_range[a / 3], kind_range[b / 3]);
       const double differ =
           c.nom.rows() > 0 ? (c.nom.col(a) - c.nom.col(b)).cwiseAbs().maxCoeff() : 0.0;
@@ -751,9 +790,17 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
                                       const std::vector<std::string>& header,
                                       const SetupCheckOptions& options) {
   std::vector<SetupFinding> out;
-  if (!samples.has_wrench() || samples.size() == 0) return out;
+  if (samples.size() == 0) return out;
   Context c(model, samples, header, out);
   nominal(c);
+  if (!samples.has_wrench()) {  // a plan: its joints and gravity
+    check_columns(c, options);
+    if (!samples.gravity_from_force) check_gravity_magnitude(c);
+    check_joint_units(c);
+    std::stable_partition(out.begin(), out.end(),
+                          [](const SetupFinding& f) { return f.severity == Severity::Error; });
+    return out;
+  }
   const bool force_broken = check_columns(c, options);
   if (!samples.gravity_from_force) {
     check_gravity_magnitude(c);
@@ -780,6 +827,7 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
   }
   check_force_units(c);
   check_moment_units(c);
+  check_units_without_mass(c);
   check_joint_units(c);
   // Errors first: they decide the outcome.
   std::stable_partition(out.begin(), out.end(),
