@@ -103,16 +103,22 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
         "{:.3g}, eq. 36): their standard deviations are large and any error in the data is "
         "magnified; record more varied poses and tilts (massid design)\n",
         source, s.condition_number));
-  if (s.outliers.empty() && !s.robust && largest_residuals_implausible(s)) {
-    // A long streamed log: no per-sample residuals, only the largest per axis.
+  // With gravity along the force the moments carry the force's direction
+  // noise, pose by pose: only the per-sample test (which whitens it) judges.
+  if (s.outliers.empty() && !s.robust && !(s.per_sample_test && s.gravity_from_force) &&
+      largest_residuals_implausible(s)) {
+    // A long streamed log: no per-sample residuals, only the largest per axis
+    // (with gravity along the force, a force axis against the three's norm).
     const double bound = largest_residual_bound(s.samples);
-    for (int k = 0; k < 6; ++k)
-      if (s.residual_max[k] > bound * s.sigma[k])
+    for (int k = 0; k < 6; ++k) {
+      const double scale = k < 3 && s.gravity_from_force ? s.sigma.head<3>().norm() : s.sigma[k];
+      if (s.residual_max[k] > bound * scale)
         out.push_back(fmt::format(
             "massid: warning: {}: the largest {} residual is {:.3g} sigma (above {:.3g}, expected "
             "with probability 1 %): some samples are implausible for the fitted noise; run "
             "identify with --robust to find them by line and reject them\n",
-            source, kWrenchColumns[k], s.residual_max[k] / s.sigma[k], bound));
+            source, kWrenchColumns[k], s.residual_max[k] / scale, bound));
+    }
     return out;
   }
   if (s.outliers.empty()) return out;
