@@ -214,6 +214,10 @@ DriftColumns drift_columns(const Samples& s, Drift drift) {
 struct Solution {
   Eigen::VectorXd x, residual;  // residual = y - M x, unweighted
   Eigen::MatrixXd covariance;   // (M' W M)^-1
+  // Per axis k: the trace of the hat matrix over axis k's rows, tr(H_kk), the
+  // sum of their leverages: the degrees of freedom the fit spent on axis k
+  // (summing to the number of unknowns). E[SSR_k] = sigma_k^2 (N - tr(H_kk)).
+  Eigen::Matrix<double, 6, 1> leverage = Eigen::Matrix<double, 6, 1>::Zero();
 };
 
 Solution weighted_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
@@ -238,6 +242,14 @@ Solution weighted_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
       R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(n, n));
   out.covariance = scale.asDiagonal() * (Rinv * Rinv.transpose()) * scale.asDiagonal();
   out.residual = y - M * out.x;
+  // Leverage of row r: h_r = |Mw_r R^-1|^2 (the row of the thin Q), summed per
+  // axis; a few hundred samples at a time to keep the memory small.
+  constexpr Eigen::Index kRows = 6 * 256;
+  for (Eigen::Index r0 = 0; r0 < 6 * N; r0 += kRows) {
+    const Eigen::Index rows = std::min(kRows, 6 * N - r0);
+    const Eigen::MatrixXd Z = Mw.middleRows(r0, rows) * Rinv.triangularView<Eigen::Upper>();
+    for (Eigen::Index r = 0; r < rows; ++r) out.leverage[(r0 + r) % 6] += Z.row(r).squaredNorm();
+  }
   return out;
 }
 
@@ -255,10 +267,13 @@ std::array<double, 2> signal_power(const Eigen::VectorXd& y, const Eigen::Vector
 }
 
 // Robust per-axis noise scale: 1.4826 MAD of the residuals of used samples
-// (corrected for the n fitted unknowns), floored at 1e-9 of the signal so that
-// round-off in noise-free data never looks like an outlier.
+// (corrected for the degrees of freedom the fit spent on the axis: a residual
+// has variance sigma^2 (1 - h), on average 1 - tr(H_kk)/N over the axis),
+// floored at 1e-9 of the signal so that round-off in noise-free data never
+// looks like an outlier.
 Eigen::Matrix<double, 6, 1> robust_sigma(const Eigen::VectorXd& r, const Eigen::VectorXd& w,
-                                         const Eigen::VectorXd& y, Eigen::Index n) {
+                                         const Eigen::VectorXd& y,
+                                         const Eigen::Matrix<double, 6, 1>& leverage) {
   const auto power = signal_power(y, w);
   Eigen::Matrix<double, 6, 1> sigma;
   std::vector<double> a;
@@ -267,8 +282,8 @@ Eigen::Matrix<double, 6, 1> robust_sigma(const Eigen::VectorXd& r, const Eigen::
     for (Eigen::Index i = 0; i < w.size(); ++i)
       if (w[i] > 0) a.push_back(std::abs(r[6 * i + k]));
     std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
-    const double rows = 6.0 * static_cast<double>(a.size());
-    const double dof = std::sqrt(rows / std::max(rows - static_cast<double>(n), 1.0));
+    const double rows = static_cast<double>(a.size());
+    const double dof = std::sqrt(rows / noise_dof(rows, leverage[k]));
     sigma[k] = std::max(1.4826 * a[a.size() / 2] * dof, 1e-9 * std::sqrt(power[k / 3]) + 1e-150);
   }
   return sigma;
@@ -283,6 +298,8 @@ Eigen::VectorXd scores(const Eigen::VectorXd& r, const Eigen::Matrix<double, 6, 
 }
 
 }  // namespace
+
+double noise_dof(double samples, double leverage) { return std::max(samples - leverage, 0.5); }
 
 double largest_residual_bound(int samples) {
   const double p = 0.01 / (6.0 * std::max(samples, 1));
@@ -349,6 +366,8 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   out.gravity_from_force = samples.gravity_from_force;
   out.gravity_from_upstream = samples.gravity_from_upstream;
   out.sigma_estimated = !options.sigma_force || !options.sigma_moment;
+  out.sigma_force_given = options.sigma_force.has_value();
+  out.sigma_moment_given = options.sigma_moment.has_value();
   out.robust = options.robust;
   out.drift = options.drift;
   const int score_dof = samples.gravity_from_force ? 4 : 6;
@@ -370,8 +389,11 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
     for (int it = 0; it < iterations; ++it) {
       sol = weighted_solve(M, y, sigma, w);
       if (!out.sigma_estimated) break;
-      // sigma_k^2 = SSR_k / (N - n/6): the 6N - n degrees of freedom shared over the axes.
-      const double dof = std::max(1.0, used - (p + e) / 6.0);
+      // sigma_k^2 = SSR_k / (N - tr(H_kk)): each axis' residuals keep N degrees
+      // of freedom less those the fit spent on its rows (its leverages), which
+      // is unbiased at the right weights. (A force axis' rows involve a few
+      // unknowns, a moment axis' most of them: N - n/6 for every axis would
+      // understate the moment noise when n approaches 6N.)
       for (int k = 0; k < 6; ++k) {
         const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
         if (user) continue;
@@ -379,7 +401,7 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
         for (int i = 0; i < N; ++i) ssr += w[i] * sol.residual[6 * i + k] * sol.residual[6 * i + k];
         // Floor for noise-free data: round-off relative to the group's signal.
         const double floor = 1e-13 * std::sqrt(power[k / 3]) + 1e-150;
-        sigma[k] = std::max(std::sqrt(ssr / dof), floor);
+        sigma[k] = std::max(std::sqrt(ssr / noise_dof(used, sol.leverage[k])), floor);
       }
     }
     return sol;
@@ -395,7 +417,7 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
     Eigen::VectorXd x_prev = sol.x;
     for (int it = 0; it < 40; ++it) {
       const Eigen::VectorXd r = outlier_residuals(model, base, samples, sol.x, sol.residual);
-      const Eigen::Matrix<double, 6, 1> s = robust_sigma(r, w, y, p + e);
+      const Eigen::Matrix<double, 6, 1> s = robust_sigma(r, w, y, sol.leverage);
       const Eigen::VectorXd d = scores(r, s);
       for (int i = 0; i < N; ++i) {
         if (it < 10) {
@@ -416,7 +438,8 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   {
     const Eigen::VectorXd all = Eigen::VectorXd::Ones(N);
     const Eigen::VectorXd r = outlier_residuals(model, base, samples, sol.x, sol.residual);
-    const Eigen::Matrix<double, 6, 1> s = robust_sigma(r, options.robust ? w : all, y, p + e);
+    const Eigen::Matrix<double, 6, 1> s =
+        robust_sigma(r, options.robust ? w : all, y, sol.leverage);
     const Eigen::VectorXd d = scores(r, s);
     for (int i = 0; i < N; ++i)
       if (d[i] > out.outlier_threshold)
@@ -436,6 +459,7 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   out.value = sol.x.head(p);
   out.sigma = sigma;
   out.covariance = sol.covariance.topLeftCorner(p, p);
+  for (int k = 0; k < 6; ++k) out.residual_dof[k] = w.sum() - sol.leverage[k];
   out.stddev = out.covariance.diagonal().cwiseSqrt();
   out.drift_names = drift.names;
   out.drift_value = sol.x.tail(e);

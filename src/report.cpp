@@ -103,6 +103,32 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
         "{:.3g}, eq. 36): their standard deviations are large and any error in the data is "
         "magnified; record more varied poses and tilts (massid design)\n",
         source, s.condition_number));
+  {
+    // An estimated noise level with few residual degrees of freedom (many
+    // unknowns against few samples) makes every std uncertain.
+    std::string axes;
+    double fewest = INFINITY;
+    for (int k = 0; k < 6; ++k) {
+      const bool given = k < 3 ? s.sigma_force_given : s.sigma_moment_given;
+      if (!s.sigma_estimated || given || s.samples == 0 || s.residual_dof[k] >= kFewResidualDof)
+        continue;
+      axes += fmt::format("{}{} {:.3g}", axes.empty() ? "" : ", ", kWrenchColumns[k],
+                          s.residual_dof[k]);
+      fewest = std::min(fewest, s.residual_dof[k]);
+    }
+    if (!axes.empty()) {
+      const long unknowns = static_cast<long>(s.value.size() + s.drift_value.size());
+      const long more = static_cast<long>(std::ceil(kFewResidualDof - fewest));
+      out.push_back(fmt::format(
+          "massid: warning: {}: {} samples for {} unknowns leave few degrees of freedom for the "
+          "noise estimate ({} of {} per axis; fewer than {:.0f}): the estimated sigma, and with "
+          "it every std, is uncertain by about {:.0f} % and errors beyond 2 std are more "
+          "frequent than the std say; record at least {} samples, or give the sensor's noise "
+          "(--sigma-force, --sigma-moment)\n",
+          source, s.samples, unknowns, axes, s.samples, kFewResidualDof,
+          100.0 / std::sqrt(2.0 * std::max(fewest, 0.5)), s.samples + more));
+    }
+  }
   // With gravity along the force the moments carry the force's direction
   // noise, pose by pose: only the per-sample test (which whitens it) judges.
   if (s.outliers.empty() && !s.robust && !(s.per_sample_test && s.gravity_from_force) &&
