@@ -63,6 +63,8 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
       ->check(CLI::Range(10, 1000000));
   d->add_option("--evaluate", c.evaluate,
                 "Print the figures of an existing plan or data file instead");
+  d->add_flag("--no-checks", c.no_checks,
+              "With --evaluate: skip the file's checks (joints in degrees or mm, units, columns)");
   d->add_flag("--dynamic", c.dynamic,
               "An exciting trajectory for identification in motion (finite Fourier series, at "
               "rest at both ends) instead of static poses");
@@ -245,7 +247,9 @@ int run_design(const DesignCommand& c) {
   if (c.app->count("--level-poses")) o.level_poses = c.level_poses;
 
   if (!c.evaluate.empty()) {
-    const Samples plan = read_samples(model, read_csv(c.evaluate), WrenchColumns::Optional);
+    const CsvTable table = read_csv(c.evaluate);
+    const Samples plan = read_samples(model, table, WrenchColumns::Optional);
+    if (!c.no_checks && !check_input(model, plan, table.header, false)) return 2;
     const DesignSummary s = evaluate_plan(model, base, plan, o);
     std::cout << design_report(model, base, s, o, c.evaluate);
     if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);

@@ -18,6 +18,7 @@ struct DesignCommand {
   unsigned long long seed = 1;
   // --dynamic: an exciting trajectory (excitation.hpp)
   bool dynamic = false;
+  bool no_checks = false;  // --evaluate: skip the file's set-up checks
   double duration = 30.0, rate = 1000.0, period = 10.0;
   int harmonics = 5;
   std::vector<std::string> velocity_limits, acceleration_limits;

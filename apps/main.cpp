@@ -112,16 +112,31 @@ int run_model(const Common& c, bool offset, bool as_json, const MotionFlags& mot
   }
   opts.offset = offset;
   const BaseParameters base = find_base_parameters(model, opts);
+  if (!(model.nominal_total_mass() > 0))
+    std::cerr << fmt::format(
+        "massid: warning: {}: no measured link has a mass (no <inertial> below sensor link "
+        "'{}'): the base parameters are the URDF's structure only; simulate cannot make data "
+        "from it, and identify judges units by the robot's size alone\n",
+        c.urdf, model.sensor_link());
   std::cout << (as_json ? params_json(model, base, nullptr) : model_report(model, base));
   return 0;
 }
 
 int run_simulate(const Common& c, const std::string& plan_path, const std::string& out,
-                 const SimulateOptions& opts, const MotionFlags& motion) {
+                 const SimulateOptions& opts, const MotionFlags& motion, bool checks) {
   const Model model = load_urdf(c.urdf, c.sensor);
+  if (!(model.nominal_total_mass() > 0))
+    throw InputError(fmt::format(
+        "{}: no measured link has a mass (no <inertial> below sensor link '{}'): the simulated "
+        "wrench would be zero; add the links' <inertial> elements (mass, origin) to the URDF",
+        c.urdf, model.sensor_link()));
   const CsvTable table = read_csv(plan_path);
   const Samples plan = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
   if (plan.gravity_from_force) throw InputError(plan_path + ": simulate needs gx,gy,gz columns");
+  // Joints in degrees or mm, gravity in g, ... (a wrench in the plan is replaced: not judged).
+  Samples judged = plan;
+  judged.wrench.resize(0, 0);
+  if (checks && !check_input(model, judged, table.header, opts.dynamic)) return 2;
   if (opts.dynamic) {
     if (model.num_joints() > 0 && plan.qd.cols() != model.num_joints())
       throw InputError(fmt::format(
@@ -147,16 +162,6 @@ int run_simulate(const Common& c, const std::string& plan_path, const std::strin
       "simulated {} samples of {} (sensor link '{}', total mass {:.6g} kg) -> {}\n", W.rows(),
       model.name, model.sensor_link(), model.nominal_total_mass(), out);
   return 0;
-}
-
-// The set-up checks' findings (setup_checks.hpp): with an error, every error
-// on its own line and false (exit 2); else the warnings.
-bool report_setup(const std::vector<SetupFinding>& findings) {
-  const bool error = has_error(findings);
-  for (const SetupFinding& f : findings)
-    if (error == (f.severity == SetupFinding::Severity::Error))
-      std::cerr << (error ? "massid: error: " : "massid: warning: ") << f.message << "\n";
-  return !error;
 }
 
 // The arguments of `python -m massid.report identify` that repeat this fit.
@@ -223,21 +228,23 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
 
 int run_predict(const std::string& urdf, const std::string& params_path,
                 const std::string& data_path, const std::string& out, const std::string& report,
-                const MotionFlags& motion) {
+                const MotionFlags& motion, bool checks) {
   if (!report.empty()) check_report_tools();  // before any work
   const ParamsFile params = read_params(params_path);
   const Model model = hold_joints(load_urdf(urdf, params.sensor_link), params.held);
 
   CsvTable table = read_csv(data_path);
   Samples samples;
-  Eigen::MatrixXd P;
+  Eigen::MatrixXd P;  // what the sensor reads: the mechanism's wrench plus the offsets
+  Wrench offset = Wrench::Zero();
   if (params.dynamic) {
     // The full wrench, weight and motion, from the dynamic base parameters.
     MotionDataReport mr;
     MotionDataOptions mopts = motion.data();
     mopts.filter.decimation = 1;  // a prediction for every row the filter keeps
-    samples = prepare_motion_samples(
-        model, read_samples(model, table, WrenchColumns::Optional, mopts.samples), mopts, &mr);
+    Samples raw = read_samples(model, table, WrenchColumns::Optional, mopts.samples);
+    if (checks && !check_input(model, raw, table.header, true)) return 2;
+    samples = prepare_motion_samples(model, std::move(raw), mopts, &mr);
     if (mr.derived) {
       std::cout << fmt::format(
           "velocities and accelerations derived from t and the positions: zero-phase low-pass "
@@ -252,10 +259,13 @@ int run_predict(const std::string& urdf, const std::string& params_path,
         compile_motion_predictor(model, base, values_in_basis(params, model, base));
     MotionPredictorData data(predictor);
     P = predict_samples(predictor, data, samples);
+    offset = predictor.offset;
   } else {
     const Predictor predictor = compile_predictor(model, params);
+    offset = predictor.offset;
     PredictorData data(predictor);
     samples = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
+    if (checks && !check_input(model, samples, table.header, false)) return 2;
     P.resize(samples.size(), 6);
     for (int i = 0; i < samples.size(); ++i)
       P.row(i) =
@@ -264,7 +274,10 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   }
   if (!out.empty()) {
     OutputTable t(table);
-    for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_pred", P.col(k));
+    // _pred: the mechanism's wrench alone; _comp: measured - predicted - offset.
+    for (int k = 0; k < 6; ++k)
+      t.set_column(std::string(kWrenchColumns[k]) + "_pred",
+                   (P.col(k).array() - offset[k]).matrix());
     if (samples.has_wrench())
       for (int k = 0; k < 6; ++k)
         t.set_column(std::string(kWrenchColumns[k]) + "_comp", samples.wrench.col(k) - P.col(k));
@@ -353,6 +366,8 @@ int main(int argc, char** argv) {
                    "pose is held; default 1)")
       ->check(CLI::Range(1, 1000000));
   add_motion(simulate, false);
+  simulate->add_flag("--no-checks", no_checks,
+                     "Skip the plan's checks (joints in degrees or mm, gravity units, columns)");
 
   CLI::App* ident = app.add_subcommand("identify", "Estimate the base parameters from a data CSV");
   ident->add_option("robot", common.urdf, "Robot URDF")->required();
@@ -395,6 +410,8 @@ int main(int argc, char** argv) {
   pred->add_option("--cutoff", motion.cutoff,
                    "Dynamic params, log without JOINT_vel/_acc: low-pass cutoff, Hz")
       ->check(CLI::PositiveNumber);
+  pred->add_flag("--no-checks", no_checks,
+                 "Skip the file's set-up checks (joint and wrench units, signs, frame, columns)");
 
   DesignCommand design;
   add_design_command(app, design);
@@ -420,7 +437,7 @@ int main(int argc, char** argv) {
       if (!offset_text.empty())
         sim.offset = parse_numbers<6>(offset_text, "--offset", "fx,fy,fz,mx,my,mz");
       sim.dynamic = motion.dynamic;
-      return run_simulate(common, plan, out, sim, motion);
+      return run_simulate(common, plan, out, sim, motion, !no_checks);
     }
     if (*ident) {
       if (ident->count("--sigma-force")) idopts.sigma_force = sigma_force;
@@ -428,7 +445,7 @@ int main(int argc, char** argv) {
       if (!drift_text.empty()) idopts.drift = parse_drift(drift_text);
       return run_identify(common, data, out, offset, idopts, !no_checks, report, motion);
     }
-    if (*pred) return run_predict(common.urdf, params, data, out, report, motion);
+    if (*pred) return run_predict(common.urdf, params, data, out, report, motion, !no_checks);
     if (*design.app) return run_design(design);
     if (*emulate.app) return run_emulate(emulate);
     if (*bench.app) return run_bench(bench);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <iostream>
 
 #include "massid/errors.hpp"
 
@@ -77,6 +78,22 @@ Drift parse_drift(const std::string& text) {
   if (text == "linear") return Drift::Linear;
   if (text == "per-block") return Drift::PerBlock;
   throw InputError("--drift: '" + text + "' is not linear or per-block");
+}
+
+bool report_setup(const std::vector<SetupFinding>& findings) {
+  const bool error = has_error(findings);
+  for (const SetupFinding& f : findings)
+    if (error == (f.severity == SetupFinding::Severity::Error))
+      std::cerr << (error ? "massid: error: " : "massid: warning: ") << f.message << "\n";
+  return !error;
+}
+
+bool check_input(const Model& model, const Samples& samples, const std::vector<std::string>& header,
+                 bool motion) {
+  SetupCheckOptions o;
+  o.constant_joints = false;  // a plan may hold a joint still on purpose
+  o.motion = motion;
+  return report_setup(check_setup(model, samples, header, o));
 }
 
 }  // namespace massid::cli

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "massid/estimation.hpp"
+#include "massid/setup_checks.hpp"
 
 namespace massid::cli {
 
@@ -37,5 +38,15 @@ Drift parse_drift(const std::string& text);
 
 // A number option validator with a readable message (CLI11's ranges print DBL_MAX in full).
 CLI::Validator sign_check(bool positive);
+
+// The set-up checks' findings (setup_checks.hpp) on stderr: with an error,
+// every error on its own line and false (exit 2); else the warnings, true.
+bool report_setup(const std::vector<SetupFinding>& findings);
+
+// A file a command reads (simulate's plan, predict's data, design --evaluate's
+// plan): the set-up checks that apply to it (joint units and columns, gravity,
+// and the wrench's when it has one). False after an error (exit 2).
+bool check_input(const Model& model, const Samples& samples, const std::vector<std::string>& header,
+                 bool motion);
 
 }  // namespace massid::cli

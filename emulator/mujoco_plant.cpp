@@ -99,6 +99,12 @@ void check_options(const Model& model, const PlantOptions& o) {
   positive(o.default_radius_of_gyration, "default_radius_of_gyration");
   if (!o.gravity.allFinite()) throw InputError("plant option gravity is not finite");
   if (model.num_links() == 0) throw InputError("the model has no links");
+  if (!model.mimics.empty())
+    throw InputError(fmt::format(
+        "{}: the emulator's MuJoCo plant does not drive mimic joints yet ('{}' follows '{}'); "
+        "hold the gripper still: --fixed {}=VALUE",
+        model.source, model.mimics.front().name, model.mimics.front().master,
+        model.mimics.front().master));
 }
 
 std::string options_xml(double timestep, const Eigen::Vector3d& gravity) {

@@ -153,6 +153,16 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
   }
   Eigen::MatrixXd K = Kp;
   for (int l = 1; l < L; ++l) K.col(layout.index(l, kMass)) += Kp.col(kMass);
+  // Coefficients below the rank tolerance relative to the largest of their
+  // combination are round-off (the kept columns are only rank_tolerance apart,
+  // so beta carries errors up to eps / rank_tolerance): drop them from K, the
+  // terms and the expression (ur5_robot.urdf's 1.57079632679 for pi/2 gave
+  // "1.95866e-11 ixz(wrist_1_link)" with wrist_1 held, in motion).
+  for (int i = 0; i < nb; ++i) {
+    const double largest = K.row(i).cwiseAbs().maxCoeff();
+    for (int j = 0; j < n; ++j)
+      if (std::abs(K(i, j)) < options.rank_tolerance * largest) K(i, j) = 0.0;
+  }
 
   // Names: first moments (and inertias) from the most distal link inwards (p1
   // = mx of the last link, as in the paper), then moving masses, M last.

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
@@ -64,18 +65,92 @@ double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd
 
 namespace {
 
-// Chi-square with 6 degrees of freedom (a sample's six standardised
-// residuals): P(X > x) = exp(-x/2) (1 + x/2 + x^2/8).
-double chi2_6_survival(double x) { return std::exp(-x / 2) * (1 + x / 2 + x * x / 8); }
+// Chi-square with k (even) degrees of freedom (a sample's k standardised
+// residuals): P(X > x) = exp(-x/2) sum_{j < k/2} (x/2)^j / j!; for k = 6,
+// exp(-x/2) (1 + x/2 + x^2/8).
+double chi2_survival(double x, int k) {
+  double term = 1.0, sum = 0.0;
+  for (int j = 0; j < k / 2; ++j) {
+    sum += term;
+    term *= x / 2 / (j + 1);
+  }
+  return std::exp(-x / 2) * sum;
+}
 
 // The score d = sqrt(X) that a clean sample exceeds with probability p.
-double chi6_quantile(double p) {
+double chi_quantile(double p, int k) {
   double lo = 0.0, hi = 2000.0;  // survival(2000) underflows to 0
   for (int i = 0; i < 200; ++i) {
     const double mid = 0.5 * (lo + hi);
-    (chi2_6_survival(mid) > p ? lo : hi) = mid;
+    (chi2_survival(mid, k) > p ? lo : hi) = mid;
   }
   return std::sqrt(0.5 * (lo + hi));
+}
+
+// The residuals the outlier test judges, as six numbers per sample whose
+// per-axis scales robust_sigma estimates. With gravity taken along the
+// measured force (eq. 37) a sample's force residual is f - M g0 f/|f|: it
+// lies along the force, so its three axes carry one noise variable whose share
+// per axis depends on the pose; it is replaced by its component along the
+// gravity row (the first force axis; the other two are zero), which leaves 4
+// degrees of freedom per sample instead of 6. The moments then carry the
+// force's direction noise too: g = g0 f/|f| turns by the force noise across
+// it, d g = g0 / |f| (1 - u u^T) d f (u = f/|f|), and the fitted moment moves
+// by J d g, J = d m / d g (the moment is linear in g). Each sample's moment
+// residual is whitened with C_i = diag(s^2) + (g0 s_f / |f_i|)^2 J_i (1 -
+// u u^T) J_i^T, s_f the robust scale of the force residual along the force,
+// s^2 the moment noise per axis (the robust residual scale less the median
+// direction part).
+Eigen::VectorXd outlier_residuals(const Model& model, const BaseParameters& base, const Samples& s,
+                                  const Eigen::VectorXd& x, const Eigen::VectorXd& r) {
+  if (!s.gravity_from_force || base.motion()) return r;
+  const Eigen::Index N = r.size() / 6;
+  Eigen::VectorXd out = r;
+  std::vector<double> a;
+  for (Eigen::Index i = 0; i < N; ++i) {
+    const Eigen::Vector3d g = s.gravity.row(i).transpose();
+    const double n = g.norm();
+    out[6 * i] = n > 0 ? r.segment<3>(6 * i).dot(g) / n : r.segment<3>(6 * i).norm();
+    out[6 * i + 1] = out[6 * i + 2] = 0.0;
+    a.push_back(std::abs(out[6 * i]));
+  }
+  if (N < 2) return out;
+  const auto mad = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return 1.4826 * v[v.size() / 2];
+  };
+  const double sf = mad(a);
+  // Direction part of each sample's moment covariance.
+  RegressorData data(model, base);
+  const int nm = base.num_mass();
+  std::vector<Eigen::Matrix3d> D(static_cast<size_t>(N));
+  for (Eigen::Index i = 0; i < N; ++i) {
+    Eigen::Matrix3d J;
+    for (int k = 0; k < 3; ++k) {
+      base_regressor(model, base, data, s.q.row(i).transpose(), Eigen::Vector3d::Unit(k));
+      J.col(k) = data.base.bottomRows(3).leftCols(nm) * x.head(nm);
+    }
+    const double f = s.wrench.row(i).head<3>().norm();
+    const Eigen::Vector3d u = s.gravity.row(i).transpose().normalized();
+    const double k = f > 0 ? kStandardGravity * sf / f : 0.0;
+    D[i] = k * k * J * (Eigen::Matrix3d::Identity() - u * u.transpose()) * J.transpose();
+  }
+  Eigen::Vector3d var;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<double> m, d;
+    for (Eigen::Index i = 0; i < N; ++i) {
+      m.push_back(std::abs(r[6 * i + 3 + k]));
+      d.push_back(D[i](k, k));
+    }
+    const double total = mad(m), part = mad(d) / 1.4826;
+    var[k] = std::max(total * total - part, 0.01 * total * total) + 1e-300;
+  }
+  for (Eigen::Index i = 0; i < N; ++i) {
+    const Eigen::Matrix3d C = Eigen::Matrix3d(var.asDiagonal()) + D[i];
+    const Eigen::Vector3d z = C.llt().matrixL().solve(r.segment<3>(6 * i + 3));
+    out.segment<3>(6 * i + 3) = z;
+  }
+  return out;
 }
 
 // Blocks other than the last sample's, in order of first appearance: per-block
@@ -139,6 +214,10 @@ DriftColumns drift_columns(const Samples& s, Drift drift) {
 struct Solution {
   Eigen::VectorXd x, residual;  // residual = y - M x, unweighted
   Eigen::MatrixXd covariance;   // (M' W M)^-1
+  // Per axis k: the trace of the hat matrix over axis k's rows, tr(H_kk), the
+  // sum of their leverages: the degrees of freedom the fit spent on axis k
+  // (summing to the number of unknowns). E[SSR_k] = sigma_k^2 (N - tr(H_kk)).
+  Eigen::Matrix<double, 6, 1> leverage = Eigen::Matrix<double, 6, 1>::Zero();
 };
 
 Solution weighted_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
@@ -163,6 +242,14 @@ Solution weighted_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
       R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(n, n));
   out.covariance = scale.asDiagonal() * (Rinv * Rinv.transpose()) * scale.asDiagonal();
   out.residual = y - M * out.x;
+  // Leverage of row r: h_r = |Mw_r R^-1|^2 (the row of the thin Q), summed per
+  // axis; a few hundred samples at a time to keep the memory small.
+  constexpr Eigen::Index kRows = 6 * 256;
+  for (Eigen::Index r0 = 0; r0 < 6 * N; r0 += kRows) {
+    const Eigen::Index rows = std::min(kRows, 6 * N - r0);
+    const Eigen::MatrixXd Z = Mw.middleRows(r0, rows) * Rinv.triangularView<Eigen::Upper>();
+    for (Eigen::Index r = 0; r < rows; ++r) out.leverage[(r0 + r) % 6] += Z.row(r).squaredNorm();
+  }
   return out;
 }
 
@@ -180,10 +267,13 @@ std::array<double, 2> signal_power(const Eigen::VectorXd& y, const Eigen::Vector
 }
 
 // Robust per-axis noise scale: 1.4826 MAD of the residuals of used samples
-// (corrected for the n fitted unknowns), floored at 1e-9 of the signal so that
-// round-off in noise-free data never looks like an outlier.
+// (corrected for the degrees of freedom the fit spent on the axis: a residual
+// has variance sigma^2 (1 - h), on average 1 - tr(H_kk)/N over the axis),
+// floored at 1e-9 of the signal so that round-off in noise-free data never
+// looks like an outlier.
 Eigen::Matrix<double, 6, 1> robust_sigma(const Eigen::VectorXd& r, const Eigen::VectorXd& w,
-                                         const Eigen::VectorXd& y, Eigen::Index n) {
+                                         const Eigen::VectorXd& y,
+                                         const Eigen::Matrix<double, 6, 1>& leverage) {
   const auto power = signal_power(y, w);
   Eigen::Matrix<double, 6, 1> sigma;
   std::vector<double> a;
@@ -192,8 +282,8 @@ Eigen::Matrix<double, 6, 1> robust_sigma(const Eigen::VectorXd& r, const Eigen::
     for (Eigen::Index i = 0; i < w.size(); ++i)
       if (w[i] > 0) a.push_back(std::abs(r[6 * i + k]));
     std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
-    const double rows = 6.0 * static_cast<double>(a.size());
-    const double dof = std::sqrt(rows / std::max(rows - static_cast<double>(n), 1.0));
+    const double rows = static_cast<double>(a.size());
+    const double dof = std::sqrt(rows / noise_dof(rows, leverage[k]));
     sigma[k] = std::max(1.4826 * a[a.size() / 2] * dof, 1e-9 * std::sqrt(power[k / 3]) + 1e-150);
   }
   return sigma;
@@ -209,6 +299,8 @@ Eigen::VectorXd scores(const Eigen::VectorXd& r, const Eigen::Matrix<double, 6, 
 
 }  // namespace
 
+double noise_dof(double samples, double leverage) { return std::max(samples - leverage, 0.5); }
+
 double largest_residual_bound(int samples) {
   const double p = 0.01 / (6.0 * std::max(samples, 1));
   double lo = 0.0, hi = 40.0;
@@ -222,8 +314,13 @@ double largest_residual_bound(int samples) {
 bool largest_residuals_implausible(const IdentifySummary& s) {
   if (!s.sigma_estimated || s.samples == 0) return false;
   const double bound = largest_residual_bound(s.samples);
+  // Gravity along the force (eq. 37): the force residual lies along the force,
+  // one noise variable of variance sigma_x^2 + sigma_y^2 + sigma_z^2 whose
+  // share per axis varies with the pose; no axis exceeds it.
+  const double along = s.sigma.head<3>().norm();
   for (int k = 0; k < 6; ++k)
-    if (s.residual_max[k] > bound * s.sigma[k]) return true;
+    if (s.residual_max[k] > bound * (k < 3 && s.gravity_from_force ? along : s.sigma[k]))
+      return true;
   return false;
 }
 
@@ -269,9 +366,12 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   out.gravity_from_force = samples.gravity_from_force;
   out.gravity_from_upstream = samples.gravity_from_upstream;
   out.sigma_estimated = !options.sigma_force || !options.sigma_moment;
+  out.sigma_force_given = options.sigma_force.has_value();
+  out.sigma_moment_given = options.sigma_moment.has_value();
   out.robust = options.robust;
   out.drift = options.drift;
-  out.outlier_threshold = chi6_quantile(options.outlier_probability / N);
+  const int score_dof = samples.gravity_from_force ? 4 : 6;
+  out.outlier_threshold = chi_quantile(options.outlier_probability / N, score_dof);
   out.per_sample_test = true;
 
   // Weighted least squares over the samples with w_i = 1, the per-axis noise
@@ -289,8 +389,11 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
     for (int it = 0; it < iterations; ++it) {
       sol = weighted_solve(M, y, sigma, w);
       if (!out.sigma_estimated) break;
-      // sigma_k^2 = SSR_k / (N - n/6): the 6N - n degrees of freedom shared over the axes.
-      const double dof = std::max(1.0, used - (p + e) / 6.0);
+      // sigma_k^2 = SSR_k / (N - tr(H_kk)): each axis' residuals keep N degrees
+      // of freedom less those the fit spent on its rows (its leverages), which
+      // is unbiased at the right weights. (A force axis' rows involve a few
+      // unknowns, a moment axis' most of them: N - n/6 for every axis would
+      // understate the moment noise when n approaches 6N.)
       for (int k = 0; k < 6; ++k) {
         const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
         if (user) continue;
@@ -298,7 +401,7 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
         for (int i = 0; i < N; ++i) ssr += w[i] * sol.residual[6 * i + k] * sol.residual[6 * i + k];
         // Floor for noise-free data: round-off relative to the group's signal.
         const double floor = 1e-13 * std::sqrt(power[k / 3]) + 1e-150;
-        sigma[k] = std::max(std::sqrt(ssr / dof), floor);
+        sigma[k] = std::max(std::sqrt(ssr / noise_dof(used, sol.leverage[k])), floor);
       }
     }
     return sol;
@@ -310,11 +413,12 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
     // Robust fit from the least-squares start: Huber weights (a convex
     // problem, 10 steps) then Tukey's biweight with its cut-off at the outlier
     // threshold (redescending: gross errors get weight 0), MAD scales.
-    const double huber = chi6_quantile(0.1), tukey = out.outlier_threshold;
+    const double huber = chi_quantile(0.1, score_dof), tukey = out.outlier_threshold;
     Eigen::VectorXd x_prev = sol.x;
     for (int it = 0; it < 40; ++it) {
-      const Eigen::Matrix<double, 6, 1> s = robust_sigma(sol.residual, w, y, p + e);
-      const Eigen::VectorXd d = scores(sol.residual, s);
+      const Eigen::VectorXd r = outlier_residuals(model, base, samples, sol.x, sol.residual);
+      const Eigen::Matrix<double, 6, 1> s = robust_sigma(r, w, y, sol.leverage);
+      const Eigen::VectorXd d = scores(r, s);
       for (int i = 0; i < N; ++i) {
         if (it < 10) {
           w[i] = d[i] <= huber ? 1.0 : huber / d[i];
@@ -333,9 +437,10 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   // The outlier test on the (robust, or plain) fit's residuals.
   {
     const Eigen::VectorXd all = Eigen::VectorXd::Ones(N);
+    const Eigen::VectorXd r = outlier_residuals(model, base, samples, sol.x, sol.residual);
     const Eigen::Matrix<double, 6, 1> s =
-        robust_sigma(sol.residual, options.robust ? w : all, y, p + e);
-    const Eigen::VectorXd d = scores(sol.residual, s);
+        robust_sigma(r, options.robust ? w : all, y, sol.leverage);
+    const Eigen::VectorXd d = scores(r, s);
     for (int i = 0; i < N; ++i)
       if (d[i] > out.outlier_threshold)
         out.outliers.push_back(
@@ -354,6 +459,7 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   out.value = sol.x.head(p);
   out.sigma = sigma;
   out.covariance = sol.covariance.topLeftCorner(p, p);
+  for (int k = 0; k < 6; ++k) out.residual_dof[k] = w.sum() - sol.leverage[k];
   out.stddev = out.covariance.diagonal().cwiseSqrt();
   out.drift_names = drift.names;
   out.drift_value = sol.x.tail(e);

@@ -60,14 +60,16 @@ void recursion(const Model& model, KinematicsData& data, const Eigen::Ref<const 
   for (int l = 1; l < model.num_links(); ++l) {
     const Link& link = model.links[l];
     const int p = link.parent, j = link.joint_index;
-    const JointPose jp = joint_pose(link.type, link.origin, link.axis, j >= 0 ? q[j] : 0.0);
+    // A mimic joint follows its master: scale q_master + offset (1 and 0 otherwise).
+    const double qj = j >= 0 ? link.joint_scale * q[j] + link.joint_offset : 0.0;
+    const JointPose jp = joint_pose(link.type, link.origin, link.axis, qj);
     const Eigen::Matrix3d& Rp = data.rotation[p];
     data.rotation[l].noalias() = Rp * jp.R;
     data.position[l].noalias() = data.position[p] + Rp * jp.t;
     if constexpr (kMotion)
-      propagate_motion(link.type, link.axis, jp, j >= 0 ? qd[j] : 0.0, j >= 0 ? qdd[j] : 0.0,
-                       data.omega[p], data.omega_dot[p], data.accel[p], data.omega[l],
-                       data.omega_dot[l], data.accel[l]);
+      propagate_motion(link.type, link.axis, jp, j >= 0 ? link.joint_scale * qd[j] : 0.0,
+                       j >= 0 ? link.joint_scale * qdd[j] : 0.0, data.omega[p], data.omega_dot[p],
+                       data.accel[p], data.omega[l], data.omega_dot[l], data.accel[l]);
   }
 }
 
@@ -104,12 +106,13 @@ SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen:
   Eigen::Vector3d w = Eigen::Vector3d::Zero(), dw = w, a = w;
   for (const ChainStep& step : model.upstream) {
     const int j = step.joint_index;
-    const JointPose jp = joint_pose(step.type, step.origin, step.axis, j >= 0 ? qu[j] : 0.0);
+    const JointPose jp = joint_pose(step.type, step.origin, step.axis,
+                                    j >= 0 ? step.joint_scale * qu[j] + step.joint_offset : 0.0);
     out.rotation = out.rotation * jp.R;
     if (moving) {
       Eigen::Vector3d wc, dwc, ac;
-      propagate_motion(step.type, step.axis, jp, j >= 0 ? qdu[j] : 0.0, j >= 0 ? qddu[j] : 0.0, w,
-                       dw, a, wc, dwc, ac);
+      propagate_motion(step.type, step.axis, jp, j >= 0 ? step.joint_scale * qdu[j] : 0.0,
+                       j >= 0 ? step.joint_scale * qddu[j] : 0.0, w, dw, a, wc, dwc, ac);
       w = wc;
       dw = dwc;
       a = ac;

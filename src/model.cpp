@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <numbers>
 
 #include "massid/errors.hpp"
@@ -36,25 +37,60 @@ int Model::find_joint(const std::string& name) const {
   return -1;
 }
 
+namespace {
+
+// Link l's joint made fixed at position `value` (rad or m): folded into its origin.
+void fix_link(Link& link, double value) {
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  if (link.type == JointType::Revolute)
+    motion.rotate(Eigen::AngleAxisd(value, link.axis));
+  else
+    motion.translate(value * link.axis);
+  link.origin = link.origin * motion;
+  link.type = JointType::Fixed;
+  link.joint_index = -1;
+  link.joint_scale = 1.0;
+  link.joint_offset = 0.0;
+}
+
+}  // namespace
+
 Model hold_joints(Model model, const std::vector<std::pair<std::string, double>>& held) {
-  for (const auto& [name, value] : held) {
+  for (auto [name, value] : held) {
+    // Holding a mimic joint holds its master where the mimic is at `value`.
+    const auto mimic = std::find_if(model.mimics.begin(), model.mimics.end(),
+                                    [&](const MimicJoint& m) { return m.name == name; });
+    if (mimic != model.mimics.end()) {
+      if (mimic->multiplier == 0.0)
+        throw InputError(
+            fmt::format("{}: mimic joint '{}' does not move with '{}' (multiplier "
+                        "0): hold nothing, it is fixed already",
+                        model.source, name, mimic->master));
+      value = (value - mimic->offset) / mimic->multiplier;
+      name = mimic->master;
+    }
     const int j = model.find_joint(name);
     if (j < 0)
       throw InputError(fmt::format("{}: '{}' is not a movable joint below the sensor link '{}'",
                                    model.source, name, model.sensor_link()));
-    Link& link = model.links[model.joints[j].link];
-    Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
-    if (link.type == JointType::Revolute)
-      motion.rotate(Eigen::AngleAxisd(value, link.axis));
-    else
-      motion.translate(value * link.axis);
-    link.origin = link.origin * motion;
-    link.type = JointType::Fixed;
+    fix_link(model.links[model.joints[j].link], value);
+    // Its mimic joints are held too, where they follow it.
+    for (auto m = model.mimics.begin(); m != model.mimics.end();) {
+      if (m->master != name) {
+        ++m;
+        continue;
+      }
+      fix_link(model.links[m->link], m->multiplier * value + m->offset);
+      m = model.mimics.erase(m);
+    }
     model.joints.erase(model.joints.begin() + j);
     model.held.emplace_back(name, value);
   }
-  for (Link& link : model.links) link.joint_index = -1;
+  for (Link& link : model.links)
+    if (link.type == JointType::Fixed) link.joint_index = -1;
   for (int j = 0; j < model.num_joints(); ++j) model.links[model.joints[j].link].joint_index = j;
+  for (const MimicJoint& m : model.mimics)
+    model.links[m.link].joint_index = model.find_joint(m.master);
   return model;
 }
 

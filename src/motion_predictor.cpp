@@ -39,6 +39,7 @@ constexpr int body_slot(int k, int C) { return (k >> 2) * 4 * C + (k & 3); }
 // A rigid body before depth-first numbering.
 struct Body {
   int parent = -1, joint = 0;
+  double joint_scale = 1.0, joint_offset = 0.0;  // a mimic joint follows its master
   JointType type = JointType::Fixed;
   int axis = kGeneralAxis;  // 0, 1, 2: the joint axis is sign * e_axis of the parent's frame
   double sign = 1.0;
@@ -117,6 +118,8 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
     Body b;
     b.parent = body_of[link.parent];
     b.joint = link.joint_index;
+    b.joint_scale = link.joint_scale;
+    b.joint_offset = link.joint_offset;
     b.type = link.type;
     b.translation = to_joint.translation();
     // The axis in the parent body's frame: along one of its axes, the body
@@ -185,6 +188,7 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
   pred.revolute.assign(L, 0.0);
   pred.angle.assign(L, 0.0);
   pred.prismatic.assign(L, 0.0);
+  pred.slide.assign(L, 0.0);
   pred.axes.assign(9 * L, 0.0);
   pred.origin.assign(3 * L, 0.0);
   pred.inertial.assign(10 * L, 0.0);
@@ -197,9 +201,12 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
       pred.axis[k] = b.axis;
       if (b.axis == kGeneralAxis) pred.general[k / 4] = 1;
       pred.joint[k] = b.joint;
-      pred.revolute[k] = b.type == JointType::Revolute ? b.sign : 0.0;
-      pred.prismatic[k] = b.type == JointType::Prismatic ? b.sign : 0.0;
-      pred.angle[k] = b.angle;
+      // The joint's position is scale q + offset (a mimic joint; 1 and 0 otherwise).
+      const double sigma = b.sign * b.joint_scale;
+      pred.revolute[k] = b.type == JointType::Revolute ? sigma : 0.0;
+      pred.prismatic[k] = b.type == JointType::Prismatic ? sigma : 0.0;
+      pred.angle[k] = b.angle + (b.type == JointType::Revolute ? b.sign * b.joint_offset : 0.0);
+      pred.slide[k] = b.type == JointType::Prismatic ? b.sign * b.joint_offset : 0.0;
       for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) pred.axes[body_slot(k, 9) + 4 * (3 * i + j)] = b.rotation(i, j);
         pred.origin[body_slot(k, 3) + 4 * i] = b.translation[i];
@@ -348,7 +355,8 @@ template <class V>
     const V qk = gather<V>(q, joint, stride[0]), qdk = gather<V>(qd, joint, stride[1]);
     const V qddk = gather<V>(qdd, joint, stride[2]);
     const V revolute = load<V>(p.revolute.data() + k), prismatic = load<V>(p.prismatic.data() + k);
-    const V theta = revolute * qk + load<V>(p.angle.data() + k), slide = prismatic * qk;
+    const V theta = revolute * qk + load<V>(p.angle.data() + k),
+            slide = prismatic * qk + load<V>(p.slide.data() + k);
     double* rates = d.joint_rates.data() + body_slot(k, 4);
     store(rates, revolute * qdk);
     store(rates + 4, revolute * qddk);

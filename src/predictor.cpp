@@ -26,6 +26,7 @@ Eigen::Matrix3d axis_to_z(const Eigen::Vector3d& axis) {
 // A rigid body of the recursion before depth-first numbering.
 struct Body {
   int parent = -1, joint = 0;
+  double joint_scale = 1.0, joint_offset = 0.0;  // a mimic joint follows its master
   JointType type = JointType::Fixed;
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // A_k
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();   // t_k
@@ -70,6 +71,8 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     Body b;
     b.parent = body_of[link.parent];
     b.joint = link.joint_index;
+    b.joint_scale = link.joint_scale;
+    b.joint_offset = link.joint_offset;
     b.type = link.type;
     b.rotation = to_joint.linear() * C;
     b.translation = to_joint.translation();
@@ -113,6 +116,8 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     if (k == 0) continue;
     PredictorStep s;
     s.joint = b.joint;
+    s.joint_scale = b.joint_scale;
+    s.joint_offset = b.joint_offset;
     s.parent = number[b.parent];
     s.carry = s.parent == static_cast<int>(k) - 1;
     s.gathers = s.carry && bodies[b.parent].children.size() > 1;
@@ -133,10 +138,14 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
   const std::size_t lanes = (pred.steps.size() + 3) / 4 * 4;
   pred.lane_joint.assign(lanes, 0);
   pred.lane_revolute.assign(lanes, 0.0);
+  pred.lane_scale.assign(lanes, 1.0);
+  pred.lane_offset.assign(lanes, 0.0);
   for (std::size_t k = 0; k < pred.steps.size(); ++k) {
     const Body& b = bodies[order[k + 1]];
     pred.lane_joint[k] = b.joint;
     pred.lane_revolute[k] = b.type == JointType::Revolute ? 1.0 : 0.0;
+    pred.lane_scale[k] = b.joint_scale;
+    pred.lane_offset[k] = b.joint_offset;
   }
   return pred;
 }
@@ -174,9 +183,12 @@ template <class V>
   const int lanes = static_cast<int>(data.sin.size());
   const int* joint = pred.lane_joint.data();
   const double* revolute = pred.lane_revolute.data();
+  const double* scale = pred.lane_scale.data();
+  const double* offset = pred.lane_offset.data();
   for (int i = 0; i < lanes; i += kLanes) {
     V theta, s, c;
-    for (int l = 0; l < kLanes; ++l) theta[l] = revolute[i + l] * q[joint[i + l] * q_stride];
+    for (int l = 0; l < kLanes; ++l)
+      theta[l] = revolute[i + l] * (scale[i + l] * q[joint[i + l] * q_stride] + offset[i + l]);
     detail::sincos_lanes(theta, s, c);
     std::memcpy(data.sin.data() + i, &s, sizeof s);
     std::memcpy(data.cos.data() + i, &c, sizeof c);
@@ -199,7 +211,7 @@ template <class V>
   for (int k = n; k >= 1; --k) {
     const PredictorStep& s = steps[k - 1];
     const Lanes c = splat<Lanes>(cosines[k - 1]), sn = splat<Lanes>(sines[k - 1]);
-    const double d = s.slide * q[s.joint * q_stride];
+    const double d = s.slide * (s.joint_scale * q[s.joint * q_stride] + s.joint_offset);
     // Off the chain: B_k's columns b0, b1 (A_k's z column a2) and p = c_k (+ h_p).
     const Lanes a0 = load<Lanes>(s.axes[0]), a1 = load<Lanes>(s.axes[1]);
     const Lanes a2 = load<Lanes>(s.axes[2]);
@@ -243,7 +255,7 @@ template <class V>
   for (int k = n; k >= 1; --k) {
     const PredictorStep& s = steps[k - 1];
     const Lanes4 c = splat<Lanes4>(cosines[k - 1]), sn = splat<Lanes4>(sines[k - 1]);
-    const double d = s.slide * q[s.joint * q_stride];
+    const double d = s.slide * (s.joint_scale * q[s.joint * q_stride] + s.joint_offset);
     const Lanes4 a0 = load<Lanes4>(s.axes[0]), a1 = load<Lanes4>(s.axes[1]);
     const Lanes4 a2 = load<Lanes4>(s.axes[2]);
     const Lanes4 b0 = a0 * c + a1 * sn, b1 = a1 * c - a0 * sn;

@@ -51,8 +51,19 @@ std::string model_report(const Model& model, const BaseParameters& base) {
   for (const Joint& j : model.joints) {
     out += fmt::format("  {:<20} {:<10}", j.name, joint_type_name(j));
     if (j.limited) out += fmt::format(" [{:.6g}, {:.6g}]", j.lower, j.upper);
+    if (j.limited && (j.lower != j.urdf_lower || j.upper != j.urdf_upper))
+      out += fmt::format(" (URDF [{:.6g}, {:.6g}], narrowed by its mimic joints' limits)",
+                         j.urdf_lower, j.urdf_upper);
     out += "\n";
   }
+  if (!model.mimics.empty()) {
+    out += fmt::format("mimic joints: {} (they follow their master; no column in any file)\n",
+                       model.mimics.size());
+    for (const MimicJoint& m : model.mimics)
+      out += fmt::format("  {:<20} = {:.6g} x {}{}\n", m.name, m.multiplier, m.master,
+                         m.offset == 0.0 ? "" : fmt::format(" {:+.6g}", m.offset));
+  }
+  for (const std::string& w : model.warnings) out += "note: " + w + "\n";
   if (base.motion())
     out += fmt::format(
         "standard parameters: {} (m, mx, my, mz, ixx, ixy, ixz, iyy, iyz, izz per link; inertia "
@@ -92,16 +103,48 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
         "{:.3g}, eq. 36): their standard deviations are large and any error in the data is "
         "magnified; record more varied poses and tilts (massid design)\n",
         source, s.condition_number));
-  if (s.outliers.empty() && !s.robust && largest_residuals_implausible(s)) {
-    // A long streamed log: no per-sample residuals, only the largest per axis.
+  {
+    // An estimated noise level with few residual degrees of freedom (many
+    // unknowns against few samples) makes every std uncertain.
+    std::string axes;
+    double fewest = INFINITY;
+    for (int k = 0; k < 6; ++k) {
+      const bool given = k < 3 ? s.sigma_force_given : s.sigma_moment_given;
+      if (!s.sigma_estimated || given || s.samples == 0 || s.residual_dof[k] >= kFewResidualDof)
+        continue;
+      axes += fmt::format("{}{} {:.3g}", axes.empty() ? "" : ", ", kWrenchColumns[k],
+                          s.residual_dof[k]);
+      fewest = std::min(fewest, s.residual_dof[k]);
+    }
+    if (!axes.empty()) {
+      const long unknowns = static_cast<long>(s.value.size() + s.drift_value.size());
+      const long more = static_cast<long>(std::ceil(kFewResidualDof - fewest));
+      out.push_back(fmt::format(
+          "massid: warning: {}: {} samples for {} unknowns leave few degrees of freedom for the "
+          "noise estimate ({} of {} per axis; fewer than {:.0f}): the estimated sigma, and with "
+          "it every std, is uncertain by about {:.0f} % and errors beyond 2 std are more "
+          "frequent than the std say; record at least {} samples, or give the sensor's noise "
+          "(--sigma-force, --sigma-moment)\n",
+          source, s.samples, unknowns, axes, s.samples, kFewResidualDof,
+          100.0 / std::sqrt(2.0 * std::max(fewest, 0.5)), s.samples + more));
+    }
+  }
+  // With gravity along the force the moments carry the force's direction
+  // noise, pose by pose: only the per-sample test (which whitens it) judges.
+  if (s.outliers.empty() && !s.robust && !(s.per_sample_test && s.gravity_from_force) &&
+      largest_residuals_implausible(s)) {
+    // A long streamed log: no per-sample residuals, only the largest per axis
+    // (with gravity along the force, a force axis against the three's norm).
     const double bound = largest_residual_bound(s.samples);
-    for (int k = 0; k < 6; ++k)
-      if (s.residual_max[k] > bound * s.sigma[k])
+    for (int k = 0; k < 6; ++k) {
+      const double scale = k < 3 && s.gravity_from_force ? s.sigma.head<3>().norm() : s.sigma[k];
+      if (s.residual_max[k] > bound * scale)
         out.push_back(fmt::format(
             "massid: warning: {}: the largest {} residual is {:.3g} sigma (above {:.3g}, expected "
             "with probability 1 %): some samples are implausible for the fitted noise; run "
             "identify with --robust to find them by line and reject them\n",
-            source, kWrenchColumns[k], s.residual_max[k] / s.sigma[k], bound));
+            source, kWrenchColumns[k], s.residual_max[k] / scale, bound));
+    }
     return out;
   }
   if (s.outliers.empty()) return out;

@@ -13,6 +13,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -20,8 +21,10 @@
 #include <numbers>
 
 #include "csv_fields.hpp"
+#include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
+#include "massid/estimation.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/simulate.hpp"
 
@@ -55,7 +58,9 @@ constexpr int kMinRows = 3;
 
 // --- formatting ---------------------------------------------------------------
 
+// "line 4", "lines 4, 9, 12 and 3 more"; never empty: "no line" for no rows.
 std::string lines_text(const Samples& s, const std::vector<int>& rows) {
+  if (rows.empty()) return "no line";
   std::string t = rows.size() == 1 ? "line " : "lines ";
   const size_t shown = std::min<size_t>(rows.size(), 3);
   for (size_t k = 0; k < shown; ++k) t += fmt::format("{}{}", k ? ", " : "", s.line[rows[k]]);
@@ -107,7 +112,7 @@ struct Context {
         out(o),
         N(samples.size()),
         M(m.nominal_total_mass()),
-        F(samples.wrench.leftCols(3)),
+        F(samples.has_wrench() ? Eigen::MatrixXd(samples.wrench.leftCols(3)) : Eigen::MatrixXd()),
         G(samples.gravity) {}
   const Model& model;
   const Samples& s;
@@ -314,6 +319,236 @@ void check_rotation(Context& c, const Centred& k) {
                     basis));
 }
 
+// --- channel signs and swaps ------------------------------------------------
+
+// The 48 signed permutation matrices P, P(k, perm[k]) = +-1; the identity first.
+const std::vector<Eigen::Matrix3d>& signed_permutations() {
+  static const std::vector<Eigen::Matrix3d> all = [] {
+    std::vector<Eigen::Matrix3d> v;
+    int perm[3] = {0, 1, 2};
+    do {
+      for (int signs = 0; signs < 8; ++signs) {
+        Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+        for (int k = 0; k < 3; ++k) P(k, perm[k]) = (signs >> k) & 1 ? -1.0 : 1.0;
+        v.push_back(P);
+      }
+    } while (std::next_permutation(perm, perm + 3));
+    return v;
+  }();
+  return all;
+}
+
+int changed_channels(const Eigen::Matrix3d& P) {
+  int n = 0;
+  for (int k = 0; k < 3; ++k) n += P(k, k) != 1.0;
+  return n;
+}
+
+// One test of the channels of one kind (force or moment): for each signed
+// permutation P the residual sum of squares `ssr` of the fit that assumes
+// the recorded channels are P times the true ones, and `dof`. Noise is judged
+// from the best fit: the P's within 25 of its variances tie with it.
+// The identity is excluded when it is worse than the best by more than 100
+// variances (10 sigma) and by a factor 4 (model errors such as a 1 deg
+// misalignment or an as-built mass inflate every fit alike; a flipped channel
+// that varies is far worse).
+struct ChannelFit {
+  std::vector<double> ssr;
+  std::vector<bool> tie;
+  bool identity_out = false;
+  double rows = 0.0;
+};
+
+ChannelFit channel_fit(std::vector<double> ssr, double dof, double rows, double total,
+                       const std::vector<bool>* among = nullptr) {
+  const size_t n = ssr.size();
+  ChannelFit f;
+  f.rows = rows;
+  f.tie.assign(n, true);
+  f.ssr = ssr;
+  if (!(dof >= 1)) return f;
+  double best = INFINITY;
+  for (size_t i = 0; i < n; ++i)
+    if (!among || (*among)[i]) best = std::min(best, ssr[i]);
+  const double var = std::max(best / dof, 1e-24 * total / rows + 1e-300);
+  for (size_t i = 0; i < n; ++i) f.tie[i] = (!among || (*among)[i]) && ssr[i] <= best + 25 * var;
+  f.identity_out = !f.tie[0] && ssr[0] - best > 100 * var && ssr[0] > 4 * best;
+  return f;
+}
+
+// The answer of a test: P (the identity unless decisive) and the residual RMS
+// per row as recorded and with P.
+struct ChannelTest {
+  bool tested = false;
+  Eigen::Matrix3d P = Eigen::Matrix3d::Identity();
+  double rms_recorded = 0.0, rms_best = 0.0;
+  std::vector<bool> tie;  // the P's the data cannot tell from the best
+  bool decisive() const { return tested && !P.isIdentity(); }
+};
+
+// Among the ties, the P with the fewest changed channels, or one tied in
+// `other` too (the force and the moment channels agree).
+ChannelTest pick_channels(const ChannelFit& f, const std::vector<bool>* other = nullptr) {
+  const auto& all = signed_permutations();
+  ChannelTest t;
+  t.tested = true;
+  t.tie = f.tie;
+  int pick = -1;
+  for (int pass = 0; pass < 2 && pick < 0; ++pass)
+    for (size_t i = 0; i < all.size(); ++i)
+      if (f.tie[i] && (pass == 1 || !other || (*other)[i]) &&
+          (pick < 0 || changed_channels(all[i]) < changed_channels(all[pick])))
+        pick = static_cast<int>(i);
+  if (pick > 0 && f.identity_out) t.P = all[pick];
+  t.rms_recorded = std::sqrt(std::max(f.ssr[0], 0.0) / f.rows);
+  t.rms_best = std::sqrt(std::max(f.ssr[t.P.isIdentity() ? 0 : pick], 0.0) / f.rows);
+  return t;
+}
+
+// Force channels. Statistics: for every signed permutation P, the residual of
+// the centred fit f_i - mean f = M P (g_i - mean g) with M >= 0 (offset-free),
+// SSR(P) = S_ff - max(0, tr(P H))^2 / S_gg with H = sum (g_i - mean g)(f_i -
+// mean f)^T; where that leaves several P's tied (one gravity direction, or
+// gz the same in every row as in a plan at one tilt), the same fit without
+// centring decides among them (an offset as large as the weight would be
+// needed to fake a flipped channel there).
+ChannelFit force_channels(const Context& c, const Centred& k) {
+  const auto fit = [&](const Eigen::MatrixXd& G, const Eigen::MatrixXd& F, double dof,
+                       const std::vector<bool>* among) {
+    const Eigen::Matrix3d H = G.transpose() * F;
+    const double Sff = F.squaredNorm(), Sgg = G.squaredNorm();
+    std::vector<double> ssr;
+    for (const Eigen::Matrix3d& P : signed_permutations()) {
+      const double t = Sgg > 0 ? std::max(0.0, (P * H).trace()) : 0.0;
+      ssr.push_back(std::max(0.0, Sff - (Sgg > 0 ? t * t / Sgg : 0.0)));
+    }
+    return channel_fit(ssr, dof, c.N, Sff, among);
+  };
+  if (c.N < kMinRows) return {};
+  ChannelFit centred;
+  if (k.spread_ok) {
+    centred = fit(k.Gc, k.Fc, 3.0 * c.N - 4, nullptr);
+    if (centred.identity_out) return centred;
+  }
+  return fit(c.G, c.F, 3.0 * c.N - 1, k.spread_ok ? &centred.tie : nullptr);
+}
+
+// Moment channels. Statistic: for every P, the residual of the least-squares
+// fit of P^T m_i = Y_m(q_i, g_i) pi + b over the URDF's structure (its base
+// parameters and the three moment offsets; no inertial value is used), at the
+// strided subset of rows: SSR(P) = |y_P|^2 - |Q^T y_P|^2, with Q an
+// orthonormal basis of the regressor's moment rows. The fit cannot tell P
+// from -P (negated first moments): when the URDF has masses, the sign whose
+// moments correlate positively with the URDF's is kept.
+ChannelFit moment_channels(const Context& c) {
+  const int n = static_cast<int>(c.sub.size());
+  if (n < kMinRows) return {};
+  Samples s;
+  s.q.resize(n, c.model.num_joints());
+  s.gravity.resize(n, 3);
+  s.wrench.resize(n, 6);
+  for (int k = 0; k < n; ++k) {
+    s.q.row(k) = c.s.q.row(c.sub[k]);
+    s.gravity.row(k) = c.G.row(c.sub[k]);
+    s.wrench.row(k) = c.s.wrench.row(c.sub[k]);
+  }
+  BaseParameterOptions bo;
+  bo.offset = true;
+  const BaseParameters base = find_base_parameters(c.model, bo);
+  const Eigen::MatrixXd A = stacked_regressor(c.model, base, s);
+  Eigen::MatrixXd Am(3 * n, A.cols());
+  Eigen::MatrixXd Y(3, n);
+  for (int k = 0; k < n; ++k) {
+    Am.middleRows(3 * k, 3) = A.middleRows(6 * k + 3, 3);
+    Y.col(k) = s.wrench.row(k).tail<3>().transpose();
+  }
+  for (Eigen::Index j = 0; j < Am.cols(); ++j) {
+    const double norm = Am.col(j).norm();
+    if (norm > 0) Am.col(j) /= norm;
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Am);
+  qr.setThreshold(1e-10);
+  const Eigen::Index r = qr.rank();
+  if (3 * n - r < 6) return {};
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(3 * n, r);
+  // The URDF's moments, centred, for the sign.
+  Eigen::MatrixXd nom = c.nom.rightCols(3).transpose();
+  nom = nom.colwise() - nom.rowwise().mean();
+  const Eigen::MatrixXd Yc = Y.colwise() - Y.rowwise().mean();
+  const bool signed_by_urdf = c.M > 0 && nom.norm() > 0;
+  std::vector<double> ssr;
+  std::vector<bool> sign_ok;
+  for (const Eigen::Matrix3d& P : signed_permutations()) {
+    const Eigen::MatrixXd YP = P.transpose() * Y;  // the true moments if P is right
+    const Eigen::Map<const Eigen::VectorXd> y(YP.data(), 3 * n);
+    ssr.push_back(std::max(0.0, y.squaredNorm() - (Q.transpose() * y).squaredNorm()));
+    sign_ok.push_back(!signed_by_urdf || ((P.transpose() * Yc).array() * nom.array()).sum() >= 0);
+  }
+  ChannelFit f = channel_fit(ssr, static_cast<double>(3 * n - r), n, Y.squaredNorm());
+  if (signed_by_urdf) {
+    bool any = false;
+    for (size_t i = 0; i < ssr.size(); ++i) any |= f.tie[i] && sign_ok[i];
+    if (any)
+      for (size_t i = 0; i < ssr.size(); ++i) f.tie[i] = f.tie[i] && sign_ok[i];
+    f.identity_out = !f.tie[0] && (f.identity_out || !sign_ok[0]);
+  }
+  return f;
+}
+
+// "'fz' is negated", "'fx' holds fy and 'fy' holds fx": what P says about the
+// columns (recorded k = P(k, j) true j), and the fix ("negate fz", ...).
+std::string channels_text(const Eigen::Matrix3d& P, char kind, std::string* fix) {
+  const char axis[3] = {'x', 'y', 'z'};
+  std::vector<std::string> what, how;
+  for (int k = 0; k < 3; ++k) {
+    int j = 0;
+    while (P(k, j) == 0.0) ++j;
+    const bool neg = P(k, j) < 0;
+    if (j == k && !neg) continue;
+    if (j == k) {
+      what.push_back(fmt::format("'{}{}' is negated", kind, axis[k]));
+      how.push_back(fmt::format("negate {}{}", kind, axis[k]));
+    } else {
+      what.push_back(
+          fmt::format("'{}{}' holds {}{}{}", kind, axis[k], neg ? "-" : "", kind, axis[j]));
+      how.push_back(fmt::format("take {}{} from column {}{}{}", kind, axis[j], neg ? "minus " : "",
+                                kind, axis[k]));
+    }
+  }
+  auto join = [](const std::vector<std::string>& v) {
+    std::string t;
+    for (size_t i = 0; i < v.size(); ++i)
+      t += (i ? (i + 1 == v.size() ? " and " : ", ") : "") + v[i];
+    return t;
+  };
+  if (fix) *fix = join(how);
+  return join(what);
+}
+
+// force-channels / moment-channels: a channel negated or two channels swapped
+// (a reflection: no frame rotation explains it), found by the tests above.
+void report_channels(Context& c, const ChannelTest& t, char kind, const ChannelTest* also) {
+  std::string fix, fix_also;
+  const std::string what = channels_text(t.P, kind, &fix);
+  std::string extra;
+  if (also) {
+    extra = fmt::format(
+        "; the moments too: {} (moment residual RMS {:.3g} N m as recorded, {:.3g} "
+        "N m so)",
+        channels_text(also->P, 'm', &fix_also), also->rms_recorded, also->rms_best);
+    fix += " and " + fix_also;
+  }
+  const bool force = kind == 'f';
+  c.add(Severity::Error, force ? "force-channels" : "moment-channels",
+        fmt::format("{}: the {} channels do not fit the URDF with gx,gy,gz as recorded (lines "
+                    "{}-{}), but do if {} ({} residual RMS {:.3g} {} as recorded, {:.3g} {} so){}: "
+                    "a sign or the column mapping is wrong in the sensor's configuration or the "
+                    "logger; {} (massid wants the sensor's own right-handed axes)",
+                    c.s.source, force ? "force" : "moment", c.s.line.front(), c.s.line.back(), what,
+                    force ? "force" : "moment", t.rms_recorded, force ? "N" : "N m", t.rms_best,
+                    force ? "N" : "N m", extra, fix));
+}
+
 // force-units. Statistic: r = median |f_i| / (M g0), the total mass the force
 // implies over the URDF's (offset-robust: the median of magnitudes). Error for
 // r in [316, 3162]: forces in mN.
@@ -354,6 +589,44 @@ void check_moment_units(Context& c) {
                       "arm {:.3g} m for a robot that reaches {:.3g} m, lines {}-{}): the moments "
                       "look like N mm; divide mx,my,mz by 1000 (massid wants N m)",
                       c.s.source, r, rms_meas, lever, c.reach, c.s.line.front(), c.s.line.back()));
+}
+
+// force-units / moment-units when the URDF has no mass (no <inertial> on any
+// measured link): nothing to compare the wrench with but the robot's size.
+// Statistic: the lever arm L = RMS |m_i| / RMS |f_i| (the distance of the
+// centre of mass from the sensor origin across gravity, RMS over the poses)
+// against the reach (the farthest link origin from the sensor origin, over
+// the poses). Moments in N mm make L ~1000 x too long: error when L > 30 x
+// reach + 1 cm (no centre of mass lies that far outside the links). Forces in
+// mN make L ~1000 x too short and the implied mass huge: error when L <
+// reach / 300 and the implied mass median |f| / g0 exceeds 1000 kg per cubic
+// metre of reach^3 (a robot denser than a block of water its own size; the
+// UR5, 21 kg at 0.9 m, is 29 kg/m^3). Needs a reach of at least 5 cm.
+void check_units_without_mass(Context& c) {
+  if (c.M > 0 || c.N < 1 || !(c.reach >= 0.05)) return;
+  const double rms_f = std::sqrt(c.F.squaredNorm() / c.N);
+  const double rms_m = std::sqrt(c.s.wrench.rightCols(3).squaredNorm() / c.N);
+  if (!(rms_f > 0)) return;
+  const double lever = rms_m / rms_f;
+  std::vector<double> n(c.N);
+  for (int i = 0; i < c.N; ++i) n[i] = c.F.row(i).norm();
+  const double mass = median(n) / kStandardGravity;
+  const std::string why = fmt::format(
+      "the URDF has no mass (no <inertial> on a measured link), so the wrench is judged by the "
+      "robot's size: RMS |m| / RMS |f| puts the centre of mass {:.3g} m from the sensor origin, "
+      "for "
+      "a robot that reaches {:.3g} m, lines {}-{}",
+      lever, c.reach, c.s.line.front(), c.s.line.back());
+  if (lever > 30.0 * c.reach + 0.01)
+    c.add(Severity::Error, "moment-units",
+          fmt::format("{}: {}: the moments look like N mm; divide mx,my,mz by 1000 (massid wants "
+                      "N m)",
+                      c.s.source, why));
+  else if (lever < c.reach / 300.0 && mass > 1000.0 * std::pow(c.reach, 3))
+    c.add(Severity::Error, "force-units",
+          fmt::format("{}: {}, and fx,fy,fz imply a total mass of {:.4g} kg: the forces look like "
+                      "mN; divide fx,fy,fz by 1000 (massid wants N)",
+                      c.s.source, why, mass));
 }
 
 // joint-degrees / joint-millimetres. Statistic per joint column named as the
@@ -453,9 +726,10 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
   if (c.nom.rows() > 0) range = c.nom.colwise().maxCoeff() - c.nom.colwise().minCoeff();
   const double kind_range[2] = {std::max(range.head<3>().maxCoeff(), 0.0),
                                 range.tail<3>().maxCoeff()};
+  const bool wrench = c.s.has_wrench();  // a plan has none
   bool wrench_constant[6];
   for (int a = 0; a < 6; ++a) {
-    wrench_constant[a] = constant(W.col(a));
+    wrench_constant[a] = wrench && constant(W.col(a));
     const double scale = kind_range[a / 3];
     if (wrench_constant[a] && scale > 0 && range[a] > 0.05 * scale) {
       force_broken |= a < 3;
@@ -469,7 +743,7 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
   }
   for (int a = 0; a < 6; ++a)
     for (int b = a + 1; b < 6; ++b) {
-      if (wrench_constant[a] || wrench_constant[b] || W.col(a) != W.col(b)) continue;
+      if (!wrench || wrench_constant[a] || wrench_constant[b] || W.col(a) != W.col(b)) continue;
       const double scale = std::max(kind_range[a / 3], kind_range[b / 3]);
       const double differ =
           c.nom.rows() > 0 ? (c.nom.col(a) - c.nom.col(b)).cwiseAbs().maxCoeff() : 0.0;
@@ -516,17 +790,44 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
                                       const std::vector<std::string>& header,
                                       const SetupCheckOptions& options) {
   std::vector<SetupFinding> out;
-  if (!samples.has_wrench() || samples.size() == 0) return out;
+  if (samples.size() == 0) return out;
   Context c(model, samples, header, out);
   nominal(c);
+  if (!samples.has_wrench()) {  // a plan: its joints and gravity
+    check_columns(c, options);
+    if (!samples.gravity_from_force) check_gravity_magnitude(c);
+    check_joint_units(c);
+    std::stable_partition(out.begin(), out.end(),
+                          [](const SetupFinding& f) { return f.severity == Severity::Error; });
+    return out;
+  }
   const bool force_broken = check_columns(c, options);
   if (!samples.gravity_from_force) {
     check_gravity_magnitude(c);
     const Centred k = centre(c);
-    if (!force_broken && !options.motion && !check_sign(c, k)) check_rotation(c, k);
+    if (!force_broken && !options.motion) {
+      // Which signed permutation of the channels the data fit (a negated or
+      // swapped channel), before the sign and rotation checks: a reflection
+      // is no rotation, and a rotation (180 deg about z: fx, fy negated) no
+      // sign error.
+      const ChannelFit mf = moment_channels(c), ff = force_channels(c, k);
+      const ChannelTest mt = mf.tie.empty() ? ChannelTest{} : pick_channels(mf, &ff.tie);
+      const ChannelTest ft = ff.tie.empty() ? ChannelTest{} : pick_channels(ff, &mf.tie);
+      const bool rotation = ft.decisive() && ft.P.determinant() > 0;
+      const bool negated = ft.decisive() && ft.P == -Eigen::Matrix3d::Identity();
+      const bool same = mt.decisive() && mt.P == ft.P;
+      if (ft.decisive() && !rotation && !negated)
+        report_channels(c, ft, 'f', same ? &mt : nullptr);
+      else if (rotation)
+        check_rotation(c, k);
+      else if (!check_sign(c, k))
+        check_rotation(c, k);
+      if (mt.decisive() && !same) report_channels(c, mt, 'm', nullptr);
+    }
   }
   check_force_units(c);
   check_moment_units(c);
+  check_units_without_mass(c);
   check_joint_units(c);
   // Errors first: they decide the outcome.
   std::stable_partition(out.begin(), out.end(),

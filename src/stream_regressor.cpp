@@ -57,7 +57,8 @@ void moment_rows(const Step* steps, int num_steps, const Col* cols, int K, int c
     const double* __restrict qj = q + static_cast<std::ptrdiff_t>(s.joint) * ld_in;
     if (s.type == JointType::Revolute) {
       const double sign = s.axis_sign;
-      for (int r = 0; r < m; ++r) angle[r] = sign * qj[r];
+      const double scale = s.joint_scale, offset = s.joint_offset;  // 1, 0 unless a mimic
+      for (int r = 0; r < m; ++r) angle[r] = sign * (scale * qj[r] + offset);
       const int even = (m + 1) / 2 * 2;
       if (even > m) angle[m] = 0.0;
       sincos_many(angle, sn, cs, even);
@@ -100,7 +101,9 @@ void moment_rows(const Step* steps, int num_steps, const Col* cols, int K, int c
         const double* __restrict x0 = M + i * cap;
         const double* __restrict x1 = M + (3 + i) * cap;
         const double* __restrict x2 = M + (6 + i) * cap;
-        for (int r = 0; r < m; ++r) y[r] += ((x0[r] * a0 + x1[r] * a1) + x2[r] * a2) * qj[r];
+        const double scale = s.joint_scale, offset = s.joint_offset;
+        for (int r = 0; r < m; ++r)
+          y[r] += ((x0[r] * a0 + x1[r] * a1) + x2[r] * a2) * (scale * qj[r] + offset);
       }
     }
   }
@@ -147,6 +150,8 @@ StreamRegressor::StreamRegressor(const Model& model, const BaseParameters& base,
     s.type = link.type;
     s.axis = link.axis;
     s.joint = link.joint_index;
+    s.joint_scale = link.joint_scale;
+    s.joint_offset = link.joint_offset;
     for (int i = 0; i < 3; ++i)
       if (std::abs(link.axis[i]) == 1.0 && link.axis.squaredNorm() == 1.0) {
         s.axis_kind = 1 + i;

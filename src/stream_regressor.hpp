@@ -49,7 +49,8 @@ class StreamRegressor {
     JointType type = JointType::Fixed;
     Eigen::Vector3d axis;
     int joint = -1;
-    int axis_kind = 0;  // 0 general, 1 + i: +-unit axis i
+    double joint_scale = 1.0, joint_offset = 0.0;  // a mimic joint: scale q + offset
+    int axis_kind = 0;                             // 0 general, 1 + i: +-unit axis i
     double axis_sign = 1.0;
   };
   struct Col {

@@ -687,6 +687,8 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
   out.gravity_from_force = st.gravity_from_force;
   out.gravity_from_upstream = st.gravity_from_upstream;
   out.sigma_estimated = !options.sigma_force || !options.sigma_moment;
+  out.sigma_force_given = options.sigma_force.has_value();
+  out.sigma_moment_given = options.sigma_moment.has_value();
 
   Eigen::VectorXd scale(p);
   for (int c = 0; c < p; ++c) scale[c] = 1.0 / G.col(c).norm();
@@ -706,7 +708,7 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
   const int iterations = out.sigma_estimated ? std::max(1, options.weight_iterations) : 1;
   Eigen::VectorXd x(p);
   Eigen::MatrixXd Rinv;
-  Vector6d ssr;
+  Vector6d ssr, leverage;
   for (int it = 0; it < iterations; ++it) {
     // The weighted, column-scaled problem: QR of the stacked [R_a S, R_a y] / sigma_a.
     Eigen::MatrixXd W = Eigen::MatrixXd::Zero(wrows, p + 1);
@@ -732,16 +734,25 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
       for (int j = 0; j < ax.n - 1; ++j) xa[j] = x[ax.unknown[j]];
       xa[ax.n - 1] = -1.0;
       ssr[a] = (R[a].triangularView<Eigen::Upper>() * xa).squaredNorm();
+      // tr(H_aa) = tr(Mw_a^T Mw_a (Mw^T Mw)^-1) = |R_a S_a Rp^-1|_F^2 / sigma_a^2
+      // (Mw_a = A_a S / sigma_a, A_a^T A_a = R_a^T R_a over the axis' columns).
+      Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(ax.n - 1, p);
+      for (int i = 0; i < ax.n - 1; ++i)
+        for (int j = i; j < ax.n - 1; ++j)
+          Z.row(i) += (R[a](i, j) * scale[ax.unknown[j]]) * Rinv.row(ax.unknown[j]);
+      leverage[a] = Z.squaredNorm() / (sigma[a] * sigma[a]);
     }
     if (!out.sigma_estimated) break;
-    const double dof = std::max(1.0, static_cast<double>(N) - p / 6.0);
+    // As identify(): sigma_k^2 = SSR_k / (N - tr(H_kk)).
     for (int k = 0; k < 6; ++k) {
       const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
       if (user) continue;
       const double floor = 1e-13 * std::sqrt(signal[k / 3]) + 1e-150;
-      sigma[k] = std::max(std::sqrt(ssr[k] / dof), floor);
+      sigma[k] =
+          std::max(std::sqrt(ssr[k] / noise_dof(static_cast<double>(N), leverage[k])), floor);
     }
   }
+  for (int k = 0; k < 6; ++k) out.residual_dof[k] = static_cast<double>(N) - leverage[k];
 
   out.value = x;
   out.sigma = sigma;

@@ -13,6 +13,7 @@
 #include <map>
 #include <sstream>
 #include <string_view>
+#include <vector>
 
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
@@ -195,11 +196,6 @@ Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
 }
 
 JointType joint_type(const urdf::JointConstSharedPtr& j, const std::string& source, int line) {
-  if (j->mimic)
-    throw InputError(
-        fmt::format("{}:{}: joint '{}' is a mimic joint; massid supports independent revolute, "
-                    "continuous, prismatic and fixed joints only",
-                    source, line, j->name));
   switch (j->type) {
     case urdf::Joint::FIXED:
       return JointType::Fixed;
@@ -208,10 +204,17 @@ JointType joint_type(const urdf::JointConstSharedPtr& j, const std::string& sour
       return JointType::Revolute;
     case urdf::Joint::PRISMATIC:
       return JointType::Prismatic;
+    case urdf::Joint::FLOATING:
+      // A mobile base or a legged robot: the sensor is below the floating joint.
+      throw InputError(fmt::format(
+          "{}:{}: joint '{}' is floating: massid measures the links below a sensor, and a "
+          "floating joint cannot be among them; take the sensor link below it (sensor link '{}', "
+          "--sensor {})",
+          source, line, j->name, j->child_link_name, j->child_link_name));
     default:
       throw InputError(
-          fmt::format("{}:{}: joint '{}' is of an unsupported type (floating, planar or unknown); "
-                      "massid supports revolute, continuous, prismatic and fixed joints",
+          fmt::format("{}:{}: joint '{}' is of an unsupported type (planar or unknown); massid "
+                      "supports revolute, continuous, prismatic and fixed joints",
                       source, line, j->name));
   }
 }
@@ -224,19 +227,133 @@ Eigen::Vector3d joint_axis(const urdf::JointConstSharedPtr& j, const std::string
   return axis.normalized();
 }
 
-Joint make_joint(const urdf::JointConstSharedPtr& j, JointType type, int link) {
+Joint make_joint(const urdf::JointConstSharedPtr& j, JointType type, int link,
+                 const std::string& source, int line) {
   Joint joint;
   joint.name = j->name;
   joint.type = type;
   joint.continuous = j->type == urdf::Joint::CONTINUOUS;
+  if (j->limits && !joint.continuous && j->limits->lower > j->limits->upper)
+    throw InputError(fmt::format(
+        "{}:{}: joint '{}' has its limits swapped: lower {} > upper {}; write the smaller "
+        "value as lower",
+        source, line, j->name, j->limits->lower, j->limits->upper));
+  // lower == upper (both 0 when <limit> gives neither): no range, unlimited.
   if (j->limits && !joint.continuous && j->limits->upper > j->limits->lower) {
     joint.limited = true;
-    joint.lower = j->limits->lower;
-    joint.upper = j->limits->upper;
+    joint.lower = joint.urdf_lower = j->limits->lower;
+    joint.upper = joint.urdf_upper = j->limits->upper;
   }
   if (j->limits && j->limits->velocity > 0) joint.velocity_limit = j->limits->velocity;
   joint.link = link;
   return joint;
+}
+
+// Levenshtein distance, for suggesting names.
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "'a', 'b' or 'c'": the (at most five) names closest to `name`.
+std::string closest_names(const std::string& name, std::vector<std::string> names) {
+  std::stable_sort(names.begin(), names.end(), [&](const std::string& x, const std::string& y) {
+    return edit_distance(name, x) < edit_distance(name, y);
+  });
+  if (names.size() > 5) names.resize(5);
+  std::string out;
+  for (size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + ("'" + names[i] + "'");
+  return out;
+}
+
+// Mimic joints: a mimic link moves with its master (Link::joint_index,
+// joint_scale, joint_offset), and the master's range narrows to what the
+// mimic's own limits allow. Every problem at once: a master that is itself a
+// mimic joint (chains and cycles), fixed, or not below the sensor link.
+struct PendingMimic {
+  int link;
+  std::string joint, master;
+  double multiplier, offset;
+  int line;
+  JointType type;
+  bool limited;
+  double lower, upper;
+};
+
+void resolve_mimics(Model& model, const std::vector<PendingMimic>& pending,
+                    const urdf::ModelInterface& urdf, const std::string& source) {
+  std::vector<std::string> problems;
+  for (const PendingMimic& m : pending) {
+    const int j = model.find_joint(m.master);
+    if (j >= 0) continue;
+    const urdf::JointConstSharedPtr master = urdf.getJoint(m.master);
+    std::string why;
+    if (!master)
+      why = "which does not exist";
+    else if (master->mimic)
+      why = fmt::format("which is a mimic joint itself (of '{}')", master->mimic->joint_name);
+    else if (master->type == urdf::Joint::FIXED)
+      why = "which is fixed";
+    else
+      why = fmt::format("which is not below the sensor link '{}'", model.sensor_link());
+    problems.push_back(
+        fmt::format("line {}: '{}' mimics '{}', {}", m.line, m.joint, m.master, why));
+  }
+  if (!problems.empty()) {
+    std::string list;
+    for (const std::string& p : problems) list += "\n  " + p;
+    throw InputError(fmt::format(
+        "{}: {} mimic joint{} cannot follow {} master: a mimic joint must follow a movable, "
+        "independent joint below the sensor link{}",
+        source, problems.size(), problems.size() == 1 ? "" : "s",
+        problems.size() == 1 ? "its" : "their", list));
+  }
+  for (const PendingMimic& m : pending) {
+    const int j = model.find_joint(m.master);
+    Link& link = model.links[m.link];
+    link.joint_index = j;
+    link.joint_scale = m.multiplier;
+    link.joint_offset = m.offset;
+    model.mimics.push_back({m.joint, m.master, m.multiplier, m.offset, m.link});
+    Joint& master = model.joints[j];
+    if (master.type != m.type)
+      throw InputError(
+          fmt::format("{}:{}: mimic joint '{}' is {} but its master '{}' is {}", source, m.line,
+                      m.joint, m.type == JointType::Prismatic ? "prismatic" : "revolute", m.master,
+                      master.type == JointType::Prismatic ? "prismatic" : "revolute"));
+    if (!m.limited || m.multiplier == 0.0) continue;
+    // q_mimic = a q + b in [lo, hi]  <=>  q in [(lo - b) / a, (hi - b) / a] (swapped for a < 0)
+    double lo = (m.lower - m.offset) / m.multiplier, hi = (m.upper - m.offset) / m.multiplier;
+    if (lo > hi) std::swap(lo, hi);
+    if (master.limited) {
+      lo = std::max(lo, master.lower);
+      hi = std::min(hi, master.upper);
+    }
+    if (!(lo < hi)) {
+      // Published grippers copy one <limit> to every finger, with multipliers
+      // of -1: taken literally the master could not move. Keep its own range.
+      model.warnings.push_back(fmt::format(
+          "{}:{}: mimic joint '{}' (= {} x '{}' + {}) has limits [{}, {}] that no position of "
+          "'{}' in [{}, {}] satisfies; they are ignored (the master keeps its own limits)",
+          source, m.line, m.joint, m.multiplier, m.master, m.offset, m.lower, m.upper, m.master,
+          master.lower, master.upper));
+      continue;
+    }
+    master.limited = true;
+    master.lower = lo;
+    master.upper = hi;
+  }
 }
 
 }  // namespace
@@ -254,6 +371,13 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   }
   if (!doc.FirstChildElement("robot"))
     throw InputError(fmt::format("{}:1: not a URDF: no <robot> element", source));
+  // An unexpanded xacro file (expanded ones keep xmlns:xacro, not its elements).
+  if (const size_t at = xml.find("<xacro:"); at != std::string::npos) {
+    const int line = 1 + static_cast<int>(std::count(xml.begin(), xml.begin() + at, '\n'));
+    throw InputError(fmt::format(
+        "{}:{}: this is a xacro file, not a URDF: expand it first (xacro {} > robot.urdf)", source,
+        line, source));
+  }
   check_tree(doc, source);
 
   CaptureLog capture;
@@ -274,10 +398,10 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   const std::string sensor = sensor_link.empty() ? urdf->getRoot()->name : sensor_link;
   urdf::LinkConstSharedPtr root = urdf->getLink(sensor);
   if (!root) {
-    std::string names;
-    for (const auto& [name, link] : urdf->links_) names += (names.empty() ? "" : ", ") + name;
-    throw InputError(
-        fmt::format("{}: unknown sensor link '{}' (links: {})", source, sensor, names));
+    std::vector<std::string> names;
+    for (const auto& [name, link] : urdf->links_) names.push_back(name);
+    throw InputError(fmt::format("{}: unknown sensor link '{}' ({} links; closest: {})", source,
+                                 sensor, names.size(), closest_names(sensor, names)));
   }
 
   Model model;
@@ -300,9 +424,27 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
       model.upstream.insert(model.upstream.begin(), step);
     }
     for (ChainStep& step : model.upstream) {
-      if (step.type == JointType::Fixed) continue;
+      const urdf::JointConstSharedPtr j = urdf->getJoint(step.joint);
+      if (step.type == JointType::Fixed || j->mimic) continue;
       step.joint_index = model.num_upstream_joints();
-      model.upstream_joints.push_back(make_joint(urdf->getJoint(step.joint), step.type, -1));
+      model.upstream_joints.push_back(
+          make_joint(j, step.type, -1, source, element_line(doc, "joint", step.joint)));
+    }
+    // A mimic joint above the sensor follows a master in the same chain.
+    for (ChainStep& step : model.upstream) {
+      const urdf::JointConstSharedPtr j = urdf->getJoint(step.joint);
+      if (step.type == JointType::Fixed || !j->mimic) continue;
+      const auto& uj = model.upstream_joints;
+      const auto it = std::find_if(uj.begin(), uj.end(),
+                                   [&](const Joint& m) { return m.name == j->mimic->joint_name; });
+      if (it == uj.end())
+        throw InputError(
+            fmt::format("{}: mimic joint '{}' above the sensor follows '{}', "
+                        "which is not in the chain above the sensor",
+                        source, j->name, j->mimic->joint_name));
+      step.joint_index = static_cast<int>(it - uj.begin());
+      step.joint_scale = j->mimic->multiplier;
+      step.joint_offset = j->mimic->offset;
     }
   } catch (const InputError&) {
     model.upstream.clear();
@@ -315,6 +457,7 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
     int parent;
   };
   std::vector<Pending> stack{{root, -1}};
+  std::vector<PendingMimic> mimics;
   while (!stack.empty()) {
     Pending cur = stack.back();
     stack.pop_back();
@@ -370,8 +513,15 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
       link.type = joint_type(j, source, line);
       if (link.type != JointType::Fixed) {
         link.axis = joint_axis(j, source, line);
-        link.joint_index = model.num_joints();
-        model.joints.push_back(make_joint(j, link.type, model.num_links()));
+        const Joint joint = make_joint(j, link.type, model.num_links(), source, line);
+        if (j->mimic) {
+          mimics.push_back({model.num_links(), j->name, j->mimic->joint_name, j->mimic->multiplier,
+                            j->mimic->offset, line, link.type, joint.limited, joint.lower,
+                            joint.upper});
+        } else {
+          link.joint_index = model.num_joints();
+          model.joints.push_back(joint);
+        }
       }
     }
     const int index = model.num_links();
@@ -380,6 +530,7 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
     for (auto it = cur.link->child_links.rbegin(); it != cur.link->child_links.rend(); ++it)
       stack.push_back({*it, index});
   }
+  resolve_mimics(model, mimics, *urdf, source);
   return model;
 }
 

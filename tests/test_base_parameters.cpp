@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "massid/base_parameters.hpp"
@@ -159,6 +161,66 @@ TEST(Expression, FormatsSignsAndCoefficients) {
             "mx(link1) - 0.366 m(link2) - mz(base)");
   EXPECT_EQ(format_expression(model, {{4, kMy, -2.5}}), "-2.5 my(link3)");
   EXPECT_EQ(format_expression(model, {}), "0");
+}
+
+TEST(Expression, NoRoundOffTermsFromAnAlmostRightAngle) {
+  // ur5_robot.urdf (ros-industrial) writes pi/2 as 1.57079632679, 4.9e-12 short:
+  // with wrist_1 held at 0 in motion, a combination then carried
+  // "1.95866e-11 ixz(wrist_1_link)". Terms below the rank tolerance relative to
+  // the largest of their combination are dropped: the URDF gets the expressions
+  // of the exact right angle, and none of its terms is that small.
+  std::ifstream in(MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf");
+  std::string exact((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string rounded = exact;
+  int replaced = 0;
+  for (size_t at; (at = rounded.find("1.5707963267948966")) != std::string::npos; ++replaced)
+    rounded.replace(at, 18, "1.57079632679");
+  ASSERT_GE(replaced, 3);
+  for (const double held : {0.0, 1.5707963267948966})
+    for (const bool motion : {false, true}) {
+      BaseParameterOptions o;
+      if (motion) o.layout = ParameterLayout::full();
+      const std::vector<std::pair<std::string, double>> hold{{"wrist_1_joint", held}};
+      const BaseParameters a = find_base_parameters(hold_joints(load_urdf_string(exact), hold), o);
+      const Model model = hold_joints(load_urdf_string(rounded), hold);
+      const BaseParameters b = find_base_parameters(model, o);
+      ASSERT_EQ(a.num_mass(), b.num_mass());
+      for (int i = 0; i < b.num_mass(); ++i) {
+        // The same terms, coefficients equal to the angle's error (a coefficient
+        // near a printing boundary may print its sixth digit differently).
+        ASSERT_EQ(a.params[i].terms.size(), b.params[i].terms.size()) << b.params[i].expression;
+        for (size_t t = 0; t < a.params[i].terms.size(); ++t) {
+          const Term &x = a.params[i].terms[t], &y = b.params[i].terms[t];
+          EXPECT_TRUE(x.link == y.link && x.param == y.param) << b.params[i].expression;
+          EXPECT_NEAR(x.coef, y.coef, 1e-9 * std::abs(x.coef)) << b.params[i].expression;
+        }
+        double largest = 0.0;
+        for (const Term& t : b.params[i].terms) largest = std::max(largest, std::abs(t.coef));
+        for (const Term& t : b.params[i].terms)
+          EXPECT_GE(std::abs(t.coef), 1e-8 * largest) << b.params[i].expression;
+        EXPECT_EQ(b.params[i].expression.find("e-"), std::string::npos) << b.params[i].expression;
+      }
+      // What was dropped is below what the data could ever show: the base
+      // regressor still reproduces the standard one on random parameters.
+      std::mt19937_64 rng(3);
+      std::normal_distribution<double> normal;
+      RegressorData data(model, b);
+      for (int trial = 0; trial < 5; ++trial) {
+        const int nj = model.num_joints();
+        Eigen::VectorXd q(nj), qd(nj), qdd(nj);
+        for (int j = 0; j < nj; ++j) q[j] = normal(rng), qd[j] = normal(rng), qdd[j] = normal(rng);
+        const Eigen::Vector3d g(0.3, -1.1, -9.7);
+        if (motion)
+          base_regressor(model, b, data, q, qd, qdd, g, FrameMotion{});
+        else
+          base_regressor(model, b, data, q, g);
+        const Eigen::MatrixXd& Y = data.standard;
+        Eigen::VectorXd pi(Y.cols());
+        for (Eigen::Index c = 0; c < pi.size(); ++c) pi[c] = normal(rng);
+        const Eigen::VectorXd w = Y * pi, wb = data.base * (b.K * pi);
+        EXPECT_LT((w - wb).norm(), 1e-9 * w.norm());
+      }
+    }
 }
 
 TEST(BaseParameters, OneLinkRobot) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli_support.hpp"
+#include "massid/model.hpp"
 
 namespace {
 
@@ -155,23 +156,42 @@ TEST_F(Cli, PlanarJointIsRejected) {
   expect_input_error(run({"model", f}), {f + ":4:", "'j_planar'", "planar"});
 }
 
-TEST_F(Cli, MimicJointIsRejected) {
-  const std::string f = file("mimic.urdf", kXml +
-                                               "<robot name=\"r\">\n"
-                                               "  <link name=\"a\"/>\n"
-                                               "  <joint name=\"j1\" type=\"continuous\">\n"
-                                               "    <parent link=\"a\"/><child link=\"b\"/>\n"
-                                               "  </joint>\n"
-                                               "  <link name=\"b\"/>\n"
-                                               "  <joint name=\"j2\" type=\"continuous\">\n"
-                                               "    <parent link=\"b\"/><child link=\"c\"/>\n"
-                                               "    <mimic joint=\"j1\"/>\n"
-                                               "  </joint>\n"
-                                               "  <link name=\"c\">" +
-                                               kInertial +
-                                               "</link>\n"
-                                               "</robot>\n");
-  expect_input_error(run({"model", f}), {f + ":8:", "'j2'", "mimic"});
+// Mimic joints (published grippers): they follow their master in model,
+// design, simulate, identify and predict; no file has a column for them.
+TEST_F(Cli, MimicJointsFollowTheirMasterEndToEnd) {
+  const std::string urdf = MASSID_SOURCE_DIR "/tests/data/robots/robotiq_2f_85.urdf";
+  const Result m = run({"model", urdf});
+  ASSERT_EQ(m.code, 0) << m;
+  for (const char* part :
+       {"movable joints: 1", "mimic joints: 5", "= -1 x finger_joint", "note: ", "ignored"})
+    EXPECT_NE(m.out.find(part), std::string::npos) << part << "\n" << m;
+  const Result d = run(
+      {"design", urdf, "-o", path("plan.csv"), "--poses", "12", "--tilt-max", "30", "--seed", "2"});
+  ASSERT_EQ(d.code, 0) << d;
+  const Table plan = read_table(path("plan.csv"));
+  EXPECT_GE(plan.col("finger_joint"), 0);
+  for (const char* mimic : {"right_outer_knuckle_joint", "left_inner_knuckle_joint"})
+    EXPECT_LT(plan.col(mimic), 0) << mimic;
+  for (size_t r = 0; r < plan.rows.size(); ++r) {
+    EXPECT_GE(plan.num(r, "finger_joint"), 0.0);
+    EXPECT_LE(plan.num(r, "finger_joint"), 0.8757);
+  }
+  ASSERT_EQ(run({"simulate", urdf, path("plan.csv"), "-o", path("data.csv")}).code, 0);
+  const Result id = run({"identify", urdf, path("data.csv"), "-o", path("p.json")});
+  ASSERT_EQ(id.code, 0) << id;
+  const json p = json::parse(read_file(path("p.json")));
+  double urdf_mass = 0.0;
+  for (const massid::Link& l : massid::load_urdf(urdf).links) urdf_mass += l.mass;
+  EXPECT_NEAR(p["total_mass"].get<double>(), urdf_mass, 1e-9 * urdf_mass);
+  ASSERT_EQ(run({"predict", urdf, path("p.json"), path("data.csv"), "-o", path("c.csv")}).code, 0);
+  const Table c = read_table(path("c.csv"));
+  for (size_t r = 0; r < c.rows.size(); ++r)
+    for (const char* k : {"fx", "fy", "fz", "mx", "my", "mz"})
+      EXPECT_NEAR(c.num(r, std::string(k) + "_comp"), 0.0, 1e-9) << r << k;
+  // Holding a mimic joint holds its master where the mimic is at that value.
+  const Result held = run({"model", urdf, "--fixed", "right_outer_knuckle_joint=-0.3"});
+  ASSERT_EQ(held.code, 0) << held;
+  EXPECT_NE(held.out.find("movable joints: 0"), std::string::npos) << held;
 }
 
 TEST_F(Cli, MalformedInertialIsRejectedNotTakenAsZero) {
@@ -641,12 +661,16 @@ TEST_F(Cli, SimulateOffsetNoiseAndSeed) {
     EXPECT_NEAR(p["sensor_offset"]["force"][k].get<double>(), off[k], 1e-9);
     EXPECT_NEAR(p["sensor_offset"]["moment"][k].get<double>(), off[3 + k], 1e-9);
   }
-  // predict includes the offset: compensated residuals vanish.
+  // predict: fx_pred .. mz_pred is the mechanism's wrench alone (the data
+  // without the offset), fx_comp = measured - predicted - offset vanishes.
   ASSERT_EQ(run({"predict", urdf, path("p.json"), path("offset.csv"), "-o", path("c.csv")}).code,
             0);
   const Table comp = read_table(path("c.csv"));
   for (size_t r = 0; r < comp.rows.size(); ++r)
-    for (int k = 0; k < 6; ++k) EXPECT_NEAR(comp.num(r, std::string(k6[k]) + "_comp"), 0.0, 1e-9);
+    for (int k = 0; k < 6; ++k) {
+      EXPECT_NEAR(comp.num(r, std::string(k6[k]) + "_comp"), 0.0, 1e-9);
+      EXPECT_NEAR(comp.num(r, std::string(k6[k]) + "_pred"), clean.num(r, k6[k]), 1e-9);
+    }
 
   // Noise: the right size, and the seed decides it.
   const std::vector<std::string> noise{"--noise-force", "0.5", "--noise-moment", "0.02"};

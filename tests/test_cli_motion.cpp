@@ -88,24 +88,30 @@ TEST_F(CliMotion, DesignSimulateIdentifyPredict) {
         << p["name"] << " = " << p["expression"];
 
   // Another trajectory, noise-free and without offset: predict's fx_pred .. mz_pred
-  // include the identified offsets, which hold the true offsets and the constants
-  // level data cannot tell from them (the weight in fz ...).
+  // plus the identified offsets (which hold the true offsets and the constants
+  // level data cannot tell from them: the weight in fz ...) are the wrench;
+  // fx_comp .. mz_comp = measured - fx_pred - offset.
   const std::string other = simulate(trajectory("other.csv", 7, 8.0, 200.0), "other_log.csv");
   r = run({"predict", kUr, path("params.json"), other, "-o", path("pred.csv")});
   ASSERT_EQ(r.code, 0) << r;
   const Table pred = read_table(path("pred.csv"));
   const double offset[6] = {1, 2, 3, 0.1, 0.2, 0.3};
   const char* axes[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+  const json& so = params["sensor_offset"];
   for (int k = 0; k < 6; ++k) {
-    double lo = 1e300, hi = -1e300, worst = 0;
+    const double identified = so[k < 3 ? "force" : "moment"][k % 3].get<double>();
+    double lo = 1e300, hi = -1e300, worst = 0, comp = 0;
     for (size_t i = 0; i < pred.rows.size(); ++i) {
       const double w = pred.num(i, axes[k]);
+      const double p = pred.num(i, std::string(axes[k]) + "_pred");
       lo = std::min(lo, w);
       hi = std::max(hi, w);
-      worst =
-          std::max(worst, std::abs(pred.num(i, std::string(axes[k]) + "_pred") - offset[k] - w));
+      worst = std::max(worst, std::abs(p + identified - offset[k] - w));
+      comp = std::max(comp,
+                      std::abs(pred.num(i, std::string(axes[k]) + "_comp") - (w - p - identified)));
     }
     EXPECT_LT(worst, 0.01 * (hi - lo)) << axes[k];
+    EXPECT_LT(comp, 1e-9 * (1 + hi - lo)) << axes[k];
   }
 }
 

@@ -215,6 +215,42 @@ Eigen::Vector3d reported_axis(const std::optional<SetupFinding>& f) {
   return a;
 }
 
+// ------------------------------------------------------------------ channels
+
+TEST(SetupChecks, NegatedOrSwappedChannelIsNamedAndA180DegTurnIsARotation) {
+  // Every example that tilts in two directions: each wrench channel negated
+  // alone gives the channel's finding naming it; fx swapped with fy names
+  // both; fx and fy with mx and my negated (the sensor turned 180 deg about z)
+  // is a frame rotation and never a sign error.
+  for (const char* name : {"ur_like", "wrist_tool", "branching"}) {
+    const Data clean = simulated(example(name));
+    for (int a = 0; a < 6; ++a) {
+      Data d = clean;
+      d.samples.wrench.col(a) *= -1.0;
+      const std::string col = kWrenchColumns[a];
+      const auto f = check(d);
+      const auto c = only(f, a < 3 ? "force-channels" : "moment-channels");
+      ASSERT_TRUE(c) << name << " " << col << "\n" << describe(f);
+      EXPECT_EQ(c->severity, Severity::Error);
+      EXPECT_TRUE(contains(c, "'" + col + "' is negated")) << c->message;
+      EXPECT_TRUE(contains(c, "negate " + col)) << c->message;
+      EXPECT_EQ(f.size(), 1u) << describe(f);
+    }
+    Data s = clean;
+    s.samples.wrench.col(0).swap(s.samples.wrench.col(1));
+    const auto sw = only(check(s), "force-channels");
+    EXPECT_TRUE(contains(sw, "'fx' holds fy and 'fy' holds fx")) << describe(check(s));
+    Data r = clean;
+    for (int a : {0, 1, 3, 4}) r.samples.wrench.col(a) *= -1.0;
+    const auto f = check(r);
+    const auto rot = only(f, "frame-rotation");
+    ASSERT_TRUE(rot) << name << "\n" << describe(f);
+    EXPECT_NEAR(reported_angle(rot), 180.0, 0.5) << rot->message;
+    EXPECT_GT(std::abs(reported_axis(rot).z()), 0.999) << rot->message;
+    EXPECT_EQ(f.size(), 1u) << describe(f);
+  }
+}
+
 TEST(SetupChecks, RotatedWrenchFrameIsReportedWithTheBestRotation) {
   // ur_like and wrist_tool tilt in every direction (the centred, offset-free
   // fit); the PUMA tilts about y only (the direction of change).

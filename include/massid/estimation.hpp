@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -59,7 +60,16 @@ struct IdentifySummary {
   Eigen::Matrix<double, 6, 1> residual_max;  // largest |residual| per axis
   Eigen::Matrix<double, 6, 1> sigma;         // noise per axis used as weights
   bool sigma_estimated = true;               // sigma from residuals (else from options)
-  double chi2_per_dof = 1.0;                 // weighted residual sum / (6N - p)
+  bool sigma_force_given = false;            // options.sigma_force was set
+  bool sigma_moment_given = false;           // options.sigma_moment was set
+  // Degrees of freedom of each axis' residuals: the samples used less the
+  // fit's leverages on the axis' rows, N - tr(H_kk) (they sum to 6N - p). An
+  // estimated sigma_k is sqrt(SSR_k / residual_dof_k); with few (below
+  // kFewResidualDof) it is uncertain and identify_warnings says so. Infinite:
+  // not computed (a summary built by hand).
+  Eigen::Matrix<double, 6, 1> residual_dof =
+      Eigen::Matrix<double, 6, 1>::Constant(std::numeric_limits<double>::infinity());
+  double chi2_per_dof = 1.0;  // weighted residual sum / (6N - p)
   int samples = 0;
   bool gravity_from_force = false;
   bool gravity_from_upstream = false;  // gravity from the joints above the sensor link
@@ -76,6 +86,17 @@ struct IdentifySummary {
   std::vector<std::string> drift_names;
   Eigen::VectorXd drift_value, drift_stddev;
 };
+
+// Below this many residual degrees of freedom on an axis an estimated noise
+// level is not trustworthy: sigma_k is then uncertain by 1/sqrt(2 dof) (22 %
+// at 10) and the errors over the reported std follow Student's t with dof
+// degrees of freedom, whose rms sqrt(dof / (dof - 2)) is 1.12 at 10 and grows
+// fast below (1.29 at 5).
+constexpr double kFewResidualDof = 10.0;
+
+// The degrees of freedom an estimated sigma_k divides SSR_k by: the samples
+// used less tr(H_kk), floored at 0.5 (near zero the axis is fitted exactly).
+double noise_dof(double samples, double leverage);
 
 // Throws IdentifiabilityError when the samples cannot determine every unknown,
 // naming them and the poses that would determine them.

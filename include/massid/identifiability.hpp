@@ -18,7 +18,13 @@ struct IdentifiabilityReport {
   std::vector<int> undetermined;            // unknowns involved in the null space
   bool tilt_would_help = false;             // more gravity directions would determine them
   std::vector<std::string> joints_to_move;  // moving one of these would help
-  std::string message;                      // the user-facing explanation with its fix
+  // At most this many independent equations can the data's number of
+  // samples give (random ones; `unknowns` when there are 2 p samples or more);
+  // when below `unknowns` the count is the cause and samples_needed is the
+  // fewest that can determine every unknown.
+  int equations = 0;
+  int samples_needed = 0;
+  std::string message;  // the user-facing explanation with its fix, one short line
   bool ok() const { return rank == unknowns; }
 };
 

@@ -18,6 +18,11 @@ struct Link {
   std::string joint;                  // URDF joint from the parent ("" for the sensor link)
   JointType type = JointType::Fixed;  // revolute covers URDF "continuous" too
   int joint_index = -1;               // index in Model::joints, -1 when fixed
+  // The joint's position is joint_scale q[joint_index] + joint_offset: 1 and 0
+  // for an independent joint; a URDF mimic joint follows its master
+  // (joint_index) with the mimic's multiplier and offset (Model::mimics).
+  double joint_scale = 1.0;
+  double joint_offset = 0.0;
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // parent frame -> joint frame, q = 0
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();           // unit joint axis, joint frame
   // Nominal inertial from the URDF (used by `simulate`, never by `predict`).
@@ -44,8 +49,11 @@ struct Joint {
   std::string name;
   JointType type = JointType::Revolute;
   bool continuous = false;
-  double lower = 0.0, upper = 0.0;  // URDF limits (rad or m); unlimited when !limited
+  double lower = 0.0, upper = 0.0;  // limits (rad or m); unlimited when !limited
   bool limited = false;
+  // The URDF's own limits; lower/upper are narrower when a mimic joint's
+  // limits allow less of the master's range (MimicJoint).
+  double urdf_lower = 0.0, urdf_upper = 0.0;
   double velocity_limit = 0.0;  // URDF <limit velocity>, rad/s or m/s; 0 when not given
   int link = -1;                // the child link it moves, index in Model::links
 
@@ -54,20 +62,35 @@ struct Joint {
   double generic_position(double u) const;
 };
 
+// A URDF mimic joint of the measured subtree: q = multiplier q_master + offset.
+// It has no column in any file and no entry in Model::joints; its link moves
+// with the master (Link::joint_index, joint_scale, joint_offset), and its own
+// limits narrow the master's (Joint::lower/upper, the URDF's in urdf_lower/upper).
+struct MimicJoint {
+  std::string name;
+  std::string master;  // URDF name of the master joint (in Model::joints)
+  double multiplier = 1.0, offset = 0.0;
+  int link = -1;  // the child link it moves, index in Model::links
+};
+
 // One joint of the chain from the URDF root link down to the sensor link.
 struct ChainStep {
   std::string joint;  // URDF joint name
   JointType type = JointType::Fixed;
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // parent frame -> joint frame, q = 0
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();           // unit joint axis, joint frame
-  int joint_index = -1;  // index in Model::upstream_joints, -1 when fixed
+  int joint_index = -1;                          // index in Model::upstream_joints, -1 when fixed
+  double joint_scale = 1.0, joint_offset = 0.0;  // a mimic joint: as Link's
 };
 
 struct Model {
-  std::string name;           // URDF robot name
-  std::string source;         // file it was loaded from, for messages
-  std::vector<Link> links;    // depth-first from the sensor link: parent index < own index
-  std::vector<Joint> joints;  // movable joints, in the order of their links
+  std::string name;                // URDF robot name
+  std::string source;              // file it was loaded from, for messages
+  std::vector<Link> links;         // depth-first from the sensor link: parent index < own index
+  std::vector<Joint> joints;       // movable joints, in the order of their links
+  std::vector<MimicJoint> mimics;  // mimic joints below the sensor link
+  // What the loader noticed and worked around (file:line: what, what was done).
+  std::vector<std::string> warnings;
   // Joints held still at a position (hold_joints): fixed in this model.
   std::vector<std::pair<std::string, double>> held;
   // Above the sensor link (a wrist sensor): the chain from the URDF root link,
@@ -88,8 +111,10 @@ struct Model {
 };
 
 // Loads a URDF file. `sensor_link` empty means the URDF root link. Throws
-// InputError for unreadable or malformed files, unsupported joints (floating,
-// planar, mimic) and unknown sensor links.
+// InputError (file:line) for unreadable or malformed files, unsupported joints
+// (floating, planar) below the sensor link, a mimic joint whose master is a
+// mimic joint too, fixed, or above the sensor link, swapped limits
+// (lower > upper), and unknown sensor links (with the closest names).
 Model load_urdf(const std::string& path, const std::string& sensor_link = "");
 // The model with some joints held still at the given positions (rad or m):
 // they become fixed joints, so the base parameters are those such an

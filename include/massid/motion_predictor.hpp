@@ -77,7 +77,8 @@ struct MotionPredictor {
   std::vector<int> joint;          // [lanes] index into q of body k's joint (0: none)
   std::vector<double> revolute;    // [lanes] sigma_k for a revolute joint, else 0
   std::vector<double> prismatic;   // [lanes] sigma_k for a prismatic joint, else 0
-  std::vector<double> angle;       // [lanes] phi_k, added to theta_k
+  std::vector<double> angle;       // [lanes] phi_k, added to theta_k (+ a mimic's offset)
+  std::vector<double> slide;       // [lanes] a prismatic mimic joint's offset, sigma_k b_k
   std::vector<double> axes;        // [lanes x 9] A_k, row-major (axis e_m: only column 2, e_m)
   std::vector<double> origin;      // [lanes x 3] t_k
   std::vector<double> inertial;    // [lanes x 10] m, hx, hy, hz, ixx, ixy, ixz, iyy, iyz, izz

@@ -41,9 +41,10 @@ using Wrench = Eigen::Matrix<double, 6, 1>;  // fx fy fz mx my mz
 // One movable body k of the recursion (bodies numbered depth first, 0 the
 // sensor body; steps are stored for k = 1..n and run from n down to 1).
 struct PredictorStep {
-  int joint = 0;         // index into q
-  int parent = 0;        // parent body p
-  bool carry = false;    // p == k - 1: S_p continues in registers
+  int joint = 0;                                 // index into q
+  double joint_scale = 1.0, joint_offset = 0.0;  // the joint's position: scale q + offset (mimic)
+  int parent = 0;                                // parent body p
+  bool carry = false;                            // p == k - 1: S_p continues in registers
   bool gathers = false;  // carry, and p has other children: add their sum, gathered[p]
   double slide = 0.0;    // M_k for a prismatic joint, else 0 (c_k's q term)
   // A_k (parent frame <- body frame, joint axis = z): axes[j] = column j, then 0.
@@ -55,12 +56,13 @@ struct PredictorStep {
 };
 
 struct Predictor {
-  std::vector<PredictorStep> steps;           // [n], steps[k - 1] is body k
-  std::vector<Eigen::Vector3d> first_moment;  // [n + 1] h_b, body frame
-  std::vector<int> lane_joint;                // [n, padded to 4] joint of body k (index k - 1)
-  std::vector<double> lane_revolute;          // [n, padded to 4] revolute of body k, 0 past n
-  double total_mass = 0.0;                    // M_t
-  Wrench offset = Wrench::Zero();             // f_0, m_0 (zero without offsets)
+  std::vector<PredictorStep> steps;             // [n], steps[k - 1] is body k
+  std::vector<Eigen::Vector3d> first_moment;    // [n + 1] h_b, body frame
+  std::vector<int> lane_joint;                  // [n, padded to 4] joint of body k (index k - 1)
+  std::vector<double> lane_revolute;            // [n, padded to 4] revolute of body k, 0 past n
+  std::vector<double> lane_scale, lane_offset;  // [n, padded to 4] theta = scale q + offset
+  double total_mass = 0.0;                      // M_t
+  Wrench offset = Wrench::Zero();               // f_0, m_0 (zero without offsets)
   int num_joints = 0;
   bool four_lanes = false;  // AVX2 path (set when the CPU has it); same bits as the SSE2 path
   int num_bodies() const { return static_cast<int>(first_moment.size()); }

@@ -28,8 +28,10 @@ PredictionErrors prediction_errors(const Eigen::MatrixXd& measured,
 
 std::string model_report(const Model& model, const BaseParameters& base);
 // Warnings about an identification, one line each ("massid: warning: ..."):
-// samples whose residuals are implausible for the fitted noise (reported, or
-// rejected with --robust), and the largest residuals of a streamed log.
+// an estimated noise level with fewer than kFewResidualDof residual degrees of
+// freedom on an axis, samples whose residuals are implausible for the fitted
+// noise (reported, or rejected with --robust), and the largest residuals of a
+// streamed log.
 std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::string& source);
 
 std::string identify_report(const Model& model, const BaseParameters& base,

@@ -3,11 +3,14 @@
 //
 //   code                severity         what it means
 //   wrench-sign         error            the force points against gravity (reaction convention)
+//   force-channels      error            a force channel negated or two swapped (a reflection)
+//   moment-channels     error            the same for the moment channels
 //   frame-rotation      warning / error  the wrench frame is rotated against gx,gy,gz (2 / 5 deg)
 //   joint-degrees       error / warning  a radian joint column holds degrees
 //   joint-millimetres   error            a prismatic joint column holds millimetres
 //   force-units         error            forces in mN (total mass ~1000 x the URDF's)
 //   moment-units        error            moments in N mm (lever arms ~1000 x the robot)
+//                                        (without URDF masses both judged by the robot's reach)
 //   gravity-magnitude   error / warning  |g| of gx,gy,gz far from 9.81 m/s^2
 //   duplicate-columns   error / warning  two wrench (error) or joint (warning) columns identical
 //   constant-wrench     error            a wrench channel that never changes but should
@@ -49,7 +52,8 @@ struct SetupCheckOptions {
   bool motion = false;
 };
 
-// The checks on samples read with read_samples (WrenchColumns::Required).
+// The checks on samples read with read_samples. Without a wrench (a plan, or
+// a file given to predict), only the joint, gravity and joint-column checks.
 // `header` is the file's column names (to tell JOINT from JOINT_deg columns);
 // empty: every joint column is named as the joint.
 std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples,

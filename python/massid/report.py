@@ -1346,7 +1346,12 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
     comp = None
     if has_wrench:
         measured = np.column_stack([cols[a] for a in AXES])
-        comp = measured - predicted
+        # massid.predict is the mechanism's wrench (fx_pred); the compensated
+        # wrench also takes away the identified offsets (fx_comp).
+        so = pj.get("sensor_offset") or {}
+        offset = (np.array(list(so["force"]) + list(so["moment"]), dtype=float)
+                  if isinstance(so.get("force"), list) else np.zeros(6))
+        comp = measured - predicted - offset
         rms = np.sqrt(np.nanmean(comp ** 2, axis=0))
         rng = np.ptp(measured, axis=0)
         worst = int(np.nanargmax(rms / np.where(rng > 0, rng, np.inf))) if n else 0
@@ -1357,13 +1362,13 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
     doc.add('<h2 id="summary">Summary</h2>')
     doc.add(f'<div class="cards">{"".join(cards)}</div>')
     if comp is not None and dynamic:
-        doc.add("<p>Compensated wrench = measured − predicted. The predicted wrench is the "
-                "mechanism's own in motion, weight and inertial forces, plus the identified "
-                "sensor offsets (as massid predict). What remains is noise, the load beyond "
+        doc.add("<p>Compensated wrench = measured − predicted − the identified sensor offsets "
+                "(massid predict's fx_comp). The predicted wrench is the mechanism's own in "
+                "motion, weight and inertial forces. What remains is noise, the load beyond "
                 "the robot itself, and model error." + _e(prepared_note) + "</p>")
     elif comp is not None:
-        doc.add("<p>Compensated wrench = measured − predicted (the predicted wrench includes "
-                "the identified sensor offsets, if any). What remains is noise, the load "
+        doc.add("<p>Compensated wrench = measured − predicted − the identified sensor offsets, "
+                "if any (massid predict's fx_comp). What remains is noise, the load "
                 "beyond the robot's own weight, and model error.</p>")
         doc.add(_axis_table([
             ("RMS of measured − predicted", rms),

@@ -299,6 +299,7 @@ void bind_predict(py::module_& m) {
           const Samples s = samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts);
           Eigen::MatrixXd W(s.size(), 6);
           predict(p->predictor, *p->data, s.q, s.gravity, W);
+          if (p->offset) W.rowwise() -= p->offset->transpose();  // fx_pred: without the offset
           return W;
         }
         // As massid predict: derivatives from the columns, else derived (every
@@ -310,14 +311,17 @@ void bind_predict(py::module_& m) {
         MotionDataOptions o = motion_data_options(cutoff, root_gravity);
         o.filter.decimation = 1;
         const Samples s = prepare_motion_samples(p->model, std::move(raw), o);
-        return PyPredictor::spread_rows(p->predict_samples(s), s.line, rows,
-                                        from_file ? &table.line : nullptr);
+        Eigen::MatrixXd W = p->predict_samples(s);
+        if (p->offset) W.rowwise() -= p->offset->transpose();  // fx_pred: without the offset
+        return PyPredictor::spread_rows(W, s.line, rows, from_file ? &table.line : nullptr);
       },
       py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),
       py::arg("cutoff") = py::none(), py::arg("root_gravity") = py::none(),
-      "[N, 6] predicted wrench at every row of data: a CSV path or columns by name "
+      "[N, 6] the mechanism's predicted wrench at every row of data, WITHOUT the identified "
+      "sensor offsets (massid predict's fx_pred..mz_pred; a Predictor's call and "
+      "Predictor.offset give the offsets): data is a CSV path or columns by name "
       "(joints or JOINT_deg, and gx, gy, gz or a measured force, as massid predict).\n"
-      "Dynamic parameters: the full wrench in motion (plus the offsets) from JOINT_vel and "
+      "Dynamic parameters: the full wrench in motion from JOINT_vel and "
       "JOINT_acc, or derived from t and the positions by the zero-phase low-pass of massid "
       "predict (cutoff Hz): the rows the filter drops at each end (of each block) are NaN. "
       "root_gravity: gravity in the URDF root frame (sensor below movable joints).");

@@ -268,9 +268,10 @@ def test_predict_report_with_measured_wrench(massid: Any, tmp_path: Path, puma_u
     for p in doc["base_parameters"]:
         _, cells = page.row(p["name"])
         assert cells[1] == f"{p['value']:.6g}" and cells[2] == f"{p['std']:.2g}"
-    predicted = massid.predict(str(puma_urdf), str(puma_params), str(csv))
+    predicted = massid.predict(str(puma_urdf), str(puma_params), str(csv))  # fx_pred
     measured = np.column_stack([data[a] for a in AXES])
-    rms = np.sqrt(np.mean((measured - predicted) ** 2, axis=0))
+    so = doc["sensor_offset"]  # fx_comp = measured - fx_pred - offset
+    rms = np.sqrt(np.mean((measured - predicted - np.array(so["force"] + so["moment"])) ** 2, axis=0))
     _, row = page.row("RMS of measured − predicted")
     assert row[1:] == [f"{v:.4g}" for v in rms]
     assert np.all(rms < 0.1)  # offsets included: only the noise remains

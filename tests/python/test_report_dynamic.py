@@ -138,7 +138,7 @@ def test_report_command_line_in_motion(massid: Any, package_env: dict[str, str],
     n, kept = len(hold["t"]), np.isfinite(massid.predict(str(UR), params, hold_csv, cutoff=8.0)).all(axis=1)
     assert f"{int(kept.sum())} samples" in page.text and f"the {n - int(kept.sum())} rows" in page.text
     assert "compensated wrench (measured − predicted) against joint velocities" in alts(page)
-    assert "plus the identified sensor offsets" in page.text
+    assert "measured − predicted − the identified sensor offsets" in page.text
 
 
 def test_cli_reports_in_motion(massid: Any, tmp_path: Path, ur_positions_csv: Path) -> None:
