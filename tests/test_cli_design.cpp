@@ -605,7 +605,7 @@ TEST_F(CliDesign, BadUsageExits2AndLeavesTheOutputUntouched) {
 // the poses are level, the output says both and how to turn them off, and the
 // plan still identifies.
 TEST_F(CliDesign, DefaultPlanKeepsTheUr5AboveItsMountingPlateWithLevelPoses) {
-  const std::string ur5 = kSource + "/tests/data/ur5_robot.urdf";
+  const std::string ur5 = kSource + "/tests/data/robots/ur5_robot.urdf";
   const massid::Model m = massid::load_urdf(ur5);
   const Result r = design(ur5, "plan.csv", 24, {"--tilt-max", "25"});
   ASSERT_EQ(r.code, 0) << r;
@@ -643,7 +643,7 @@ TEST_F(CliDesign, DefaultPlanKeepsTheUr5AboveItsMountingPlateWithLevelPoses) {
 }
 
 TEST_F(CliDesign, MinHeightNoneAndLevelPosesZeroTurnTheDefaultsOff) {
-  const std::string ur5 = kSource + "/tests/data/ur5_robot.urdf";
+  const std::string ur5 = kSource + "/tests/data/robots/ur5_robot.urdf";
   const massid::Model m = massid::load_urdf(ur5);
   const Result r = design(ur5, "plan.csv", 24,
                           {"--tilt-max", "25", "--min-height", "none", "--level-poses", "0"});
@@ -666,7 +666,7 @@ TEST_F(CliDesign, MinHeightNoneAndLevelPosesZeroTurnTheDefaultsOff) {
 }
 
 TEST_F(CliDesign, DynamicTrajectoryWarnsWhenItGoesBelowThePlate) {
-  const std::string ur5 = kSource + "/tests/data/ur5_robot.urdf";
+  const std::string ur5 = kSource + "/tests/data/robots/ur5_robot.urdf";
   const Result r = run(
       {"design", ur5, "--dynamic", "-o", path("traj.csv"), "--duration", "10", "--rate", "100"});
   ASSERT_EQ(r.code, 0) << r;

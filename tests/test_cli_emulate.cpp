@@ -161,7 +161,7 @@ TEST_F(CliEmulate, BadInputExitsTwo) {
 // default spacecraft to the 21 kg arm, and every stop names its limit with
 // numbers and the options to change.
 TEST_F(CliEmulate, RosUr5WithRootLinkWorldRunsOnASpacecraftSizedToIt) {
-  const std::string ur5 = kSource + "/tests/data/ur5_robot.urdf";
+  const std::string ur5 = kSource + "/tests/data/robots/ur5_robot.urdf";
   Result r = run({"design", ur5, "-o", path("plan.csv"), "--poses", "24", "--tilt-max", "25",
                   "--candidates", "300"});
   ASSERT_EQ(r.code, 0) << r;

@@ -233,7 +233,7 @@ double lowest_moving_point(const Model& m, const Eigen::VectorXd& q) {
 // poses level, and the plan identifies; without the constraint the optimiser
 // does go through the plate, so the default is what keeps it out.
 TEST(Design, Ur5DefaultsKeepTheArmAboveItsMountingPlateAndLevelPoses) {
-  const Model model = load_urdf(MASSID_SOURCE_DIR "/tests/data/ur5_robot.urdf");
+  const Model model = load_urdf(MASSID_SOURCE_DIR "/tests/data/robots/ur5_robot.urdf");
   ASSERT_EQ(model.sensor_link(), "world");
   const BaseParameters base = find_base_parameters(model);
   DesignOptions o;
