@@ -614,7 +614,9 @@ TEST_F(MotionCsvTest, ErrorsAreThoseOfReadMotionSamples) {
       {"some_vel", "_vel"},
       {"some_sensor", "wx"},
   };
-  for (const auto& [name, drop] : headers) {
+  for (const auto& header_case : headers) {
+    const std::string& name = header_case.first;   // (lambdas below capture them:
+    const std::string& drop = header_case.second;  // no structured binding, for clang 14)
     SCOPED_TRACE(name);
     Log given;
     given.sensor_columns = true;
