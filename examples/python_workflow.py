@@ -53,11 +53,12 @@ def main(out: pathlib.Path) -> int:
     for p in fit.base_parameters:
         print(f"  {p.name:>3} = {p.value:9.5f} +- {p.std:.5f} {p.unit:5} {p.expression}")
 
-    # 4. Predict the gravity wrench at the held-out poses; the as-built robot's
-    #    noise-free wrench (with the same offset) is the truth.
+    # 4. Predict the gravity wrench at the held-out poses (the mechanism's own,
+    #    without the sensor offset, as massid predict's fx_pred); the as-built
+    #    robot's noise-free wrench is the truth.
     holdout = massid.read_csv(HOLDOUT)
     predicted = massid.predict(URDF, fit, holdout)
-    truth = massid.simulate(AS_BUILT, holdout, offset=offset)
+    truth = massid.simulate(AS_BUILT, holdout)
     true_w = np.column_stack([truth[a] for a in AXES])
     rms = np.sqrt(((true_w - predicted) ** 2).mean(axis=0))
     span = np.ptp(true_w, axis=0)

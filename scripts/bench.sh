@@ -47,33 +47,27 @@ awk -v n="$ROWS" -v a="$t0" -v b="$t1" \
 
 # Identification in motion: `massid identify --dynamic` (streamed from the CSV,
 # streaming.hpp) against the numpy pipeline (bench/numpy_identify_dynamic.py)
-# on one 100 000-row log of ur_like with the velocities given (52 MB, about
-# 30-70 s for numpy), both end to end; the anchor also checks that its
-# solution matches massid's params file.
+# on one 100 000-row log of ur_like, both end to end; the anchor also checks
+# that its solution matches massid's params file. Two logs: the velocities
+# given (52 MB, about 30-70 s for numpy), and positions only (massid derives
+# the velocities and accelerations by its zero-phase filter in the stream; the
+# anchor filters with np.convolve and fits every filtered row, its default).
 DROWS=100000
-"$PY" bench/make_dynamic_log.py "$URDF" "$TMP/dynamic.csv" --rows "$DROWS" \
-  --noise-force 0.1 --noise-moment 0.01 2>/dev/null
-t0=$(date +%s.%N)
-"$BUILD/massid" identify --dynamic "$URDF" "$TMP/dynamic.csv" -o "$TMP/dynamic.json" >/dev/null
-t1=$(date +%s.%N)
-echo
-echo "identify --dynamic from CSV, $DROWS rows of ur_like (velocities given), end to end:"
-awk -v n="$DROWS" -v a="$t0" -v b="$t1" \
-  'BEGIN { printf "  massid identify --dynamic  %10.3g rows/s\n", n / (b - a) }'
-"$PY" bench/numpy_identify_dynamic.py "$URDF" "$TMP/dynamic.csv" --params "$TMP/dynamic.json" |
-  sed 's/^/  /'
-
-# The same log with positions only: massid derives the velocities and
-# accelerations by its zero-phase filter in the stream; the anchor filters
-# with np.convolve and fits every filtered row (its default).
-"$PY" bench/make_dynamic_log.py "$URDF" "$TMP/positions.csv" --rows "$DROWS" --no-derivatives \
-  --noise-force 0.1 --noise-moment 0.01 2>/dev/null
-t0=$(date +%s.%N)
-"$BUILD/massid" identify --dynamic "$URDF" "$TMP/positions.csv" -o "$TMP/positions.json" >/dev/null
-t1=$(date +%s.%N)
-echo
-echo "identify --dynamic from CSV, $DROWS rows of ur_like (positions only), end to end:"
-awk -v n="$DROWS" -v a="$t0" -v b="$t1" \
-  'BEGIN { printf "  massid identify --dynamic  %10.3g rows/s\n", n / (b - a) }'
-"$PY" bench/numpy_identify_dynamic.py "$URDF" "$TMP/positions.csv" --params "$TMP/positions.json" |
-  sed 's/^/  /'
+dynamic_pair() {  # NAME "what" [make_dynamic_log.py options]
+  local name=$1 what=$2
+  shift 2
+  "$PY" bench/make_dynamic_log.py "$URDF" "$TMP/$name.csv" --rows "$DROWS" \
+    --noise-force 0.1 --noise-moment 0.01 "$@" 2>/dev/null
+  local t0 t1
+  t0=$(date +%s.%N)
+  "$BUILD/massid" identify --dynamic "$URDF" "$TMP/$name.csv" -o "$TMP/$name.json" >/dev/null
+  t1=$(date +%s.%N)
+  echo
+  echo "identify --dynamic from CSV, $DROWS rows of ur_like ($what), end to end:"
+  awk -v n="$DROWS" -v a="$t0" -v b="$t1" \
+    'BEGIN { printf "  massid identify --dynamic  %10.3g rows/s\n", n / (b - a) }'
+  "$PY" bench/numpy_identify_dynamic.py "$URDF" "$TMP/$name.csv" --params "$TMP/$name.json" |
+    sed 's/^/  /'
+}
+dynamic_pair dynamic "velocities given"
+dynamic_pair positions "positions only" --no-derivatives

@@ -56,7 +56,9 @@ void fix_link(Link& link, double value) {
 }  // namespace
 
 Model hold_joints(Model model, const std::vector<std::pair<std::string, double>>& held) {
-  for (auto [name, value] : held) {
+  for (const auto& hold : held) {
+    std::string name = hold.first;  // (not a structured binding: the lambda below captures it)
+    double value = hold.second;
     // Holding a mimic joint holds its master where the mimic is at `value`.
     const auto mimic = std::find_if(model.mimics.begin(), model.mimics.end(),
                                     [&](const MimicJoint& m) { return m.name == name; });

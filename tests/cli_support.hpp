@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -146,6 +147,13 @@ class Cli : public ::testing::Test {
   std::string file(const std::string& name, const std::string& text) const {
     write_file(path(name), text);
     return path(name);
+  }
+  // A copy of the CSV `in` with every row passed through `edit`.
+  std::string edited(const std::string& in, const std::string& name,
+                     const std::function<void(const Table&, std::vector<std::string>&)>& edit) {
+    Table t = read_table(in);
+    for (auto& row : t.rows) edit(t, row);
+    return file(name, to_csv(t));
   }
 
   // Runs massid with args; stdout and stderr go to files of the temp dir.

@@ -48,14 +48,6 @@ class CliChecks : public Cli {
     return path(name);
   }
 
-  // A copy of a CSV with every row passed through `edit` (column -> value).
-  std::string edited(const std::string& in, const std::string& name,
-                     const std::function<void(const Table&, std::vector<std::string>&)>& edit) {
-    Table t = read_table(in);
-    for (auto& row : t.rows) edit(t, row);
-    return file(name, to_csv(t));
-  }
-
   static void scale(const Table& t, std::vector<std::string>& row,
                     const std::vector<std::string>& cols, double k) {
     for (const auto& c : cols) row[t.col(c)] = num(k * std::stod(row[t.col(c)]));

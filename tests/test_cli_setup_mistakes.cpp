@@ -55,13 +55,6 @@ class SetupMistakes : public Cli {
     EXPECT_EQ(r.code, 0) << r;
     return path(name);
   }
-  // A copy of a CSV with every row passed through `edit`.
-  std::string edited(const std::string& in, const std::string& name,
-                     const std::function<void(const Table&, std::vector<std::string>&)>& edit) {
-    Table t = read_table(in);
-    for (auto& row : t.rows) edit(t, row);
-    return file(name, to_csv(t));
-  }
   static std::function<void(const Table&, std::vector<std::string>&)> scaled(
       const std::vector<std::string>& cols, double k) {
     return [=](const Table& t, std::vector<std::string>& row) {

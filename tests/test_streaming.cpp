@@ -18,12 +18,16 @@
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
+#include "summary_support.hpp"
 #include "test_support.hpp"
 
 namespace massid {
 namespace {
 
 namespace fs = std::filesystem;
+using test::expect_close;
+using test::expect_identical;
+using test::expect_same_summary;
 
 const Wrench kOffset = (Wrench() << 0.5, -0.3, 1.0, 0.05, -0.02, 0.03).finished();
 
@@ -80,56 +84,6 @@ Samples random_data(const Model& model, int n, std::uint64_t seed) {
   so.seed = seed;
   s.wrench = simulate_wrenches(model, s, so);
   return s;
-}
-
-// |a - b| <= rel * max(|a_i|, |b_i|), with a floor of rel * 1e-6 * max|a|
-// for entries that are nearly zero (covariances between unrelated unknowns).
-void expect_close(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double rel,
-                  const std::string& what) {
-  ASSERT_EQ(a.rows(), b.rows()) << what;
-  ASSERT_EQ(a.cols(), b.cols()) << what;
-  const double floor = 1e-6 * a.cwiseAbs().maxCoeff();
-  for (Eigen::Index i = 0; i < a.size(); ++i) {
-    const double x = a.data()[i], y = b.data()[i];
-    EXPECT_LE(std::abs(x - y), rel * std::max({std::abs(x), std::abs(y), floor}))
-        << what << "[" << i << "]: " << x << " vs " << y;
-  }
-}
-
-void expect_same_summary(const IdentifySummary& d, const IdentifySummary& s, double rel,
-                         bool residual_max = true) {
-  expect_close(d.value, s.value, rel, "value");
-  expect_close(d.stddev, s.stddev, rel, "stddev");
-  // Covariances relative to sqrt(C_ii C_jj): entries between nearly
-  // uncorrelated unknowns are round-off of that size.
-  ASSERT_EQ(d.covariance.rows(), s.covariance.rows());
-  for (Eigen::Index i = 0; i < d.covariance.rows(); ++i)
-    for (Eigen::Index j = 0; j < d.covariance.cols(); ++j)
-      EXPECT_LE(std::abs(d.covariance(i, j) - s.covariance(i, j)),
-                rel * std::sqrt(d.covariance(i, i) * d.covariance(j, j)))
-          << "covariance(" << i << "," << j << ")";
-  expect_close(Eigen::VectorXd::Constant(1, d.condition_number),
-               Eigen::VectorXd::Constant(1, s.condition_number), rel, "condition number");
-  expect_close(d.residual_rms, s.residual_rms, rel, "residual_rms");
-  if (residual_max) expect_close(d.residual_max, s.residual_max, rel, "residual_max");
-  expect_close(d.sigma, s.sigma, rel, "sigma");
-  expect_close(Eigen::VectorXd::Constant(1, d.chi2_per_dof),
-               Eigen::VectorXd::Constant(1, s.chi2_per_dof), rel, "chi2_per_dof");
-  EXPECT_EQ(d.samples, s.samples);
-  EXPECT_EQ(d.sigma_estimated, s.sigma_estimated);
-  EXPECT_EQ(d.gravity_from_force, s.gravity_from_force);
-}
-
-void expect_identical(const IdentifySummary& a, const IdentifySummary& b) {
-  EXPECT_EQ(a.value, b.value);
-  EXPECT_EQ(a.stddev, b.stddev);
-  EXPECT_EQ(a.covariance, b.covariance);
-  EXPECT_EQ(a.condition_number, b.condition_number);
-  EXPECT_EQ(a.residual_rms, b.residual_rms);
-  EXPECT_EQ(a.residual_max, b.residual_max);
-  EXPECT_EQ(a.sigma, b.sigma);
-  EXPECT_EQ(a.chi2_per_dof, b.chi2_per_dof);
-  EXPECT_EQ(a.samples, b.samples);
 }
 
 // Writes samples as a data CSV (shortest round-trip numbers: the file holds

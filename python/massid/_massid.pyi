@@ -255,7 +255,8 @@ def predict(
     cutoff: Optional[float] = None,
     root_gravity: Optional[Sequence[float]] = None,
 ) -> np.ndarray:
-    """[N, 6] predicted wrench at every row of data (joint and gravity columns); dynamic
+    """[N, 6] the mechanism's predicted wrench at every row of data (joint and gravity
+    columns), without the identified sensor offsets (massid predict's fx_pred); dynamic
     parameters: in motion, NaN in the rows the derivative filter drops."""
 
 def simulate(

@@ -95,20 +95,38 @@ def _e(text: Any) -> str:
     return html.escape(str(text), quote=True)
 
 
-def condition_verdict(cond: float) -> tuple[str, str]:
-    """Plain-language verdict on the eq. 36 condition number: (css class, sentence)."""
+# Verdicts on the condition number: (good below, fair below, poor below) and
+# the sentences, static (eq. 36, first moments from poses) and in motion (the
+# column-scaled regressor of a trajectory).
+_CONDITION_VERDICTS = {
+    False: ((10, 100, 1e4), (
+        "good: the poses determine every first moment well",
+        "fair: some combinations of first moments are determined less well; check the "
+        "relative standard deviations below",
+        "poor: the poses hardly separate some parameters; plan a better experiment with "
+        "massid design",
+        "very poor: some parameters are nearly undetermined; add poses that move every joint "
+        "and tilt the platform (massid design)")),
+    True: ((30, 300, 1e4), (
+        "good: the trajectory excites every base parameter well",
+        "fair: some parameters are excited less well; check the relative standard deviations "
+        "below",
+        "poor: the trajectory hardly separates some parameters; move every joint faster and "
+        "over more of its range (massid design --dynamic)",
+        "very poor: some parameters are nearly undetermined; use an exciting trajectory "
+        "(massid design --dynamic, massid.fourier_trajectory)")),
+}
+
+
+def condition_verdict(cond: float, dynamic: bool = False) -> tuple[str, str]:
+    """Plain-language verdict on the condition number: (css class, sentence)."""
     if cond is None or not math.isfinite(cond):
         return "bad", "not available: the data do not determine every parameter"
-    if cond < 10:
-        return "good", "good: the poses determine every first moment well"
-    if cond < 100:
-        return "fair", ("fair: some combinations of first moments are determined "
-                        "less well; check the relative standard deviations below")
-    if cond < 1e4:
-        return "bad", ("poor: the poses hardly separate some parameters; "
-                       "plan a better experiment with massid design")
-    return "bad", ("very poor: some parameters are nearly undetermined; "
-                   "add poses that move every joint and tilt the platform (massid design)")
+    limits, sentences = _CONDITION_VERDICTS[dynamic]
+    for limit, cls, sentence in zip(limits, ("good", "fair", "bad"), sentences):
+        if cond < limit:
+            return cls, sentence
+    return "bad", sentences[-1]
 
 
 def chi2_verdict(chi2: float, sigma_estimated: bool) -> tuple[str, str]:
@@ -588,22 +606,6 @@ def _sample_period(t: Optional[np.ndarray]) -> tuple[float, bool, str]:
     return dt, bool(np.all(np.abs(d - dt) <= 0.01 * dt)), "Hz"
 
 
-def condition_verdict_dynamic(cond: float) -> tuple[str, str]:
-    """Verdict on the condition number of the column-scaled regressor in motion."""
-    if cond is None or not math.isfinite(cond):
-        return "bad", "not available: the data do not determine every parameter"
-    if cond < 30:
-        return "good", "good: the trajectory excites every base parameter well"
-    if cond < 300:
-        return "fair", ("fair: some parameters are excited less well; check the relative "
-                        "standard deviations below")
-    if cond < 1e4:
-        return "bad", ("poor: the trajectory hardly separates some parameters; move every "
-                       "joint faster and over more of its range (massid design --dynamic)")
-    return "bad", ("very poor: some parameters are nearly undetermined; use an exciting "
-                   "trajectory (massid design --dynamic, massid.fourier_trajectory)")
-
-
 # --------------------------------------------------------------------------
 # HTML
 
@@ -1013,8 +1015,7 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
             '<a href="#correlation">correlation</a><a href="#coverage">coverage</a></nav>')
 
     # a) key figures
-    cond_cls, cond_text = (condition_verdict_dynamic if dynamic else condition_verdict)(
-        float(ident.condition_number))
+    cond_cls, cond_text = condition_verdict(float(ident.condition_number), dynamic)
     chi_cls, chi_text = chi2_verdict(float(ident.chi2_per_dof), bool(getattr(ident, "sigma_estimated", True)))
     robust = bool(getattr(ident, "robust", False))
     threshold = float(ident.outlier_threshold)
@@ -1332,7 +1333,7 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
     mass_std = next((_num(p.get("std")) for p in pj.get("base_parameters", []) if p.get("name") == "M"),
                     math.nan)
     cond = _num(pj.get("condition_number"))
-    cond_cls, cond_text = (condition_verdict_dynamic if dynamic else condition_verdict)(cond)
+    cond_cls, cond_text = condition_verdict(cond, dynamic)
     total = _num(pj.get("total_mass"))
     cards = [
         _card("total mass (identified)",
