@@ -158,7 +158,6 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
       pose.tilt = Tilt{};
       pose.group = cone_ ? -1 : level_group_;
     } else if (own_tilt()) {
-      // Half on the cone's rim (where optimal plans go), half inside.
       // Half on the cone's rim (where good plans go: overshoot, then clamp), half inside.
       const double az = 2 * std::numbers::pi * u(rng);
       const double angle = u(rng) < 0.5 ? 1.5 * tilt_max_ : tilt_max_ * std::sqrt(u(rng));

@@ -96,7 +96,7 @@ struct DesignSummary {
   double joint_travel = 0.0;      // sum of |dq| along the order (rad or m)
   double seconds = 0.0;           // optimisation time
   std::string identifiability_message;  // when !identifiable
-  int level_poses = 0;                  // poses kept level (reserved)
+  int level_poses = 0;                  // poses kept level (DesignOptions::level_poses)
   bool min_height_relaxed = false;      // min_height dropped: no pose satisfies it
   // Lowest clearance over the plan of the checked points above the platform
   // plane (m, as for DesignOptions::min_height; +inf when nothing moves), its
