@@ -17,6 +17,7 @@
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
+#include "massid/identification.hpp"
 #include "massid/identify_file.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/motion_predictor.hpp"
@@ -84,10 +85,9 @@ struct MotionFlags {
   std::string root_gravity;         // --root-gravity gx,gy,gz
   std::string gravity = "varying";  // model --dynamic: --gravity level|varying
   bool sensor_moving = false;       // model --dynamic --moving-sensor
-  // The same options for `python -m massid.report` (identify: with --dynamic).
-  std::vector<std::string> report_args(bool identify) const {
+  // The same options for `python -m massid.report predict`.
+  std::vector<std::string> report_args() const {
     std::vector<std::string> a;
-    if (identify && dynamic) a.push_back("--dynamic");
     if (cutoff > 0) a.insert(a.end(), {"--cutoff", format_number(cutoff)});
     if (!root_gravity.empty()) a.insert(a.end(), {"--root-gravity", root_gravity});
     return a;
@@ -164,25 +164,6 @@ int run_simulate(const Common& c, const std::string& plan_path, const std::strin
   return 0;
 }
 
-// The arguments of `python -m massid.report identify` that repeat this fit.
-std::vector<std::string> identify_report_args(const Common& c, const std::string& data_path,
-                                              const std::string& report, bool offset,
-                                              const IdentifyOptions& opts, bool checks,
-                                              const MotionFlags& motion) {
-  std::vector<std::string> a{"identify", c.urdf, data_path, "-o", report};
-  if (!c.sensor.empty()) a.insert(a.end(), {"--sensor", c.sensor});
-  if (offset) a.push_back("--offset");
-  for (const std::string& f : c.fixed) a.insert(a.end(), {"--fixed", f});
-  if (opts.robust) a.push_back("--robust");
-  if (opts.drift != Drift::None)
-    a.insert(a.end(), {"--drift", opts.drift == Drift::Linear ? "linear" : "per-block"});
-  if (opts.sigma_force) a.insert(a.end(), {"--sigma-force", format_number(*opts.sigma_force)});
-  if (opts.sigma_moment) a.insert(a.end(), {"--sigma-moment", format_number(*opts.sigma_moment)});
-  if (!checks) a.push_back("--no-checks");
-  for (const std::string& m : motion.report_args(true)) a.push_back(m);
-  return a;
-}
-
 int run_identify(const Common& c, const std::string& data_path, const std::string& out, bool offset,
                  const IdentifyOptions& opts, bool checks, const std::string& report,
                  const MotionFlags& motion) {
@@ -195,34 +176,28 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   sopts.constant_joints = false;
   sopts.motion = motion.dynamic;
   if (checks && !report_setup(check_setup_file(model, data_path, sopts))) return 2;
-  BaseParameterOptions bopts;
-  bopts.offset = offset || opts.drift != Drift::None;  // a drifting offset is an offset
-  BaseParameters base;
-  IdentifySummary summary;
-  if (motion.dynamic) {
-    MotionDataReport mr;
-    summary = identify_motion_file(model, data_path, bopts.offset, opts, motion.data(), &base, &mr);
-    if (mr.derived)
-      std::cout << fmt::format(
-          "velocities and accelerations derived from t and the positions: zero-phase low-pass "
-          "at {:.3g} Hz (--cutoff), {} samples at each end dropped, every {} filtered sample "
-          "kept: {} of {} rows\n",
-          mr.kernels.cutoff, mr.kernels.half_width, mr.decimation, summary.samples, mr.rows);
-  } else {
-    base = find_base_parameters(model, bopts);
-    summary = identify_file(model, base, data_path, opts);
-  }
+  // With --report the samples and fitted wrenches are kept for the report,
+  // which draws this fit (identification.hpp); without, any log in constant memory.
+  const Identification ident = identify_log(c.load(), data_path, offset, opts, motion.dynamic,
+                                            motion.data(), !report.empty());
+  const IdentifySummary& summary = ident.summary;
+  if (ident.motion.derived)
+    std::cout << fmt::format(
+        "velocities and accelerations derived from t and the positions: zero-phase low-pass "
+        "at {:.3g} Hz (--cutoff), {} samples at each end dropped, every {} filtered sample "
+        "kept: {} of {} rows\n",
+        ident.motion.kernels.cutoff, ident.motion.kernels.half_width, ident.motion.decimation,
+        summary.samples, ident.motion.rows);
   if (summary.gravity_from_force)
     std::cerr << fmt::format(
         "massid: note: {} has no gx,gy,gz columns: gravity is taken along the measured force "
         "(paper eq. 37), |g| = {} m/s^2\n",
         data_path, kStandardGravity);
   for (const std::string& w : identify_warnings(summary, data_path)) std::cerr << w;
-  write_file_atomically(out, params_json(model, base, &summary));
-  std::cout << identify_report(model, base, summary, data_path);
+  write_file_atomically(out, params_json(ident.model, ident.base, &summary));
+  std::cout << identify_report(ident.model, ident.base, summary, data_path);
   std::cout << "wrote " << out << "\n";
-  if (!report.empty())
-    return run_report(identify_report_args(c, data_path, report, offset, opts, checks, motion));
+  if (!report.empty()) return run_identify_report(ident, report);
   return 0;
 }
 
@@ -291,7 +266,7 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   if (!out.empty()) std::cout << "wrote " << out << "\n";
   if (!report.empty()) {
     std::vector<std::string> a{"predict", urdf, params_path, data_path, "-o", report};
-    for (const std::string& m : motion.report_args(false)) a.push_back(m);
+    for (const std::string& m : motion.report_args()) a.push_back(m);
     return run_report(a);
   }
   return 0;

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -134,6 +135,22 @@ int run_report(const std::vector<std::string>& args) {
     throw InputError(
         fmt::format("--report: '{}' cannot be run ({})", interpreter(), std::strerror(errno)));
   return code == 2 || code == 3 ? code : (code == 0 ? 0 : 1);
+}
+
+int run_identify_report(const Identification& ident, const std::string& report) {
+  std::string record =
+      (std::filesystem::temp_directory_path() / "massid-identification-XXXXXX").string();
+  const int fd = mkstemp(record.data());
+  if (fd < 0)
+    throw InputError(fmt::format("--report: cannot create a temporary file {} ({})", record,
+                                 std::strerror(errno)));
+  close(fd);
+  struct Remove {
+    const std::string& path;
+    ~Remove() { std::remove(path.c_str()); }
+  } remove{record};
+  write_identification(record, ident);
+  return run_report({"draw-identify", record, "-o", report});
 }
 
 }  // namespace massid::cli

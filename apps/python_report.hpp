@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "massid/identification.hpp"
+
 namespace massid::cli {
 
 // Throws InputError with what is missing (Python, numpy, matplotlib or the
@@ -20,5 +22,11 @@ void check_report_tools();
 // Runs `python -m massid.report ARGS...`; its own messages go to stderr.
 // Returns its exit code (0, 2 bad input, 3 not identifiable; 1 otherwise).
 int run_report(const std::vector<std::string>& args);
+
+// identify --report: the identification is written to a temporary record
+// (write_identification, removed afterwards) and drawn by
+// `python -m massid.report draw-identify RECORD -o REPORT`: the report shows
+// the fit the command printed, without fitting again.
+int run_identify_report(const Identification& ident, const std::string& report);
 
 }  // namespace massid::cli

@@ -1,7 +1,9 @@
 #include "massid/kinematics.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 namespace massid {
 namespace {
@@ -119,6 +121,27 @@ SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen:
     }
   }
   out.motion = {w, dw, a};
+  return out;
+}
+
+double reach(const Model& model) {
+  KinematicsData kin(model);
+  std::mt19937_64 rng(20261202);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Eigen::VectorXd q(model.num_joints());
+  double out = 0.0;
+  for (int trial = 0; trial < 256; ++trial) {
+    for (int j = 0; j < model.num_joints(); ++j) {
+      const Joint& jt = model.joints[j];
+      q[j] = jt.limited ? jt.lower + (jt.upper - jt.lower) * u(rng) : jt.generic_position(u(rng));
+    }
+    forward_kinematics(model, kin, q);
+    for (int l = 0; l < model.num_links(); ++l) {
+      out = std::max(out, kin.position[l].norm());
+      if (model.links[l].mass > 0)
+        out = std::max(out, (kin.position[l] + kin.rotation[l] * model.links[l].com).norm());
+    }
+  }
   return out;
 }
 

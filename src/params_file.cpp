@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/QR>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -11,6 +12,7 @@
 #include "massid/errors.hpp"
 #include "massid/json_text.hpp"
 #include "massid/regressor.hpp"
+#include "massid/report.hpp"
 
 namespace massid {
 namespace {
@@ -62,6 +64,7 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     j["motion"] = motion;
   }
   json list = json::array();
+  const Eigen::VectorXd scale = parameter_scales(model, base, s);
   for (int i = 0; i < base.num_mass(); ++i) {
     const BaseParameter& p = base.params[i];
     json e;
@@ -70,6 +73,7 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
       e["value"] = s->value[i];
       e["std"] = s->stddev[i];
     }
+    if (std::isfinite(scale[i])) e["scale"] = scale[i];  // report.hpp: what the std is judged by
     e["unit"] = p.unit;
     e["expression"] = p.expression;
     e["terms"] = terms_json(model, p.terms);

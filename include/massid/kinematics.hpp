@@ -68,4 +68,10 @@ SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen:
                                const Eigen::Ref<const Eigen::VectorXd>& qdu,
                                const Eigen::Ref<const Eigen::VectorXd>& qddu);
 
+// The robot's size: the largest distance from the sensor origin of a link
+// origin or centre of mass over 256 configurations spread over the joints'
+// ranges (limits where given, else a full turn or +-1 m; a fixed seed: a
+// property of the model). 0 for a model whose links all sit at the origin.
+double reach(const Model& model);
+
 }  // namespace massid

@@ -228,6 +228,9 @@ def identify(
     root_gravity: Optional[Sequence[float]] = None,  # dynamic: gravity in the URDF root frame
 ) -> Identification: ...
 
+# The record `massid identify --report` hands to the report: the fit without fitting again.
+def load_identification(path: PathType) -> Identification: ...
+
 class Params:
     source: str
     sensor_link: str

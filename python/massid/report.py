@@ -50,7 +50,11 @@ DPI = 90
 MAX_SCATTER = 20000
 #: Most joints in one residual-against-joint figure (more are split).
 JOINTS_PER_FIGURE = 4
-#: A parameter whose std exceeds this fraction of |value| is poorly determined.
+#: A base parameter whose std exceeds this fraction of its scale (the robot's
+#: M L^k for a parameter in kg m^k: the params file's "scale", report.hpp's
+#: kPoorStdOfScale) is poorly determined.
+POOR_STD_OF_SCALE = 0.01
+#: Without a scale (a URDF without masses): this fraction of |value|.
 POOR_RELATIVE_STD = 0.10
 MATPLOTLIB_MISSING = "--report needs matplotlib (Debian: apt-get install python3-matplotlib)"
 
@@ -260,8 +264,18 @@ class _Figures:
     def __exit__(self, *exc: Any) -> None:
         self._rc.__exit__(*exc)
 
-    def new(self, width: float, height: float) -> Any:
-        fig = self._Figure(figsize=(width, height), constrained_layout=True)
+    def new(self, width: float, height: float,
+            margins: Optional[tuple[float, float, float, float]] = None) -> Any:
+        """A figure, laid out by matplotlib (constrained layout), or with fixed
+        margins (left, right, bottom, top in inches): a grid of many axes then
+        draws several times faster."""
+        if margins is None:
+            fig = self._Figure(figsize=(width, height), constrained_layout=True)
+        else:
+            left, right, bottom, top = margins
+            fig = self._Figure(figsize=(width, height))
+            fig.subplots_adjust(left=left / width, right=1 - right / width, bottom=bottom / height,
+                                top=1 - top / height, wspace=0.06, hspace=0.1)
         self._Canvas(fig)
         return fig
 
@@ -407,7 +421,8 @@ class _Figures:
         for start in range(0, len(joints), JOINTS_PER_FIGURE):
             chunk = list(range(start, min(start + JOINTS_PER_FIGURE, len(joints))))
             nc = len(chunk)
-            fig = self.new(2.7 * nc + 1.3, 9.5)
+            # Fixed margins: constrained layout of 24 shared axes took most of the report's time.
+            fig = self.new(2.7 * nc + 1.3, 9.5, margins=(0.95, 0.2, 0.6, 0.6))
             axs = np.atleast_2d(fig.subplots(6, nc, sharex="col", sharey="row", squeeze=False))
             for c, j in enumerate(chunk):
                 info = joints[j]
@@ -705,13 +720,25 @@ class _ParamRow:
     unit: str
     expression: str
     judge: bool = True  # offsets and drift terms are not judged (0 is a fine offset)
+    scale: float = math.nan  # what the std is judged against (the params file's "scale")
 
 
 def _param_flags(row: _ParamRow) -> list[str]:
+    """Why a parameter is poorly determined (empty: it is not).
+
+    Judged by its std against its scale, M L^k: the part of the robot's gravity
+    wrench the parameter can move. A value near zero (a link symmetric about an
+    axis) is not a problem when its std is small on that scale.
+    """
     v, s = row.value, row.std
     if not math.isfinite(v):
         return ["not identified"]
     if not row.judge or not math.isfinite(s):
+        return []
+    if math.isfinite(row.scale) and row.scale > 0:
+        if abs(s) > POOR_STD_OF_SCALE * row.scale:
+            return [f"std {abs(s) / row.scale * 100:.2g} % of the robot's scale "
+                    f"{format_value(row.scale)} {row.unit}"]
         return []
     flags = []
     if abs(s) > POOR_RELATIVE_STD * abs(v):
@@ -719,6 +746,14 @@ def _param_flags(row: _ParamRow) -> list[str]:
     if abs(v) < 2.0 * abs(s):
         flags.append("within 2 std of 0")
     return flags
+
+
+def _param_note(row: _ParamRow) -> str:
+    """An informative note that is not a flag: a value consistent with zero."""
+    if (row.judge and math.isfinite(row.scale) and math.isfinite(row.value)
+            and math.isfinite(row.std) and abs(row.value) < 2.0 * abs(row.std)):
+        return "0 within 2 std (zero by symmetry?)"
+    return ""
 
 
 def _param_table(groups: Sequence[tuple[str, Sequence[_ParamRow]]]) -> tuple[str, int]:
@@ -735,6 +770,7 @@ def _param_table(groups: Sequence[tuple[str, Sequence[_ParamRow]]]) -> tuple[str
         for r in rows:
             flags = _param_flags(r)
             poor += bool(flags)
+            note = "; ".join(flags) or _param_note(r)
             rel = (_percent(abs(r.std / r.value) * 100)
                    if math.isfinite(r.value) and math.isfinite(r.std) and r.value != 0 else "—")
             cls = ' class="poor"' if flags else ""
@@ -743,7 +779,7 @@ def _param_table(groups: Sequence[tuple[str, Sequence[_ParamRow]]]) -> tuple[str
                 f'<td class="mono">{_e(format_value(r.value))}</td>'
                 f'<td class="mono">{_e(format_std(r.std))}</td><td class="mono">{_e(rel)}</td>'
                 f'<td class="l">{_e(r.unit)}</td><td class="l mono expr">{_e(r.expression)}</td>'
-                f'<td class="l flag">{_e("; ".join(flags))}</td></tr>')
+                f'<td class="l flag">{_e(note)}</td></tr>')
     out.append("</table>")
     return "".join(out), poor
 
@@ -1103,8 +1139,10 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
 
     # d) parameters
     params = list(ident.base_parameters)
+    scales = _scales(json.loads(ident.to_json()))
     groups: list[tuple[str, list[_ParamRow]]] = [
-        ("", [_ParamRow(p.name, float(p.value), float(p.std), p.unit, p.expression) for p in params])]
+        ("", [_ParamRow(p.name, float(p.value), float(p.std), p.unit, p.expression,
+                        scale=scales.get(p.name, math.nan)) for p in params])]
     names = list(ident.unknown_names)
     values = np.asarray(ident.values, dtype=float)
     stds = np.asarray(ident.std, dtype=float)
@@ -1152,27 +1190,26 @@ def _parameter_section(doc: _Doc, groups: Sequence[tuple[str, Sequence[_ParamRow
                        dynamic: bool = False) -> None:
     table, poor = _param_table(groups)
     doc.add('<h2 id="parameters">Base parameters</h2>')
+    rule = (f"A row is highlighted when the parameter is poorly determined: its std exceeds "
+            f"{POOR_STD_OF_SCALE * 100:.0f} % of its scale, the robot's total mass M times its "
+            "reach L to the power of the parameter's length unit (M for kg, M L for kg m, M L² "
+            "for kg m²): the part of the robot's gravity wrench it can move. A combination that "
+            "is zero by symmetry is then judged like the others; its note says when 0 lies "
+            "within 2 std. ")
     if dynamic:
         doc.add("<p>The combinations of link masses (kg), first moments (kg m) and inertias "
                 "(kg m², about each link's origin, in the link frame) that the motion "
-                "determines, with one standard deviation. A row is highlighted when the "
-                f"parameter is poorly determined: its std exceeds {POOR_RELATIVE_STD * 100:.0f} % "
-                "of its value, or the value lies within 2 std of zero. Products of inertia of "
-                "nearly symmetric links are small by nature and always flagged so; a faster, "
-                "wider trajectory that turns the joints in every combination shrinks the std "
-                "of the others.</p>")
+                "determines, with one standard deviation. " + rule + "A faster, wider "
+                "trajectory that turns the joints in every combination shrinks the std.</p>")
     else:
         doc.add("<p>The combinations of link masses and first moments that a base sensor can "
-                "see, with one standard deviation. A row is highlighted when the parameter is "
-                f"poorly determined: its std exceeds {POOR_RELATIVE_STD * 100:.0f} % of its value, "
-                "or the value lies within 2 std of zero (then even its sign is uncertain). A "
-                "combination that is truly zero (a symmetric link) is always flagged so; more "
-                "poses or tilts that excite it shrink its std.</p>")
+                "see, with one standard deviation. " + rule + "More poses or tilts that excite "
+                "a poorly determined parameter shrink its std.</p>")
     doc.add(table)
     doc.add(f'<p class="{"fair" if poor else "ok"}">'
             + (f"{poor} poorly determined parameter(s)." if poor
                else "Every base parameter is determined to better than "
-                    f"{POOR_RELATIVE_STD * 100:.0f} % of its value.") + "</p>")
+                    f"{POOR_STD_OF_SCALE * 100:.0f} % of its scale.") + "</p>")
 
 
 def _correlation_section(doc: _Doc, figs: _Figures, corr: np.ndarray, labels: Sequence[str]) -> None:
@@ -1229,8 +1266,10 @@ def _joint_matrix(cols: Mapping[str, np.ndarray], joints: Sequence[_JointInfo], 
 
 
 def _params_rows(doc_json: Mapping[str, Any]) -> list[tuple[str, list[_ParamRow]]]:
+    scales = _scales(doc_json)
     rows = [_ParamRow(str(p.get("name", "")), _num(p.get("value")), _num(p.get("std")),
-                      str(p.get("unit", "")), str(p.get("expression", "")))
+                      str(p.get("unit", "")), str(p.get("expression", "")),
+                      scale=scales.get(str(p.get("name", "")), math.nan))
             for p in doc_json.get("base_parameters", [])]
     groups: list[tuple[str, list[_ParamRow]]] = [("", rows)]
     drift = doc_json.get("drift") or None
@@ -1255,6 +1294,12 @@ def _params_rows(doc_json: Mapping[str, Any]) -> list[tuple[str, list[_ParamRow]
     return groups
 
 
+def _scales(doc_json: Mapping[str, Any]) -> dict[str, float]:
+    """Each base parameter's scale by name, from a params file's JSON (absent: none)."""
+    return {str(p.get("name", "")): _num(p.get("scale"))
+            for p in doc_json.get("base_parameters", []) if isinstance(p, Mapping) and "scale" in p}
+
+
 def _num(v: Any) -> float:
     try:
         return float(v)
@@ -1262,7 +1307,23 @@ def _num(v: Any) -> float:
         return math.nan
 
 
-def _predict_html(robot: Union[PathType, Any], params: PathType,
+def _params_of(params: Any) -> tuple[dict[str, Any], str, Any]:
+    """The params JSON, its name and (for an Identification) its model, from whatever
+    massid.predict accepts: a params file path, a massid.Params or a massid.Identification."""
+    if isinstance(params, (str, os.PathLike)):
+        path = os.fspath(params)
+        with open(path, encoding="utf-8") as f:
+            return json.load(f), path, None
+    if isinstance(params, massid.Identification):
+        return json.loads(params.to_json()), f"the identification of {params.source}", params.model
+    if isinstance(params, massid.Params):
+        with open(params.source, encoding="utf-8") as f:
+            return json.load(f), params.source, None
+    raise massid.InputError("params: expected a params file path, massid.Params or "
+                            f"massid.Identification, not {type(params).__name__}")
+
+
+def _predict_html(robot: Union[PathType, Any, None], params: Any,
                   data: Union[PathType, Mapping[str, Any]], title: Optional[str],
                   figs: _Figures, cutoff: Optional[float] = None,
                   root_gravity: Optional[Sequence[float]] = None) -> str:
@@ -1271,10 +1332,10 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
         warnings.simplefilter("always")
         predicted = np.asarray(massid.predict(robot, params, data, **motion_args), dtype=float)
     warned = [str(w.message) for w in caught]
-    params_path = os.fspath(params)
-    with open(params_path, encoding="utf-8") as f:
-        pj = json.load(f)
-    if isinstance(robot, (str, os.PathLike)):
+    pj, params_path, own_model = _params_of(params)
+    if robot is None and own_model is not None:
+        model = own_model
+    elif isinstance(robot, (str, os.PathLike)):
         held = pj.get("held_joints") or None
         model = massid.load_model(robot, sensor=pj.get("sensor_link") or None,
                                   fixed={str(k): float(v) for k, v in held.items()} if held else None)
@@ -1427,7 +1488,7 @@ def _predict_html(robot: Union[PathType, Any], params: PathType,
     return doc.render()
 
 
-def write_predict_report(path: PathType, robot: Union[PathType, Any], params: PathType,
+def write_predict_report(path: PathType, robot: Union[PathType, Any, None], params: Any,
                          data: Union[PathType, Mapping[str, Any]], *,
                          title: Optional[str] = None, cutoff: Optional[float] = None,
                          root_gravity: Optional[Sequence[float]] = None) -> None:
@@ -1435,10 +1496,12 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any], params: Pa
 
     Args:
         path: the HTML file to write (atomically).
-        robot: the URDF path or a :class:`massid.Model`. From a path the model is
-            loaded with the params file's sensor link and held joints.
-        params: the params JSON written by ``massid identify`` (its covariance
-            gives the correlation plot).
+        robot: the URDF path or a :class:`massid.Model` (None with an
+            Identification: its model). From a path the model is loaded with the
+            params file's sensor link and held joints.
+        params: what :func:`massid.predict` takes: the params JSON written by
+            ``massid identify``, a :class:`massid.Params` or a
+            :class:`massid.Identification` (the covariance gives the correlation plot).
         data: a CSV path or a dict of columns: joints (``JOINT`` or ``JOINT_deg``),
             ``gx, gy, gz`` and, if measured, ``fx … mz``. With a measured wrench
             the report compares it with the prediction and shows the compensated
@@ -1488,7 +1551,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Write a self-contained HTML report of a massid identification or prediction.")
     p.add_argument("--check", action="store_true",
                    help="only check that matplotlib can be imported (exit 0), then stop")
-    sub = p.add_subparsers(dest="command", metavar="{identify,predict}")
+    sub = p.add_subparsers(dest="command", metavar="{identify,predict,draw-identify}")
     ident = sub.add_parser("identify", help="identify, then write the report")
     ident.add_argument("robot", help="URDF file")
     ident.add_argument("data", help="data CSV")
@@ -1508,6 +1571,11 @@ def _parser() -> argparse.ArgumentParser:
                        help="with --dynamic, a log without JOINT_vel/_acc: low-pass cutoff, Hz")
     ident.add_argument("--root-gravity", type=_three_numbers, metavar="GX,GY,GZ",
                        help="with --dynamic: gravity in the URDF root frame (sensor below joints)")
+    draw = sub.add_parser("draw-identify",
+                          help="the report of a fit `massid identify --report` recorded (the CLI's "
+                               "entry: massid.load_identification), without fitting again")
+    draw.add_argument("record", help="the identification record the CLI wrote")
+    draw.add_argument("-o", "--output", required=True, help="the HTML report to write")
     pred = sub.add_parser("predict", help="predict, then write the report")
     pred.add_argument("robot", help="URDF file")
     pred.add_argument("params", help="params JSON from massid identify")
@@ -1571,6 +1639,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 sigma_force=args.sigma_force, sigma_moment=args.sigma_moment,
                 checks=not args.no_checks, **motion)
             write_identify_report(args.output, ident)
+        elif args.command == "draw-identify":
+            write_identify_report(args.output, massid.load_identification(args.record))
         else:
             write_predict_report(args.output, args.robot, args.params, args.data,
                                  cutoff=args.cutoff, root_gravity=args.root_gravity)

@@ -20,14 +20,6 @@ namespace massid::python {
 
 namespace {
 
-constexpr const char* kWarningPrefix = "massid: warning: ";
-
-std::string strip_warning(std::string line) {
-  if (line.rfind(kWarningPrefix, 0) == 0) line.erase(0, std::string(kWarningPrefix).size());
-  while (!line.empty() && line.back() == '\n') line.pop_back();
-  return line;
-}
-
 // The set-up checks (setup_checks.hpp): errors raise InputError with every
 // error on its own line; warnings are returned.
 std::vector<std::string> run_checks(const Model& model, const py::handle& data,
@@ -75,66 +67,44 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   BaseParameterOptions bopts;
   bopts.offset = offset || opts.drift != Drift::None;  // a drifting offset is an offset
 
-  std::vector<std::string> notes;
-  std::string source;
-  if (dynamic) {
-    // As massid identify --dynamic: the log (derivatives given, or derived by
-    // the zero-phase filter), the reduction the samples call for, the fit.
-    out.motion_options = motion_data_options(cutoff, root_gravity);
-    Samples raw;
-    if (is_path(data)) {
-      // Streamed as the CLI does (the same params file), then the arrays.
-      source = path_of(data);
-      if (checks) notes = run_checks(out.model, data, nullptr, {}, dynamic);
+  if (is_path(data)) {
+    // As massid identify [--dynamic] (identification.hpp): streamed where it can be.
+    const std::string path = path_of(data);
+    std::vector<std::string> notes;
+    if (checks) notes = run_checks(out.model, data, nullptr, {}, dynamic);
+    {
       py::gil_scoped_release release;
-      out.summary = identify_motion_file(out.model, source, bopts.offset, opts, out.motion_options,
-                                         &out.base, &out.motion, &out.samples);
-      if (out.samples.size() < out.summary.samples)  // only the head: read them all
-        out.samples =
-            read_motion_samples(out.model, source, WrenchColumns::Required, out.motion_options);
-    } else {
-      std::vector<std::string> header;
-      raw =
+      out = identify_log(std::move(out.model), path, bopts.offset, opts, dynamic,
+                         motion_data_options(cutoff, root_gravity));
+    }
+    out.warnings.insert(out.warnings.begin(), notes.begin(), notes.end());
+  } else {
+    // Columns in memory: the same steps on the samples.
+    std::vector<std::string> header;
+    std::vector<std::string> notes;
+    if (dynamic) {
+      out.motion_options = motion_data_options(cutoff, root_gravity);
+      Samples raw =
           samples_of(out.model, data, WrenchColumns::Required, &header, out.motion_options.samples);
-      source = raw.source;
       if (checks) notes = run_checks(out.model, data, &raw, header, dynamic);
       py::gil_scoped_release release;
       out.samples =
           prepare_motion_samples(out.model, std::move(raw), out.motion_options, &out.motion);
-    }
-    if (!is_path(data)) {
-      py::gil_scoped_release release;
       out.base = find_base_parameters(out.model, motion_base_options(out.samples, bopts.offset));
-      out.summary = identify(out.model, out.base, out.samples, opts);
-    }
-  } else {
-    out.base = find_base_parameters(out.model, bopts);
-    if (is_path(data)) {
-      source = path_of(data);
-      if (checks) notes = run_checks(out.model, data, nullptr, {}, dynamic);
-      py::gil_scoped_release release;
-      out.summary = identify_file(out.model, out.base, source, opts, &out.samples);
     } else {
-      std::vector<std::string> header;
       out.samples = samples_of(out.model, data, WrenchColumns::Required, &header);
-      source = out.samples.source;
       if (checks) notes = run_checks(out.model, data, &out.samples, header, dynamic);
+      out.base = find_base_parameters(out.model, bopts);
+    }
+    {
       py::gil_scoped_release release;
       out.summary = identify(out.model, out.base, out.samples, opts);
+      out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
     }
+    out.warnings = notes;
+    for (std::string& w : identification_notes(out.summary, out.samples.source))
+      out.warnings.push_back(std::move(w));
   }
-  {
-    py::gil_scoped_release release;
-    out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
-  }
-  if (out.summary.gravity_from_force)
-    notes.push_back(fmt::format(
-        "{} has no gx,gy,gz columns: gravity is taken along the measured force (paper eq. 37), "
-        "|g| = {} m/s^2",
-        source, kStandardGravity));
-  for (const std::string& w : identify_warnings(out.summary, source))
-    notes.push_back(strip_warning(w));
-  out.warnings = notes;
   const py::object warn = py::module_::import("warnings").attr("warn");
   const py::object category = py::module_::import("massid").attr("MassidWarning");
   for (const std::string& w : out.warnings) warn(w, category, 3);
@@ -334,6 +304,18 @@ void bind_identify(py::module_& m) {
                            sum(i).condition_number);
       });
 
+  m.def(
+      "load_identification",
+      [](const py::object& path) {
+        const std::string p = path_of(path);
+        py::gil_scoped_release release;
+        return read_identification(p);
+      },
+      py::arg("path"),
+      R"(An identification from the record `massid identify --report` hands to the report
+(massid/identification.hpp): the fit the command printed, with its samples, without
+fitting again. Loads the URDF named in it. Raises InputError for a file that is not such
+a record or whose URDF no longer gives the same base parameters.)");
   m.def("identify", &run_identify, py::arg("robot"), py::arg("data"), py::kw_only(),
         py::arg("offset") = false, py::arg("sensor") = py::none(), py::arg("fixed") = py::none(),
         py::arg("robust") = false, py::arg("drift") = py::none(),

@@ -14,6 +14,7 @@
 #include "massid/base_parameters.hpp"
 #include "massid/design.hpp"
 #include "massid/estimation.hpp"
+#include "massid/identification.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/model.hpp"
 #include "massid/motion_data.hpp"
@@ -39,18 +40,6 @@ std::vector<std::string> unknown_names(const BaseParameters& base);  // params, 
 struct PyBase {
   Model model;
   BaseParameters base;
-};
-
-// massid.Identification: a fit with the samples it was made from.
-struct Identification {
-  Model model;
-  BaseParameters base;
-  IdentifySummary summary;
-  Samples samples;                    // in motion: as prepared (filtered, decimated)
-  Eigen::MatrixXd fitted;             // [N x 6] fitted_wrenches
-  std::vector<std::string> warnings;  // one line each, without "massid: warning: "
-  MotionDataReport motion;            // dynamic: how the log became samples
-  MotionDataOptions motion_options;   // dynamic: cutoff and root gravity as given
 };
 
 // The motion options of the cutoff and root_gravity arguments (cutoff: Hz, > 0).

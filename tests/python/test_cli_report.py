@@ -61,3 +61,45 @@ def test_report_errors_keep_the_clis_exit_codes(tmp_path):
     r = run("predict", PUMA, tmp_path / "missing.json", HOLDOUT, "--report", tmp_path / "x.html")
     assert r.returncode == 2 and "missing.json" in r.stderr
     assert not (tmp_path / "x.html").exists()
+
+
+def test_identify_report_draws_the_fit_the_command_made(tmp_path):
+    """identify --report hands its fit to the report in a record (no second fit): the
+    record holds exactly the params file's values and every sample, the report shows
+    them, and the record is removed afterwards."""
+    import json
+    import os
+    import sys
+
+    import massid
+
+    data = tmp_path / "data.csv"
+    assert run("simulate", PUMA, PLAN, "-o", data, "--noise-force", "0.05", "--noise-moment", "0.005",
+               "--repeat", "4").returncode == 0
+    # An interpreter that keeps a copy of the record it is given, then runs the report.
+    kept = tmp_path / "kept.record"
+    wrapper = tmp_path / "python_wrapper.sh"
+    wrapper.write_text(f'#!/bin/sh\n[ "$3" = draw-identify ] && cp "$4" "{kept}"\n'
+                       f'exec "{sys.executable}" "$@"\n')
+    wrapper.chmod(0o755)
+    scratch = tmp_path / "scratch"
+    scratch.mkdir()
+    env = dict(os.environ, MASSID_PYTHON=str(wrapper), TMPDIR=str(scratch))
+    r = subprocess.run([massid_cli(), "identify", str(PUMA), str(data), "-o",
+                        str(tmp_path / "params.json"), "--report", str(tmp_path / "fit.html")],
+                       capture_output=True, text=True, env=env)
+    assert r.returncode == 0, r.stderr
+    assert list(scratch.iterdir()) == []  # the record is gone
+    ident = massid.load_identification(kept)
+    params = json.loads((tmp_path / "params.json").read_text())
+    assert [p["value"] for p in params["base_parameters"]] == [p.value for p in ident.base_parameters]
+    assert params["samples"] == ident.samples == 4 * 30
+    assert ident.to_json() == (tmp_path / "params.json").read_text()
+    html = (tmp_path / "fit.html").read_text()
+    for p in ident.base_parameters:
+        assert f">{p.value:.6g}<" in html
+    # not a record: exit 2 with the file named
+    r = subprocess.run([sys.executable, "-m", "massid.report", "draw-identify", str(data), "-o",
+                        str(tmp_path / "x.html")], capture_output=True, text=True)
+    assert r.returncode == 2 and "data.csv: not a massid identification record" in r.stderr
+    assert not (tmp_path / "x.html").exists()

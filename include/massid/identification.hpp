@@ -1,0 +1,55 @@
+// An identification with what it was made from: the model, its base
+// parameters, the fit, the samples and the fitted wrenches. The one object
+// behind Python's massid.Identification and the HTML report; the CLI's
+// `identify --report` hands it to the report in a file (write_identification)
+// so that the report draws the fit the command printed without fitting again.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "massid/base_parameters.hpp"
+#include "massid/estimation.hpp"
+#include "massid/model.hpp"
+#include "massid/motion_data.hpp"
+#include "massid/samples.hpp"
+
+namespace massid {
+
+struct Identification {
+  Model model;
+  BaseParameters base;
+  IdentifySummary summary;
+  Samples samples;                    // every sample of the fit, as prepared (motion: filtered,
+                                      // decimated); the rejected ones too
+  Eigen::MatrixXd fitted;             // [N x 6] fitted_wrenches(model, base, samples, summary)
+  std::vector<std::string> warnings;  // one line each, without "massid: warning: "
+  MotionDataReport motion;            // dynamic: how the log became samples
+  MotionDataOptions motion_options;   // dynamic: cutoff and root gravity as given
+};
+
+// A data file identified as `massid identify` does it (identify_file, or in
+// motion identify_motion_file: streamed where it can be), with the warnings
+// and, when `keep_samples`, every sample and the fitted wrenches (without:
+// no samples, constant memory for any log). `model` is moved into the result.
+Identification identify_log(Model model, const std::string& path, bool offset,
+                            const IdentifyOptions& options, bool dynamic,
+                            const MotionDataOptions& motion_options = {}, bool keep_samples = true);
+
+// What a fit has to say beyond its figures, one line each without a prefix:
+// gravity taken from the force (eq. 37), then identify_warnings (report.hpp).
+std::vector<std::string> identification_notes(const IdentifySummary& summary,
+                                              const std::string& source);
+
+// The identification as one file (CBOR, matrices as raw little-endian
+// doubles: every value bit for bit) for another process on this machine: the
+// model by its URDF path (absolute), sensor link and held joints; the base
+// parameters by their reduction options (find_base_parameters is
+// deterministic). read_identification loads the URDF again and checks that
+// the base parameters come out the same; InputError naming the file
+// otherwise or for a file that is not such a record.
+void write_identification(const std::string& path, const Identification& ident);
+Identification read_identification(const std::string& path);
+
+}  // namespace massid

@@ -1,0 +1,290 @@
+#include "massid/identification.hpp"
+
+#include <fmt/format.h>
+
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <utility>
+
+#include "massid/atomic_file.hpp"
+#include "massid/errors.hpp"
+#include "massid/identify_file.hpp"
+#include "massid/report.hpp"
+
+namespace massid {
+
+Identification identify_log(Model model, const std::string& path, bool offset,
+                            const IdentifyOptions& options, bool dynamic,
+                            const MotionDataOptions& motion_options, bool keep_samples) {
+  Identification out;
+  Samples* samples = keep_samples ? &out.samples : nullptr;
+  out.model = std::move(model);
+  if (dynamic) {
+    out.motion_options = motion_options;
+    out.summary = identify_motion_file(out.model, path, offset, options, motion_options, &out.base,
+                                       &out.motion, samples);
+    if (keep_samples &&
+        out.samples.size() < out.summary.samples)  // streamed: only the head came back
+      out.samples = read_motion_samples(out.model, path, WrenchColumns::Required, motion_options);
+  } else {
+    BaseParameterOptions bo;
+    bo.offset = offset || options.drift != Drift::None;  // a drifting offset is an offset
+    out.base = find_base_parameters(out.model, bo);
+    out.summary = identify_file(out.model, out.base, path, options, samples);
+  }
+  if (keep_samples) out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
+  out.warnings = identification_notes(out.summary, path);
+  return out;
+}
+
+std::vector<std::string> identification_notes(const IdentifySummary& summary,
+                                              const std::string& source) {
+  std::vector<std::string> out;
+  if (summary.gravity_from_force)
+    out.push_back(fmt::format(
+        "{} has no gx,gy,gz columns: gravity is taken along the measured force (paper eq. 37), "
+        "|g| = {} m/s^2",
+        source, kStandardGravity));
+  constexpr std::string_view prefix = "massid: warning: ";
+  for (std::string w : identify_warnings(summary, source)) {
+    if (w.starts_with(prefix)) w.erase(0, prefix.size());
+    while (!w.empty() && w.back() == '\n') w.pop_back();
+    out.push_back(std::move(w));
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------
+// The record file
+
+namespace {
+
+using json = nlohmann::json;
+constexpr const char* kRecordFormat = "massid-identification-1";
+static_assert(std::endian::native == std::endian::little, "records store little-endian doubles");
+
+// A matrix as {rows, cols, data: the column-major doubles' bytes}.
+json matrix(const Eigen::MatrixXd& m) {
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.size()) * sizeof(double));
+  if (!bytes.empty()) std::memcpy(bytes.data(), m.data(), bytes.size());
+  return {{"rows", m.rows()}, {"cols", m.cols()}, {"data", json::binary(std::move(bytes))}};
+}
+
+Eigen::MatrixXd matrix_of(const json& j) {
+  const Eigen::Index rows = j.at("rows").get<Eigen::Index>(),
+                     cols = j.at("cols").get<Eigen::Index>();
+  const auto& bytes = j.at("data").get_binary();
+  if (rows < 0 || cols < 0 ||
+      bytes.size() != static_cast<std::size_t>(rows * cols) * sizeof(double))
+    throw std::runtime_error("a matrix's size does not match its data");
+  Eigen::MatrixXd m(rows, cols);
+  if (!bytes.empty()) std::memcpy(m.data(), bytes.data(), bytes.size());
+  return m;
+}
+
+// A fixed-size vector (6 or 3): the stored one must have that size.
+template <int R>
+Eigen::Matrix<double, R, 1> vector_of(const json& j) {
+  const Eigen::MatrixXd m = matrix_of(j);
+  if (m.rows() != R || m.cols() != 1) throw std::runtime_error("a vector has the wrong size");
+  return m;
+}
+
+json summary_json(const IdentifySummary& s) {
+  json outliers = json::array();
+  for (const Outlier& o : s.outliers) outliers.push_back({o.sample, o.line, o.score});
+  return {{"value", matrix(s.value)},
+          {"stddev", matrix(s.stddev)},
+          {"covariance", matrix(s.covariance)},
+          {"condition_number", s.condition_number},
+          {"residual_rms", matrix(s.residual_rms)},
+          {"residual_max", matrix(s.residual_max)},
+          {"sigma", matrix(s.sigma)},
+          {"residual_dof", matrix(s.residual_dof)},
+          {"sigma_estimated", s.sigma_estimated},
+          {"sigma_force_given", s.sigma_force_given},
+          {"sigma_moment_given", s.sigma_moment_given},
+          {"chi2_per_dof", s.chi2_per_dof},
+          {"samples", s.samples},
+          {"gravity_from_force", s.gravity_from_force},
+          {"gravity_from_upstream", s.gravity_from_upstream},
+          {"outliers", outliers},
+          {"outlier_threshold", s.outlier_threshold},
+          {"per_sample_test", s.per_sample_test},
+          {"robust", s.robust},
+          {"drift", static_cast<int>(s.drift)},
+          {"drift_names", s.drift_names},
+          {"drift_value", matrix(s.drift_value)},
+          {"drift_stddev", matrix(s.drift_stddev)}};
+}
+
+IdentifySummary summary_of(const json& j) {
+  IdentifySummary s;
+  s.value = matrix_of(j.at("value"));
+  s.stddev = matrix_of(j.at("stddev"));
+  s.covariance = matrix_of(j.at("covariance"));
+  s.condition_number = j.at("condition_number");
+  s.residual_rms = vector_of<6>(j.at("residual_rms"));
+  s.residual_max = vector_of<6>(j.at("residual_max"));
+  s.sigma = vector_of<6>(j.at("sigma"));
+  s.residual_dof = vector_of<6>(j.at("residual_dof"));
+  s.sigma_estimated = j.at("sigma_estimated");
+  s.sigma_force_given = j.at("sigma_force_given");
+  s.sigma_moment_given = j.at("sigma_moment_given");
+  s.chi2_per_dof = j.at("chi2_per_dof");
+  s.samples = j.at("samples");
+  s.gravity_from_force = j.at("gravity_from_force");
+  s.gravity_from_upstream = j.at("gravity_from_upstream");
+  for (const json& o : j.at("outliers")) s.outliers.push_back({o.at(0), o.at(1), o.at(2)});
+  s.outlier_threshold = j.at("outlier_threshold");
+  s.per_sample_test = j.at("per_sample_test");
+  s.robust = j.at("robust");
+  s.drift = static_cast<Drift>(j.at("drift").get<int>());
+  s.drift_names = j.at("drift_names").get<std::vector<std::string>>();
+  s.drift_value = matrix_of(j.at("drift_value"));
+  s.drift_stddev = matrix_of(j.at("drift_stddev"));
+  return s;
+}
+
+json samples_json(const Samples& s) {
+  return {{"source", s.source},
+          {"q", matrix(s.q)},
+          {"qd", matrix(s.qd)},
+          {"qdd", matrix(s.qdd)},
+          {"q_upstream", matrix(s.q_upstream)},
+          {"qd_upstream", matrix(s.qd_upstream)},
+          {"qdd_upstream", matrix(s.qdd_upstream)},
+          {"gravity", matrix(s.gravity)},
+          {"sensor_motion", matrix(s.sensor_motion)},
+          {"wrench", matrix(s.wrench)},
+          {"line", s.line},
+          {"time", matrix(s.time)},
+          {"block", s.block},
+          {"gravity_from_force", s.gravity_from_force},
+          {"gravity_from_upstream", s.gravity_from_upstream},
+          {"derivatives_filtered", s.derivatives_filtered},
+          {"root_gravity", matrix(s.root_gravity)}};
+}
+
+Samples samples_of(const json& j) {
+  Samples s;
+  s.source = j.at("source");
+  s.q = matrix_of(j.at("q"));
+  s.qd = matrix_of(j.at("qd"));
+  s.qdd = matrix_of(j.at("qdd"));
+  s.q_upstream = matrix_of(j.at("q_upstream"));
+  s.qd_upstream = matrix_of(j.at("qd_upstream"));
+  s.qdd_upstream = matrix_of(j.at("qdd_upstream"));
+  s.gravity = matrix_of(j.at("gravity"));
+  s.sensor_motion = matrix_of(j.at("sensor_motion"));
+  s.wrench = matrix_of(j.at("wrench"));
+  s.line = j.at("line").get<std::vector<int>>();
+  s.time = matrix_of(j.at("time"));
+  s.block = j.at("block").get<std::vector<int>>();
+  s.gravity_from_force = j.at("gravity_from_force");
+  s.gravity_from_upstream = j.at("gravity_from_upstream");
+  s.derivatives_filtered = j.at("derivatives_filtered");
+  s.root_gravity = vector_of<3>(j.at("root_gravity"));
+  return s;
+}
+
+}  // namespace
+
+void write_identification(const std::string& path, const Identification& ident) {
+  const BaseParameters& b = ident.base;
+  json held = json::array();
+  for (const auto& [name, value] : ident.model.held) held.push_back({name, value});
+  const MotionDataReport& m = ident.motion;
+  const MotionDataOptions& mo = ident.motion_options;
+  const json j = {{"format", kRecordFormat},
+                  {"urdf", std::filesystem::absolute(ident.model.source).string()},
+                  {"sensor_link", ident.model.sensor_link()},
+                  {"held", held},
+                  {"base",
+                   {{"per_link", b.layout.per_link()},
+                    {"sensor_moving", b.sensor_moving},
+                    {"fixed_gravity", b.fixed_gravity},
+                    {"gravity", matrix(b.gravity)},
+                    {"offset", b.offset},
+                    {"rank_tolerance", b.rank_tolerance},
+                    {"names",
+                     [&] {
+                       std::vector<std::string> names;
+                       for (const BaseParameter& p : b.params) names.push_back(p.expression);
+                       return names;
+                     }()}}},
+                  {"summary", summary_json(ident.summary)},
+                  {"samples", samples_json(ident.samples)},
+                  {"fitted", matrix(ident.fitted)},
+                  {"warnings", ident.warnings},
+                  {"motion",
+                   {{"rows", m.rows},
+                    {"derived", m.derived},
+                    {"dt", m.kernels.dt},
+                    {"cutoff", m.kernels.cutoff},
+                    {"decimation", m.decimation},
+                    {"option_cutoff", mo.filter.cutoff},
+                    {"option_decimation", mo.filter.decimation},
+                    {"g0", mo.samples.g0},
+                    {"root_gravity", matrix(mo.samples.root_gravity)}}}};
+  const std::vector<std::uint8_t> bytes = json::to_cbor(j);
+  write_file_atomically(path, std::string(bytes.begin(), bytes.end()));
+}
+
+Identification read_identification(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open file", path));
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
+  Identification out;
+  try {
+    const json j = json::from_cbor(bytes);
+    if (j.at("format") != kRecordFormat)
+      throw std::runtime_error(fmt::format("format is not {}", kRecordFormat));
+    std::vector<std::pair<std::string, double>> held;
+    for (const json& h : j.at("held")) held.emplace_back(h.at(0), h.at(1));
+    out.model = hold_joints(load_urdf(j.at("urdf"), j.at("sensor_link")), held);
+    const json& b = j.at("base");
+    BaseParameterOptions bo;
+    bo.layout = ParameterLayout::of_size(b.at("per_link"));
+    bo.sensor_moving = b.at("sensor_moving");
+    bo.fixed_gravity = b.at("fixed_gravity");
+    bo.gravity = vector_of<3>(b.at("gravity"));
+    bo.offset = b.at("offset");
+    bo.rank_tolerance = b.at("rank_tolerance");
+    out.base = find_base_parameters(out.model, bo);
+    std::vector<std::string> names;
+    for (const BaseParameter& p : out.base.params) names.push_back(p.expression);
+    if (names != b.at("names").get<std::vector<std::string>>())
+      throw std::runtime_error(
+          "the URDF's base parameters are no longer those of the fit (was the URDF changed?)");
+    out.summary = summary_of(j.at("summary"));
+    out.samples = samples_of(j.at("samples"));
+    out.fitted = matrix_of(j.at("fitted"));
+    out.warnings = j.at("warnings").get<std::vector<std::string>>();
+    const json& m = j.at("motion");
+    out.motion.rows = m.at("rows");
+    out.motion.derived = m.at("derived");
+    out.motion.decimation = m.at("decimation");
+    out.motion_options.filter.cutoff = m.at("option_cutoff");
+    out.motion_options.filter.decimation = m.at("option_decimation");
+    out.motion_options.samples.g0 = m.at("g0");
+    out.motion_options.samples.root_gravity = vector_of<3>(m.at("root_gravity"));
+    if (out.motion.derived)
+      out.motion.kernels = make_kernels(m.at("dt").get<double>(), m.at("cutoff").get<double>());
+    if (out.summary.value.size() != out.base.num_unknowns() ||
+        out.fitted.rows() != out.samples.size())
+      throw std::runtime_error("its parts do not fit together");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: not a massid identification record: {}", path, e.what()));
+  }
+  return out;
+}
+
+}  // namespace massid

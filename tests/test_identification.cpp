@@ -1,0 +1,274 @@
+// The identification as one object and one file (identification.hpp): what
+// `massid identify --report` hands to the report. identify_log is the fit of
+// the in-memory path; the record gives it back bit for bit, refuses files
+// that are not records and URDFs that changed since; the parameter scales the
+// report judges std by follow M L^k with L checked on a robot measured by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "massid/csv.hpp"
+#include "massid/errors.hpp"
+#include "massid/excitation.hpp"
+#include "massid/identification.hpp"
+#include "massid/kinematics.hpp"
+#include "massid/report.hpp"
+#include "massid/simulate.hpp"
+#include "summary_support.hpp"
+#include "test_support.hpp"
+
+namespace massid {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "massid_test_identification";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+// t (when present), the joints (and _vel, _acc in motion), gx gy gz, fx..mz.
+std::string write_log(const std::string& name, const Model& model, const Samples& s) {
+  std::vector<std::string> header;
+  if (s.time.size() > 0) header.push_back("t");
+  for (const Joint& j : model.joints) header.push_back(j.name);
+  if (s.qd.cols() > 0) {
+    for (const Joint& j : model.joints) header.push_back(j.name + "_vel");
+    for (const Joint& j : model.joints) header.push_back(j.name + "_acc");
+  }
+  for (const char* c : {"gx", "gy", "gz"}) header.push_back(c);
+  for (const char* c : kWrenchColumns) header.push_back(c);
+  std::vector<std::vector<std::string>> rows(s.size());
+  for (int i = 0; i < s.size(); ++i) {
+    auto& r = rows[i];
+    if (s.time.size() > 0) r.push_back(format_number(s.time[i]));
+    for (int j = 0; j < s.q.cols(); ++j) r.push_back(format_number(s.q(i, j)));
+    for (int j = 0; j < s.qd.cols(); ++j) r.push_back(format_number(s.qd(i, j)));
+    for (int j = 0; j < s.qdd.cols(); ++j) r.push_back(format_number(s.qdd(i, j)));
+    for (int k = 0; k < 3; ++k) r.push_back(format_number(s.gravity(i, k)));
+    for (int k = 0; k < 6; ++k) r.push_back(format_number(s.wrench(i, k)));
+  }
+  const std::string path = scratch(name).string();
+  write_csv(path, header, rows);
+  return path;
+}
+
+std::string static_log(const Model& model, const std::string& plan, const std::string& name) {
+  Samples s = test::load_plan(model, plan);
+  SimulateOptions so;
+  so.noise_force = 0.05;
+  so.noise_moment = 0.005;
+  so.repeat = 5;
+  so.seed = 3;
+  s.wrench = simulate_wrenches(model, s, so);
+  // The plan's rows repeated as simulate_wrenches made them.
+  const int n = static_cast<int>(s.wrench.rows());
+  Samples r;
+  r.q.resize(n, s.q.cols());
+  r.gravity.resize(n, 3);
+  for (int i = 0; i < n; ++i) {
+    r.q.row(i) = s.q.row(i / so.repeat);
+    r.gravity.row(i) = s.gravity.row(i / so.repeat);
+  }
+  r.wrench = s.wrench;
+  return write_log(name, model, r);
+}
+
+void expect_same_samples(const Samples& a, const Samples& b) {
+  EXPECT_EQ(a.source, b.source);
+  EXPECT_EQ(a.q, b.q);
+  EXPECT_EQ(a.qd, b.qd);
+  EXPECT_EQ(a.qdd, b.qdd);
+  EXPECT_EQ(a.gravity, b.gravity);
+  EXPECT_EQ(a.sensor_motion, b.sensor_motion);
+  EXPECT_EQ(a.wrench, b.wrench);
+  EXPECT_EQ(a.line, b.line);
+  EXPECT_EQ(a.time, b.time);
+  EXPECT_EQ(a.block, b.block);
+  EXPECT_EQ(a.gravity_from_force, b.gravity_from_force);
+  EXPECT_EQ(a.derivatives_filtered, b.derivatives_filtered);
+}
+
+void expect_same_identification(const Identification& a, const Identification& b) {
+  EXPECT_EQ(a.model.name, b.model.name);
+  EXPECT_EQ(a.model.sensor_link(), b.model.sensor_link());
+  EXPECT_EQ(a.model.held, b.model.held);
+  ASSERT_EQ(a.base.num_unknowns(), b.base.num_unknowns());
+  EXPECT_EQ(a.base.K, b.base.K);
+  for (int i = 0; i < a.base.num_mass(); ++i)
+    EXPECT_EQ(a.base.params[i].expression, b.base.params[i].expression);
+  test::expect_identical(a.summary, b.summary);
+  EXPECT_EQ(a.summary.residual_dof, b.summary.residual_dof);
+  EXPECT_EQ(a.summary.outliers.size(), b.summary.outliers.size());
+  EXPECT_EQ(a.summary.outlier_threshold, b.summary.outlier_threshold);
+  expect_same_samples(a.samples, b.samples);
+  EXPECT_EQ(a.fitted, b.fitted);
+  EXPECT_EQ(a.warnings, b.warnings);
+  EXPECT_EQ(a.motion.rows, b.motion.rows);
+  EXPECT_EQ(a.motion.derived, b.motion.derived);
+  EXPECT_EQ(a.motion.decimation, b.motion.decimation);
+  EXPECT_EQ(a.motion.kernels.half_width, b.motion.kernels.half_width);
+}
+
+TEST(Identification, StaticLogIsTheInMemoryFitAndItsRecordGivesItBackBitForBit) {
+  const test::Example ex = test::examples()[1];  // ur_like
+  const std::string log = static_log(load_urdf(ex.urdf), ex.plan, "static.csv");
+  IdentifyOptions o;
+  const Identification ident = identify_log(load_urdf(ex.urdf), log, true, o, false);
+
+  // The same as the in-memory path, step by step.
+  const Model model = load_urdf(ex.urdf);
+  BaseParameterOptions bo;
+  bo.offset = true;
+  const BaseParameters base = find_base_parameters(model, bo);
+  const Samples s = read_samples(model, read_csv(log), WrenchColumns::Required);
+  const IdentifySummary dense = identify(model, base, s, o);
+  test::expect_same_summary(dense, ident.summary, 1e-9);
+  EXPECT_EQ(ident.samples.q, s.q);
+  EXPECT_EQ(ident.samples.wrench, s.wrench);
+  ASSERT_EQ(ident.fitted.rows(), s.size());
+  EXPECT_LT((ident.fitted - fitted_wrenches(model, base, s, dense)).cwiseAbs().maxCoeff(), 1e-9);
+
+  const std::string record = scratch("static.record").string();
+  write_identification(record, ident);
+  expect_same_identification(ident, read_identification(record));
+
+  // Without samples: the same fit, nothing kept.
+  const Identification lean = identify_log(load_urdf(ex.urdf), log, true, o, false, {}, false);
+  test::expect_identical(ident.summary, lean.summary);
+  EXPECT_EQ(lean.samples.size(), 0);
+  EXPECT_EQ(lean.fitted.size(), 0);
+}
+
+TEST(Identification, MotionLogFromPositionsRoundTripsWithItsFilter) {
+  const test::Example ex = test::examples()[1];
+  const Model model = load_urdf(ex.urdf);
+  Samples s = sample_trajectory(random_fourier_trajectory(model, 4, 5.0, 7), 10.0, 200.0,
+                                Eigen::Vector3d(0, 0, -kStandardGravity));
+  SimulateOptions so;
+  so.dynamic = true;
+  so.noise_force = 0.05;
+  so.noise_moment = 0.005;
+  s.wrench = simulate_wrenches(model, s, so);
+  s.qd.resize(0, 0);  // positions and t only: the filter derives the rest
+  s.qdd.resize(0, 0);
+  const std::string log = write_log("motion.csv", model, s);
+  MotionDataOptions mo;
+  mo.filter.cutoff = 8.0;
+  const Identification ident = identify_log(load_urdf(ex.urdf), log, true, {}, true, mo);
+  EXPECT_TRUE(ident.motion.derived);
+  EXPECT_TRUE(ident.base.motion());
+  EXPECT_EQ(ident.samples.size(), ident.summary.samples);
+  const std::string record = scratch("motion.record").string();
+  write_identification(record, ident);
+  const Identification back = read_identification(record);
+  expect_same_identification(ident, back);
+  EXPECT_EQ(back.motion_options.filter.cutoff, 8.0);
+  EXPECT_EQ(back.motion.kernels.cutoff, ident.motion.kernels.cutoff);
+}
+
+TEST(Identification, HeldJointsAndTheSensorLinkComeBack) {
+  const test::Example ex = test::examples()[0];  // puma260
+  const Model model = hold_joints(load_urdf(ex.urdf), {{"joint3", 0.25}});
+  Samples s = test::load_plan(model, ex.plan);
+  s.wrench = simulate_wrenches(model, s, {.noise_force = 0.05, .noise_moment = 0.005});
+  const std::string log = write_log("held.csv", model, s);
+  const Identification ident = identify_log(model, log, false, {}, false);
+  const std::string record = scratch("held.record").string();
+  write_identification(record, ident);
+  const Identification back = read_identification(record);
+  expect_same_identification(ident, back);
+  EXPECT_EQ(back.model.num_joints(), model.num_joints());
+}
+
+TEST(Identification, WhatIsNotARecordIsAnInputErrorNamingTheFile) {
+  const test::Example ex = test::examples()[1];
+  const auto message = [](const std::string& path) -> std::string {
+    try {
+      read_identification(path);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(message(scratch("absent.record").string()).find("absent.record: cannot open"),
+            std::string::npos);
+  EXPECT_NE(message(ex.plan).find("plan.csv: not a massid identification record"),
+            std::string::npos);
+
+  const std::string log = static_log(load_urdf(ex.urdf), ex.plan, "cut.csv");
+  const std::string record = scratch("cut.record").string();
+  write_identification(record, identify_log(load_urdf(ex.urdf), log, false, {}, false));
+  const auto size = fs::file_size(record);
+  fs::resize_file(record, size / 2);
+  EXPECT_NE(message(record).find("cut.record: not a massid identification record"),
+            std::string::npos);
+}
+
+TEST(Identification, ARecordWhoseUrdfChangedIsRefused) {
+  const test::Example ex = test::examples()[1];
+  const fs::path urdf = scratch("robot.urdf");
+  fs::copy_file(ex.urdf, urdf, fs::copy_options::overwrite_existing);
+  const std::string log = static_log(load_urdf(urdf.string()), ex.plan, "changed.csv");
+  const std::string record = scratch("changed.record").string();
+  write_identification(record, identify_log(load_urdf(urdf.string()), log, false, {}, false));
+  // The same robot with its first joint turning about another axis.
+  std::ifstream in(urdf);
+  std::string xml{std::istreambuf_iterator<char>(in), {}};
+  in.close();
+  const auto at = xml.find("<axis xyz=\"0 0 1\"/>");
+  ASSERT_NE(at, std::string::npos);
+  xml.replace(at, 19, "<axis xyz=\"1 0 0\"/>");
+  std::ofstream(urdf) << xml;
+  try {
+    read_identification(record);
+    ADD_FAILURE() << "a changed URDF was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("URDF's base parameters are no longer"), std::string::npos)
+        << e.what();
+  }
+}
+
+// A two-link arm measured by hand: link b turns about the vertical through
+// the sensor; link c, 0.3 m out and 0.4 m up, turns about another vertical,
+// its centre of mass 0.1 m up its axis. The farthest point is c's centre of
+// mass, sqrt(0.3^2 + 0.5^2) from the sensor whatever the joint angles.
+TEST(Identification, ParameterScalesAreMassTimesReachToTheUnitsPower) {
+  const Model model = load_urdf_string(R"(<robot name="r">
+    <link name="a"/>
+    <link name="b"><inertial><mass value="1"/><origin xyz="0 0 0.2"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+    <link name="c"><inertial><mass value="2"/><origin xyz="0 0 0.1"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+    <joint name="j1" type="continuous"><parent link="a"/><child link="b"/>
+      <axis xyz="0 0 1"/></joint>
+    <joint name="j2" type="revolute"><parent link="b"/><child link="c"/>
+      <origin xyz="0.3 0 0.4"/><axis xyz="0 0 1"/>
+      <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  </robot>)");
+  const double L = std::sqrt(0.3 * 0.3 + 0.5 * 0.5);
+  EXPECT_NEAR(reach(model), L, 1e-12);
+  BaseParameterOptions bo;
+  bo.offset = true;
+  const BaseParameters base = find_base_parameters(model, bo);
+  // Nominal mass without a fit; the identified total mass with one.
+  const Eigen::VectorXd nominal = parameter_scales(model, base, nullptr);
+  IdentifySummary fit;
+  fit.value = Eigen::VectorXd::Zero(base.num_unknowns());
+  ASSERT_GE(base.total_mass, 0);
+  fit.value[base.total_mass] = 4.5;
+  const Eigen::VectorXd identified = parameter_scales(model, base, &fit);
+  for (int i = 0; i < base.num_mass(); ++i) {
+    const std::string& unit = base.params[i].unit;
+    const int k = unit == "kg" ? 0 : unit == "kg m" ? 1 : 2;
+    EXPECT_NEAR(nominal[i], 3.0 * std::pow(L, k), 1e-12) << base.params[i].expression;
+    EXPECT_NEAR(identified[i], 4.5 * std::pow(L, k), 1e-12) << base.params[i].expression;
+  }
+}
+
+}  // namespace
+}  // namespace massid
