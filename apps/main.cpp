@@ -286,7 +286,7 @@ int main(int argc, char** argv) {
   std::string plan, data, out, params, offset_text;
   SimulateOptions sim;
   IdentifyOptions idopts;
-  std::string drift_text, report;
+  std::string drift_text, report, rest_text = "auto";
   bool no_checks = false;
   double sigma_force = 0, sigma_moment = 0;
   MotionFlags motion;
@@ -360,6 +360,11 @@ int main(int argc, char** argv) {
                    "Sensor offset drifting: 'linear' in time (column t) or 'per-block' "
                    "(column block: re-zeroed between blocks); implies --offset")
       ->check(CLI::IsMember({"linear", "per-block"}));
+  ident
+      ->add_option("--rest", rest_text,
+                   "A static log with t recorded while the robot moved from pose to pose: 'auto' "
+                   "(default) uses only its rest windows, 'off' every row")
+      ->check(CLI::IsMember({"auto", "off"}));
   ident->add_flag("--no-checks", no_checks,
                   "Skip the set-up checks (wrench sign, frame, units, gravity, columns)");
   ident->add_option("--sigma-force", sigma_force, "Force noise sigma, N (default: from residuals)")
@@ -418,6 +423,9 @@ int main(int argc, char** argv) {
       if (ident->count("--sigma-force")) idopts.sigma_force = sigma_force;
       if (ident->count("--sigma-moment")) idopts.sigma_moment = sigma_moment;
       if (!drift_text.empty()) idopts.drift = parse_drift(drift_text);
+      if (rest_text == "off") idopts.rest.detection = RestDetection::Off;
+      if (motion.dynamic && ident->count("--rest"))
+        throw InputError("--rest goes with static identification (--dynamic uses every row)");
       return run_identify(common, data, out, offset, idopts, !no_checks, report, motion);
     }
     if (*pred) return run_predict(common.urdf, params, data, out, report, motion, !no_checks);

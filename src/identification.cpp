@@ -95,6 +95,24 @@ Eigen::Matrix<double, R, 1> vector_of(const json& j) {
   return m;
 }
 
+json rest_json(const RestWindows& w) {
+  json windows = json::array();
+  for (const RestWindow& r : w.windows) windows.push_back({r.first, r.last});
+  return {{"continuous", w.continuous}, {"windows", windows}, {"rows", w.rows},
+          {"samples", w.samples},       {"moving", w.moving}, {"criterion", w.criterion}};
+}
+
+RestWindows rest_of(const json& j) {
+  RestWindows w;
+  w.continuous = j.at("continuous");
+  for (const json& r : j.at("windows")) w.windows.push_back({r.at(0), r.at(1)});
+  w.rows = j.at("rows");
+  w.samples = j.at("samples");
+  w.moving = j.at("moving");
+  w.criterion = j.at("criterion");
+  return w;
+}
+
 json summary_json(const IdentifySummary& s) {
   json outliers = json::array();
   for (const Outlier& o : s.outliers) outliers.push_back({o.sample, o.line, o.score});
@@ -120,7 +138,8 @@ json summary_json(const IdentifySummary& s) {
           {"drift", static_cast<int>(s.drift)},
           {"drift_names", s.drift_names},
           {"drift_value", matrix(s.drift_value)},
-          {"drift_stddev", matrix(s.drift_stddev)}};
+          {"drift_stddev", matrix(s.drift_stddev)},
+          {"rest", rest_json(s.rest)}};
 }
 
 IdentifySummary summary_of(const json& j) {
@@ -148,6 +167,7 @@ IdentifySummary summary_of(const json& j) {
   s.drift_names = j.at("drift_names").get<std::vector<std::string>>();
   s.drift_value = matrix_of(j.at("drift_value"));
   s.drift_stddev = matrix_of(j.at("drift_stddev"));
+  s.rest = rest_of(j.at("rest"));
   return s;
 }
 

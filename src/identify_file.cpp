@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "massid/csv.hpp"
+#include "massid/rest_windows.hpp"
 #include "massid/setup_checks.hpp"
 #include "massid/streaming.hpp"
 
@@ -21,18 +22,30 @@ bool small_enough_to_name_samples(const std::string& path) {
   return !ec && size <= (64u << 20);
 }
 
+// A log recorded while the robot moved from pose to pose: its head (the
+// first kContinuousHeadRows rows) has moving rows (rest_windows.hpp).
+constexpr int kContinuousHeadRows = 20000;
+bool continuous_log(const Model& model, const std::string& path, const RestWindowOptions& o) {
+  if (o.detection == RestDetection::Off) return false;
+  return find_rest_windows(read_samples_head(model, path, kContinuousHeadRows), o).continuous;
+}
+
 }  // namespace
 
 IdentifySummary identify_file(const Model& model, const BaseParameters& base,
                               const std::string& path, const IdentifyOptions& options,
                               Samples* samples) {
   const auto in_memory = [&] {
-    Samples s = read_samples(model, read_csv(path), WrenchColumns::Required);
+    Samples all = read_samples(model, read_csv(path), WrenchColumns::Required);
+    const RestWindows windows = find_rest_windows(all, options.rest);
+    Samples s = windows.continuous ? rest_samples(all, windows) : std::move(all);
     IdentifySummary summary = identify(model, base, s, options);
+    summary.rest = windows;
     if (samples) *samples = std::move(s);
     return summary;
   };
   if (options.robust || options.drift != Drift::None) return in_memory();  // iterated fits
+  if (continuous_log(model, path, options.rest)) return in_memory();       // rest windows
   // Streamed from the memory-mapped file in constant memory: the same results
   // as identify() on read_samples of the whole file.
   const StreamOptions stream;

@@ -52,6 +52,12 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
                         : s->gravity_from_upstream ? "upstream joints"
                                                    : "columns";
     j["samples"] = s->samples;
+    if (s->rest.continuous)
+      j["rest_windows"] = {{"windows", s->rest.windows.size()},
+                           {"samples", s->rest.samples},
+                           {"rows", s->rest.rows},
+                           {"moving", s->rest.moving},
+                           {"criterion", s->rest.criterion}};
     if (base.total_mass >= 0) j["total_mass"] = s->value[base.total_mass];
   }
   if (base.motion()) {

@@ -199,6 +199,11 @@ std::string identify_report(const Model& model, const BaseParameters& base,
                   : s.gravity_from_upstream ? "the joints above the sensor link"
                                             : "gx,gy,gz",
                   model.sensor_link());
+  if (s.rest.continuous)
+    out += fmt::format(
+        "rest windows of a continuous log: {} windows, {} of {} rows used ({} rows found moving "
+        "by the {}; the rows around each motion and while the wrench settles dropped)\n",
+        s.rest.windows.size(), s.rest.samples, s.rest.rows, s.rest.moving, s.rest.criterion);
   const int uw = base.motion() ? 6 : 5;  // "kg m^2"
   out += fmt::format("  {:<10} {:>14} {:>12} {:<{}} {}\n", "name", "value", "std", "unit", uw,
                      "expression");

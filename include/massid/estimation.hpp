@@ -12,6 +12,7 @@
 
 #include "massid/base_parameters.hpp"
 #include "massid/model.hpp"
+#include "massid/rest_windows.hpp"
 #include "massid/samples.hpp"
 
 namespace massid {
@@ -41,6 +42,10 @@ struct IdentifyOptions {
   // Family-wise false-alarm probability of the outlier test over all samples.
   double outlier_probability = 0.01;
   Drift drift = Drift::None;
+  // A static log with t recorded while the robot moved from pose to pose:
+  // only its rest windows are samples (rest_windows.hpp; identify_file and
+  // identify_log apply it, identify() takes the samples as given).
+  RestWindowOptions rest;
 };
 
 // A sample whose residual is implausible for the fitted noise.
@@ -85,6 +90,9 @@ struct IdentifySummary {
   Drift drift = Drift::None;
   std::vector<std::string> drift_names;
   Eigen::VectorXd drift_value, drift_stddev;
+  // The rest windows of a continuous static log (rest.continuous: only their
+  // rows are the samples); else not continuous, every row a sample.
+  RestWindows rest;
 };
 
 // Below this many residual degrees of freedom on an axis an estimated noise

@@ -7,7 +7,7 @@ sensor frame. Arrays are numpy float64; N is the number of samples.
 """
 
 from os import PathLike
-from typing import Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -206,6 +206,7 @@ class Identification:
     drift_values: np.ndarray
     drift_std: np.ndarray
     warnings: list[str]  # also issued as MassidWarning
+    rest_windows: Optional[dict[str, Any]]  # continuous static log: windows, samples, rows, moving, criterion
     def report(self) -> str: ...  # the CLI's text report
     def to_json(self) -> str: ...  # the params file ("massid-params-1")
     def save(self, path: PathType) -> None: ...  # params file, written atomically
@@ -226,6 +227,7 @@ def identify(
     dynamic: bool = False,
     cutoff: Optional[float] = None,  # Hz, dynamic without JOINT_vel/_acc
     root_gravity: Optional[Sequence[float]] = None,  # dynamic: gravity in the URDF root frame
+    rest: str = "auto",  # static log with t: "auto" uses its rest windows, "off" every row
 ) -> Identification: ...
 
 # The record `massid identify --report` hands to the report: the fit without fitting again.

@@ -43,7 +43,8 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
                             std::optional<std::string> drift, std::optional<double> sigma_force,
                             std::optional<double> sigma_moment, bool checks, bool dynamic,
                             std::optional<double> cutoff,
-                            std::optional<std::vector<double>> root_gravity) {
+                            std::optional<std::vector<double>> root_gravity,
+                            const std::string& rest) {
   Identification out;
   out.model = model_of(robot, sensor, fixed);
   IdentifyOptions opts;
@@ -59,6 +60,10 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   for (auto [value, name] : {std::pair{sigma_force, "sigma_force"}, {sigma_moment, "sigma_moment"}})
     if (value && !(*value > 0 && std::isfinite(*value)))
       throw InputError(fmt::format("{}: {} is not a positive number", name, *value));
+  if (rest != "auto" && rest != "off")
+    throw InputError(fmt::format("rest: '{}' is not 'auto' or 'off'", rest));
+  if (dynamic && rest != "auto") throw InputError("rest goes with static identification");
+  if (rest == "off") opts.rest.detection = RestDetection::Off;
   opts.sigma_force = sigma_force;
   opts.sigma_moment = sigma_moment;
   if (!dynamic && (cutoff || root_gravity))
@@ -82,6 +87,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
     // Columns in memory: the same steps on the samples.
     std::vector<std::string> header;
     std::vector<std::string> notes;
+    RestWindows rest_windows;
     if (dynamic) {
       out.motion_options = motion_data_options(cutoff, root_gravity);
       Samples raw =
@@ -92,13 +98,16 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
           prepare_motion_samples(out.model, std::move(raw), out.motion_options, &out.motion);
       out.base = find_base_parameters(out.model, motion_base_options(out.samples, bopts.offset));
     } else {
-      out.samples = samples_of(out.model, data, WrenchColumns::Required, &header);
-      if (checks) notes = run_checks(out.model, data, &out.samples, header, dynamic);
+      Samples all = samples_of(out.model, data, WrenchColumns::Required, &header);
+      if (checks) notes = run_checks(out.model, data, &all, header, dynamic);
+      rest_windows = find_rest_windows(all, opts.rest);  // as identify_file
+      out.samples = rest_windows.continuous ? rest_samples(all, rest_windows) : std::move(all);
       out.base = find_base_parameters(out.model, bopts);
     }
     {
       py::gil_scoped_release release;
       out.summary = identify(out.model, out.base, out.samples, opts);
+      out.summary.rest = rest_windows;
       out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
     }
     out.warnings = notes;
@@ -259,6 +268,23 @@ void bind_identify(py::module_& m) {
             return a;
           },
           "[N] False for the samples that robust=True rejected")
+      .def_property_readonly(
+          "rest_windows",
+          [sum](const I& i) -> py::object {
+            const RestWindows& w = sum(i).rest;
+            if (!w.continuous) return py::none();
+            py::list windows;
+            for (const RestWindow& r : w.windows) windows.append(py::make_tuple(r.first, r.last));
+            py::dict d;
+            d["windows"] = windows;
+            d["samples"] = w.samples;
+            d["rows"] = w.rows;
+            d["moving"] = w.moving;
+            d["criterion"] = w.criterion;
+            return d;
+          },
+          "a continuous static log: its rest windows as (first, last) rows of the log, samples, "
+          "rows, moving rows and what moved; None when every row is a sample")
       .def_property_readonly("drift",
                              [sum](const I& i) -> py::object {
                                switch (sum(i).drift) {
@@ -321,7 +347,7 @@ a record or whose URDF no longer gives the same base parameters.)");
         py::arg("robust") = false, py::arg("drift") = py::none(),
         py::arg("sigma_force") = py::none(), py::arg("sigma_moment") = py::none(),
         py::arg("checks") = true, py::arg("dynamic") = false, py::arg("cutoff") = py::none(),
-        py::arg("root_gravity") = py::none(),
+        py::arg("root_gravity") = py::none(), py::arg("rest") = "auto",
         R"(Identifies the base parameters from measured wrenches (massid identify [--dynamic]).
 
 robot: URDF path or Model. data: a CSV path (streamed, as the CLI) or columns by name
@@ -329,7 +355,9 @@ robot: URDF path or Model. data: a CSV path (streamed, as the CLI) or columns by
 sensor offsets; sensor: sensor link; fixed: joints held still, name -> position;
 robust: reject samples with implausible residuals; drift: 'linear' (column t) or
 'per-block' (column block); sigma_force / sigma_moment: noise (default: from residuals);
-checks: the set-up checks (sign, frame, units, gravity, columns).
+checks: the set-up checks (sign, frame, units, gravity, columns). rest: a static log
+with t recorded while the robot moved from pose to pose: 'auto' uses only its rest
+windows (.rest_windows says which), 'off' every row.
 dynamic: identification in motion, ten parameters per link (inertia about the link origin):
 the data add JOINT_vel and JOINT_acc, or t to derive them from the positions by a zero-phase
 low-pass (cutoff Hz; default min(10, rate/20)); optionally wx..wz, dwx..dwz, ax..az (sensor

@@ -379,3 +379,74 @@ def test_the_stub_lists_every_public_name_and_attribute():
         assert members - {"__init__", "__call__"} == actual, (cls, members ^ actual)
     for name in public:
         assert getattr(_massid, name).__doc__, name
+
+
+# ---------------------------------------------------------------------------
+# A continuous static log: the robot moves from pose to pose while logging
+
+
+def continuous_columns(massid, poses=30, rate=250.0, rest=1.5, move=1.0):
+    """The PUMA's plan poses in order, resting `rest` s at each and moving `move` s
+    between them (quintic), with the wrench of the motion (simulate dynamic=True)."""
+    plan = massid.read_csv(str(PUMA_PLAN))
+    names = [j.name for j in massid.load_model(str(PUMA)).joints]
+    q_plan = np.column_stack([plan[n] for n in names])[:poses]
+    g = np.column_stack([plan[c] for c in ("gx", "gy", "gz")])[:poses]
+    q, qd, qdd, grav = [], [], [], []
+    for p in range(poses):
+        n_rest = int(rest * rate)
+        q.append(np.repeat(q_plan[p:p + 1], n_rest, axis=0))
+        qd.append(np.zeros((n_rest, len(names))))
+        qdd.append(np.zeros((n_rest, len(names))))
+        grav.append(np.repeat(g[p:p + 1], n_rest, axis=0))
+        if p + 1 == poses:
+            break
+        u = (np.arange(int(move * rate)) + 1.0) / int(move * rate)
+        s = u**3 * (10 - 15 * u + 6 * u**2)
+        v = 30 * u**2 * (1 - u)**2 / move
+        a = 60 * u * (1 - u) * (1 - 2 * u) / move**2
+        dq = q_plan[p + 1] - q_plan[p]
+        q.append(q_plan[p] + s[:, None] * dq)
+        qd.append(v[:, None] * dq)
+        qdd.append(a[:, None] * dq)
+        grav.append(np.repeat(g[p:p + 1], u.size, axis=0))  # a level platform
+    q, qd, qdd, grav = (np.vstack(x) for x in (q, qd, qdd, grav))
+    cols = {"t": np.arange(q.shape[0]) / rate}
+    for j, n in enumerate(names):
+        cols[n], cols[n + "_vel"], cols[n + "_acc"] = q[:, j], qd[:, j], qdd[:, j]
+    cols.update(gx=grav[:, 0], gy=grav[:, 1], gz=grav[:, 2])
+    data = massid.simulate(str(PUMA), cols, dynamic=True, noise_force=0.05, noise_moment=0.005, seed=5)
+    # the log has no velocities: a static log recorded while moving
+    return {k: v for k, v in data.items() if not k.endswith(("_vel", "_acc"))}
+
+
+def test_continuous_static_log_uses_its_rest_windows(massid, tmp_path):
+    data = continuous_columns(massid)
+    csv = write_csv(tmp_path / "continuous.csv", data)
+    r = run_cli("identify", PUMA, csv, "-o", tmp_path / "p.json")
+    assert "rest windows of a continuous log: 30 windows" in r.stdout
+    params = json.loads((tmp_path / "p.json").read_text())
+    rw = params["rest_windows"]
+    assert rw["windows"] == 30 and rw["rows"] == len(data["t"]) and rw["samples"] == params["samples"]
+    assert rw["samples"] < rw["rows"] and "joints" in rw["criterion"]
+    # the same from Python, file or columns
+    for source in (csv, data):
+        ident = massid.identify(str(PUMA), source)
+        assert ident.rest_windows["samples"] == rw["samples"] and len(ident.rest_windows["windows"]) == 30
+        assert [p.value for p in ident.base_parameters] == pytest.approx(
+            [p["value"] for p in params["base_parameters"]], rel=1e-9, abs=1e-12)
+    # against the truth (the URDF the data came from): within 4 std; every row is far off
+    model = massid.load_model(str(PUMA))
+    truth = massid.base_parameters(model).K @ model.nominal_parameters()
+    ident = massid.identify(str(PUMA), csv)
+    with pytest.warns(massid.MassidWarning, match="implausible"):  # the moves' rows
+        every = massid.identify(str(PUMA), csv, rest="off", checks=False)
+    assert every.rest_windows is None and every.samples == len(data["t"])
+
+    def worst(fit):
+        return max(abs(p.value - t) / p.std for p, t in zip(fit.base_parameters, truth))
+    assert worst(ident) < 4.0
+    assert worst(every) > 20.0
+    r = run_cli("identify", PUMA, csv, "-o", tmp_path / "off.json", "--rest", "off", "--no-checks")
+    assert "rest windows" not in r.stdout
+    assert "rest_windows" not in json.loads((tmp_path / "off.json").read_text())
