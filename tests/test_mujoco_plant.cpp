@@ -567,10 +567,9 @@ TEST(MimicPlant, StaticWrenchEqualsMassidAtSeveralMasterPositions) {
                                    {-0.7, -0.5, -0.05},
                                    {1.2, 0.9, 0.08},
                                    {-1.5, 0.2, -0.1}};
-    for (const auto& p : positions) {
-      const Eigen::Vector3d q(p[0], p[1], p[2]);
-      plant.set_joints(q);
-      for (int k = 0; k < 200; ++k) plant.advance(kDt);  // held: the servos must keep it
+    // Read as built (joints at 0: each mimic joint at its offset), right
+    // after set_joints, and after 0.2 s held there by the servos.
+    const auto check = [&](const Eigen::Vector3d& q, const char* when) {
       const Eigen::Vector3d gs = gravity_in_sensor(plant, options);
       const massid::Wrench measured = plant.measured_wrench();
       const massid::Wrench expected = static_wrench(g.without, g.expand(q, false), gs);
@@ -582,15 +581,23 @@ TEST(MimicPlant, StaticWrenchEqualsMassidAtSeveralMasterPositions) {
       naive[g.without.find_joint("slide_b")] = q[2];
       const massid::Wrench wrong = static_wrench(g.without, naive, gs);
       const double rel = (measured - expected).norm() / expected.norm();
-      std::cout << "[ mimic    ] static, multipliers " << c.finger_multiplier << ", "
+      std::cout << "[ mimic    ] static " << when << ", multipliers " << c.finger_multiplier << ", "
                 << c.slide_multiplier << ", q " << q.transpose() << ": relative difference " << rel
                 << " (coefficients ignored: " << (wrong - expected).norm() / expected.norm()
                 << ")\n";
-      EXPECT_LT(rel, 1e-9) << "q " << q.transpose() << "\nmeasured " << measured.transpose()
-                           << "\nexpected " << expected.transpose();
+      EXPECT_LT(rel, 1e-9) << when << ", q " << q.transpose() << "\nmeasured "
+                           << measured.transpose() << "\nexpected " << expected.transpose();
       EXPECT_LT((own - expected).norm(), 1e-12 * expected.norm());
       EXPECT_GT((wrong - expected).norm(), 1e-5 * expected.norm()) << q.transpose();
-      EXPECT_LT((plant.joint_positions() - q).cwiseAbs().maxCoeff(), 1e-12);
+      EXPECT_LT((plant.joint_positions() - q).cwiseAbs().maxCoeff(), 1e-12) << when;
+    };
+    check(Eigen::Vector3d::Zero(), "as built");
+    for (const auto& p : positions) {
+      const Eigen::Vector3d q(p[0], p[1], p[2]);
+      plant.set_joints(q);
+      check(q, "placed");
+      for (int k = 0; k < 200; ++k) plant.advance(kDt);
+      check(q, "held");
     }
   }
 }
