@@ -83,6 +83,11 @@ void check_same_kinematics(const Model& model, const Model& plant, const std::st
     if (a.name != b.name || a.parent != b.parent || a.type != b.type || a.joint != b.joint ||
         !a.origin.isApprox(b.origin, 1e-12) || !a.axis.isApprox(b.axis, 1e-12))
       fail(fmt::format("link '{}' (its joint, origin or axis)", a.name));
+    // A mimic joint: the same master, multiplier and offset.
+    if (a.joint_index != b.joint_index || a.joint_scale != b.joint_scale ||
+        a.joint_offset != b.joint_offset)
+      fail(fmt::format("link '{}' (how its joint follows '{}')", a.name,
+                       a.joint_index >= 0 ? model.joints[a.joint_index].name : a.joint));
   }
 }
 

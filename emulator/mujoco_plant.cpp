@@ -70,7 +70,9 @@ void emit_body(const Model& model, const PlantOptions& options, int index,
   x << pad << "<body name=\"" << mjcf_body_name(link.name) << "\" " << pose_attributes(pose)
     << ">\n";
   if (link.type != JointType::Fixed) {
-    x << pad << "  <joint name=\"" << link.joint << "\" type=\""
+    // A mimic link gets a joint of its own too, named after the mimic joint
+    // (URDF joint names are unique); the plant drives it with its master.
+    x << pad << "  <joint name=\"" << mjcf_joint_name(link.joint) << "\" type=\""
       << (link.type == JointType::Revolute ? "hinge" : "slide") << "\" axis=\"" << vec(link.axis)
       << "\" pos=\"0 0 0\" limited=\"false\"/>\n";
   }
@@ -99,12 +101,6 @@ void check_options(const Model& model, const PlantOptions& o) {
   positive(o.default_radius_of_gyration, "default_radius_of_gyration");
   if (!o.gravity.allFinite()) throw InputError("plant option gravity is not finite");
   if (model.num_links() == 0) throw InputError("the model has no links");
-  if (!model.mimics.empty())
-    throw InputError(fmt::format(
-        "{}: the emulator's MuJoCo plant does not drive mimic joints yet ('{}' follows '{}'); "
-        "hold the gripper still: --fixed {}=VALUE",
-        model.source, model.mimics.front().name, model.mimics.front().master,
-        model.mimics.front().master));
 }
 
 std::string options_xml(double timestep, const Eigen::Vector3d& gravity) {
@@ -151,11 +147,33 @@ std::string mjcf_body_name(const std::string& link) {
   return link;
 }
 
+std::string mjcf_joint_name(const std::string& joint) {
+  for (const char* reserved : {"massid_platform_free", "massid_spacecraft_free"})
+    if (joint == reserved) return "massid_joint_" + joint;
+  return joint;
+}
+
 std::string robot_mjcf(const Model& model, const PlantOptions& options,
                        const Eigen::Isometry3d& parent_T_sensor, int indent) {
   check_options(model, options);
   std::ostringstream x;
   emit_body(model, options, 0, parent_T_sensor, indent, x);
+  return x.str();
+}
+
+std::string mimic_equalities_mjcf(const Model& model, int indent) {
+  if (model.mimics.empty()) return "";
+  const std::string pad(static_cast<std::size_t>(indent), ' ');
+  std::ostringstream x;
+  x << pad << "<equality>\n";
+  // joint1 - qpos0_1 = polycoef[0] + polycoef[1] (joint2 - qpos0_2) + ...; the
+  // reference positions qpos0 are 0 (no ref attribute), so in absolute terms
+  // q_mimic = offset + multiplier q_master, the URDF's <mimic>.
+  for (const MimicJoint& m : model.mimics)
+    x << pad << "  <joint joint1=\"" << mjcf_joint_name(m.name) << "\" joint2=\""
+      << mjcf_joint_name(m.master) << "\" polycoef=\"" << num(m.offset) << " " << num(m.multiplier)
+      << " 0 0 0\"/>\n";
+  x << pad << "</equality>\n";
   return x.str();
 }
 
@@ -191,11 +209,16 @@ class MujocoSimulation {
       if (i < 0) throw InputError("MuJoCo plant model has no object named " + n);
       return i;
     };
-    for (const Joint& joint : model.joints) {
-      const int j = id(mjOBJ_JOINT, joint.name);
-      qadr_.push_back(m_->jnt_qposadr[j]);
-      dadr_.push_back(m_->jnt_dofadr[j]);
-    }
+    // Driven joints: the independent ones (Model::joints order), then the
+    // mimic joints, each following its master.
+    const auto add = [&](const std::string& name, int master, double scale, double offset) {
+      const int j = id(mjOBJ_JOINT, mjcf_joint_name(name));
+      driven_.push_back({m_->jnt_qposadr[j], m_->jnt_dofadr[j], master, scale, offset});
+    };
+    for (int j = 0; j < model.num_joints(); ++j) add(model.joints[j].name, j, 1.0, 0.0);
+    for (const MimicJoint& mimic : model.mimics)
+      add(mimic.name, model.find_joint(mimic.master), mimic.multiplier, mimic.offset);
+    num_joints_ = model.num_joints();
     const int free_joint = m_->body_jntadr[id(mjOBJ_BODY, free_body)];
     if (free_joint < 0 || m_->jnt_type[free_joint] != mjJNT_FREE) {
       throw InputError("MuJoCo plant model: no free joint on the base body");
@@ -206,10 +229,17 @@ class MujocoSimulation {
     sensor_body_ = id(mjOBJ_BODY, mjcf_body_name(model.sensor_link()));
     force_adr_ = m_->sensor_adr[id(mjOBJ_SENSOR, "massid_ft_force")];
     torque_adr_ = m_->sensor_adr[id(mjOBJ_SENSOR, "massid_ft_torque")];
-    if (m_->nv != 6 + model.num_joints()) {
-      throw InputError(fmt::format("MuJoCo plant model has {} degrees of freedom, expected {}",
-                                   m_->nv, 6 + model.num_joints()));
+    if (m_->nv != 6 + num_driven()) {
+      throw InputError(fmt::format(
+          "MuJoCo plant model has {} degrees of freedom, expected {} (6 + {} joints + {} mimic "
+          "joints)",
+          m_->nv, 6 + num_driven(), model.num_joints(), model.mimics.size()));
     }
+    for (const Driven& j : driven_)
+      if (j.master < 0 || j.master >= num_joints_)
+        throw InputError("MuJoCo plant model: a mimic joint without its master");
+    // Joints at 0: a mimic joint at its offset.
+    for (const Driven& j : driven_) d_->qpos[j.qadr] = j.offset;
     const auto nv = static_cast<std::size_t>(m_->nv);
     x_.assign(nv, 0.0);
     mx_.assign(nv, 0.0);
@@ -220,10 +250,10 @@ class MujocoSimulation {
     for (auto& v : stage_vel_) v.assign(nv, 0.0);
     for (auto& a : stage_acc_) a.assign(nv, 0.0);
     full_m_.assign(nv * nv, 0.0);
-    m_bj_.setZero(6, model.num_joints());
-    m_jj_.setZero(model.num_joints(), model.num_joints());
-    joint_acc_.setZero(model.num_joints());
-    joint_tau_.setZero(model.num_joints());
+    m_bj_.setZero(6, num_driven());
+    m_jj_.setZero(num_driven(), num_driven());
+    joint_acc_.setZero(num_driven());
+    joint_tau_.setZero(num_driven());
     q_cmd_ = Eigen::VectorXd::Zero(model.num_joints());
     qd_cmd_ = Eigen::VectorXd::Zero(model.num_joints());
     qdd_cmd_ = Eigen::VectorXd::Zero(model.num_joints());
@@ -231,7 +261,8 @@ class MujocoSimulation {
     platform_r_cmd_ = rotation();
   }
 
-  int num_joints() const { return static_cast<int>(qadr_.size()); }
+  int num_joints() const { return num_joints_; }
+  int num_driven() const { return static_cast<int>(driven_.size()); }
 
   void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                          const Eigen::VectorXd* qdd) {
@@ -251,9 +282,9 @@ class MujocoSimulation {
 
   void set_joints(const Eigen::VectorXd& q, bool stop_everything) {
     check_size(q, "joint positions");
-    for (int j = 0; j < num_joints(); ++j) {
-      d_->qpos[qadr_[static_cast<std::size_t>(j)]] = q[j];
-      d_->qvel[dadr_[static_cast<std::size_t>(j)]] = 0.0;
+    for (const Driven& j : driven_) {
+      d_->qpos[j.qadr] = j.scale * q[j.master] + j.offset;
+      d_->qvel[j.dadr] = 0.0;
     }
     if (stop_everything) mju_zero(d_->qvel, m_->nv);
     q_cmd_ = q;
@@ -325,12 +356,14 @@ class MujocoSimulation {
 
   Eigen::VectorXd joint_positions() const {
     Eigen::VectorXd q(num_joints());
-    for (int j = 0; j < num_joints(); ++j) q[j] = d_->qpos[qadr_[static_cast<std::size_t>(j)]];
+    for (int j = 0; j < num_joints(); ++j)
+      q[j] = d_->qpos[driven_[static_cast<std::size_t>(j)].qadr];
     return q;
   }
   Eigen::VectorXd joint_velocities() const {
     Eigen::VectorXd v(num_joints());
-    for (int j = 0; j < num_joints(); ++j) v[j] = d_->qvel[dadr_[static_cast<std::size_t>(j)]];
+    for (int j = 0; j < num_joints(); ++j)
+      v[j] = d_->qvel[driven_[static_cast<std::size_t>(j)].dadr];
     return v;
   }
   double time() const { return d_->time; }
@@ -500,38 +533,62 @@ class MujocoSimulation {
     // second order between commands. With the base's applied force
     // f_b fixed, the base accelerates by a_b = M_bb^-1 (f_b - bias_b - M_bj a),
     // and tau = M_jb a_b + M_jj a + bias_j.
+    //
+    // A mimic joint is driven the same way, its target its master's actual
+    // state: a = s a_master + kp e + kd e' with e = s q_master + o - q. Its
+    // error then obeys e'' + kd e' + kp e = 0: started on its master (the
+    // constructor, set_joints), it stays there to rounding, and RK4, linear in
+    // the stages, keeps that (a linear invariant of the servoed motion).
     const double tj = t - joint_cmd_time_;
-    for (int j = 0; j < num_joints(); ++j) {
-      const auto k = static_cast<std::size_t>(j);
-      const double e = q_cmd_[j] + (qd_cmd_[j] + 0.5 * qdd_cmd_[j] * tj) * tj - d_->qpos[qadr_[k]];
-      const double ed = qd_cmd_[j] + qdd_cmd_[j] * tj - d_->qvel[dadr_[k]];
-      joint_acc_[j] = qdd_cmd_[j] + options_.joint_kp * e + options_.joint_kd * ed;
+    for (int j = 0; j < num_driven(); ++j) {
+      const Driven& dj = driven_[static_cast<std::size_t>(j)];
+      double e = 0.0, ed = 0.0, feed = 0.0;
+      if (j < num_joints()) {
+        e = q_cmd_[j] + (qd_cmd_[j] + 0.5 * qdd_cmd_[j] * tj) * tj - d_->qpos[dj.qadr];
+        ed = qd_cmd_[j] + qdd_cmd_[j] * tj - d_->qvel[dj.dadr];
+        feed = qdd_cmd_[j];
+      } else {
+        const Driven& master = driven_[static_cast<std::size_t>(dj.master)];
+        e = dj.scale * d_->qpos[master.qadr] + dj.offset - d_->qpos[dj.qadr];
+        ed = dj.scale * d_->qvel[master.dadr] - d_->qvel[dj.dadr];
+        feed = dj.scale * joint_acc_[dj.master];  // masters come first
+      }
+      joint_acc_[j] = feed + options_.joint_kp * e + options_.joint_kd * ed;
     }
     mj_fullM(m_.get(), full_m_.data(), d_->qM);
     const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
         full(full_m_.data(), nv, nv);
     for (int r = 0; r < 6; ++r) {
       for (int c = 0; c < 6; ++c) m_bb_(r, c) = full(free_dadr_ + r, free_dadr_ + c);
-      for (int j = 0; j < num_joints(); ++j) m_bj_(r, j) = full(free_dadr_ + r, dadr_[j]);
+      for (int j = 0; j < num_driven(); ++j) m_bj_(r, j) = full(free_dadr_ + r, dadr(j));
       rhs_[r] = d_->qfrc_applied[free_dadr_ + r] - d_->qfrc_bias[free_dadr_ + r];
     }
-    for (int a = 0; a < num_joints(); ++a)
-      for (int b = 0; b < num_joints(); ++b) m_jj_(a, b) = full(dadr_[a], dadr_[b]);
+    for (int a = 0; a < num_driven(); ++a)
+      for (int b = 0; b < num_driven(); ++b) m_jj_(a, b) = full(dadr(a), dadr(b));
     rhs_.noalias() -= m_bj_ * joint_acc_;
     base_llt_.compute(m_bb_);
     const Eigen::Matrix<double, 6, 1> base_acc = base_llt_.solve(rhs_);
     joint_tau_.noalias() = m_bj_.transpose() * base_acc;
     joint_tau_.noalias() += m_jj_ * joint_acc_;
-    for (int j = 0; j < num_joints(); ++j)
-      d_->qfrc_applied[dadr_[j]] = joint_tau_[j] + d_->qfrc_bias[dadr_[j]];
+    for (int j = 0; j < num_driven(); ++j)
+      d_->qfrc_applied[dadr(j)] = joint_tau_[j] + d_->qfrc_bias[dadr(j)];
   }
+
+  int dadr(int j) const { return driven_[static_cast<std::size_t>(j)].dadr; }
 
   PlantOptions options_;
   bool platform_servo_;
   Stage stage_ = Stage::Stale;
   std::unique_ptr<mjModel, ModelDeleter> m_;
   std::unique_ptr<mjData, DataDeleter> d_;
-  std::vector<int> qadr_, dadr_;
+  // A driven joint's qpos and dof addresses; it is at scale q[master] + offset
+  // (an independent joint: its own index, 1, 0; a mimic joint: its master's).
+  struct Driven {
+    int qadr = -1, dadr = -1, master = -1;
+    double scale = 1.0, offset = 0.0;
+  };
+  std::vector<Driven> driven_;  // Model::joints, then Model::mimics
+  int num_joints_ = 0;
   int free_body_ = -1, free_qadr_ = -1, free_dadr_ = -1;
   int sensor_body_ = -1, force_adr_ = -1, torque_adr_ = -1;
   std::vector<mjtNum> x_, mx_;  // platform servo accelerations and M times them
@@ -567,7 +624,7 @@ PlatformPlant::PlatformPlant(const Model& model, const PlatformGeometry& geometr
     << inertial(Eigen::Vector3d::Zero(), options.platform_mass, options.platform_inertia) << "\n"
     << robot_mjcf(model, options, options.platform_T_sensor, 6) << "    </body>\n"
     << "  </worldbody>\n"
-    << kSensorsXml << "</mujoco>\n";
+    << mimic_equalities_mjcf(model, 2) << kSensorsXml << "</mujoco>\n";
   sim_ = std::make_unique<MujocoSimulation>(model, x.str(), "massid_platform", true, options);
 }
 
@@ -620,7 +677,7 @@ FreeFloatingReference::FreeFloatingReference(const Model& model,
     << "      " << inertial(Eigen::Vector3d::Zero(), spacecraft.mass, spacecraft.inertia) << "\n"
     << robot_mjcf(model, options, spacecraft.body_T_interface, 6) << "    </body>\n"
     << "  </worldbody>\n"
-    << kSensorsXml << "</mujoco>\n";
+    << mimic_equalities_mjcf(model, 2) << kSensorsXml << "</mujoco>\n";
   sim_ = std::make_unique<MujocoSimulation>(model, x.str(), "massid_spacecraft", false, options);
 }
 

@@ -20,70 +20,15 @@
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
+#include "mimic_support.hpp"
 
 namespace massid {
 namespace {
 
+using test::expand;
+using test::gripper_urdf;
+
 const std::string kRobots = MASSID_SOURCE_DIR "/tests/data/robots/";
-
-// A small arm with a two-finger gripper: the second finger mimics the first
-// (multiplier -1.5, offset 0.2), a prismatic finger mimics a prismatic master,
-// all with offsets from the axes so that every mimic moves mass.
-std::string gripper_urdf(bool with_mimic) {
-  const std::string mimic1 =
-      with_mimic ? "<mimic joint=\"finger_a\" multiplier=\"-1.5\" offset=\"0.2\"/>" : "";
-  const std::string mimic2 =
-      with_mimic ? "<mimic joint=\"slide_a\" multiplier=\"0.5\" offset=\"0.01\"/>" : "";
-  return R"(<robot name="g">
-  <link name="base"><inertial><mass value="2"/><origin xyz="0 0 0.05"/>
-    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
-  <link name="arm"><inertial><mass value="1.5"/><origin xyz="0.1 0.02 0.2"/>
-    <inertia ixx="0.02" ixy="0.001" ixz="0" iyy="0.03" iyz="0" izz="0.01"/></inertial></link>
-  <link name="fa"><inertial><mass value="0.3"/><origin xyz="0.03 0.01 0.05"/>
-    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.001"/></inertial></link>
-  <link name="fb"><inertial><mass value="0.25"/><origin xyz="-0.02 0.04 0.06"/>
-    <inertia ixx="0.001" ixy="0" ixz="0.0002" iyy="0.001" iyz="0" izz="0.002"/></inertial></link>
-  <link name="sa"><inertial><mass value="0.2"/><origin xyz="0.01 0 0.02"/>
-    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
-  <link name="sb"><inertial><mass value="0.15"/><origin xyz="0 0.02 0.01"/>
-    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial></link>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/>
-    <origin xyz="0 0 0.1" rpy="0.3 0 0"/><axis xyz="0 1 0"/>
-    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
-  <joint name="finger_a" type="revolute"><parent link="arm"/><child link="fa"/>
-    <origin xyz="0.1 0 0.3"/><axis xyz="1 0 0"/>
-    <limit lower="-0.5" upper="0.6" effort="1" velocity="1"/></joint>
-  <joint name="finger_b" type="revolute"><parent link="arm"/><child link="fb"/>
-    <origin xyz="0.1 0.05 0.3" rpy="0 0 0.4"/><axis xyz="0.6 0.8 0"/>
-    )" + mimic1 +
-         R"(<limit lower="-0.4" upper="1.0" effort="1" velocity="1"/></joint>
-  <joint name="slide_a" type="prismatic"><parent link="arm"/><child link="sa"/>
-    <origin xyz="0 0.1 0.2"/><axis xyz="0 0 1"/>
-    <limit lower="-0.05" upper="0.05" effort="1" velocity="1"/></joint>
-  <joint name="slide_b" type="prismatic"><parent link="sa"/><child link="sb"/>
-    <origin xyz="0 0.02 0"/><axis xyz="1 0 0"/>
-    )" + mimic2 +
-         R"(<limit lower="-0.1" upper="0.1" effort="1" velocity="1"/></joint>
-</robot>)";
-}
-
-// q of the model without mimic joints for q of the model with them.
-Eigen::VectorXd expand(const Model& with, const Model& without, const Eigen::VectorXd& q,
-                       bool derivative) {
-  Eigen::VectorXd out(without.num_joints());
-  for (int j = 0; j < without.num_joints(); ++j) {
-    const std::string& name = without.joints[j].name;
-    const int k = with.find_joint(name);
-    if (k >= 0) {
-      out[j] = q[k];
-      continue;
-    }
-    for (const MimicJoint& m : with.mimics)
-      if (m.name == name)
-        out[j] = m.multiplier * q[with.find_joint(m.master)] + (derivative ? 0.0 : m.offset);
-  }
-  return out;
-}
 
 TEST(Mimic, LoadsWithTheMasterAndNoJointOfItsOwn) {
   const Model with = load_urdf_string(gripper_urdf(true), "", "g.urdf");

@@ -14,6 +14,12 @@
 //   Emulation:     the admittance model against the reference's own sensor
 //                  (open loop), the closed loop with the true gravity model,
 //                  and the issue's targets with identified parameters.
+//   Mimic joints:  the plant drives a URDF mimic joint with its master: its
+//                  sensor reads, at rest and in motion, what massid computes
+//                  for the same robot with the mimic tags removed and the
+//                  mimic positions set by the test (and what massid computes
+//                  for the robot with them); the Panda with its fingers runs
+//                  the tests above.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -34,6 +40,7 @@
 #include "massid/regressor.hpp"
 #include "massid/samples.hpp"
 #include "massid/simulate.hpp"
+#include "mimic_support.hpp"
 
 namespace {
 
@@ -298,7 +305,9 @@ TEST(PlantTiming, AdvanceOneMillisecond) {
 
 INSTANTIATE_TEST_SUITE_P(Examples, Plant,
                          ::testing::Values(Robot{"puma260", "examples/puma260/puma260.urdf"},
-                                           Robot{"ur_like", "examples/ur_like/ur_like.urdf"}),
+                                           Robot{"ur_like", "examples/ur_like/ur_like.urdf"},
+                                           // 8 joints and a mimic finger
+                                           Robot{"panda", "tests/data/robots/panda.urdf"}),
                          [](const ::testing::TestParamInfo<Robot>& info) {
                            return std::string(info.param.name);
                          });
@@ -487,3 +496,231 @@ TEST(MjcfNames, RootLinkNamedWorldIsRenamedInternallyOnly) {
   EXPECT_NEAR(plant.sensor_pose().translation().z(),
               massid::emulator::default_geometry().home.translation().z(), 1e-12);
 }
+
+// ---------------------------------------------------------------------------
+// Mimic joints. The gripper of mimic_support.hpp: finger_b follows finger_a
+// (revolute) and slide_b follows slide_a (prismatic). The independent
+// computation is massid on the same URDF without the <mimic> tags, five
+// independent joints, the mimic positions (velocities, accelerations) set by
+// the test from the coefficients (expand); massid's own model of the mimic
+// joints must agree too.
+
+namespace {
+
+using massid::test::GripperMimics;
+
+// Positive and negative multipliers and offsets, revolute and prismatic.
+const GripperMimics kMimicCases[] = {{-1.5, 0.2, 0.5, 0.01}, {0.8, -0.3, -2.0, -0.02}};
+
+struct MimicGripper {
+  massid::Model with, without;
+  explicit MimicGripper(const GripperMimics& c)
+      : with(massid::load_urdf_string(massid::test::gripper_urdf(true, c), "", "g.urdf")),
+        without(massid::load_urdf_string(massid::test::gripper_urdf(false), "", "g0.urdf")) {
+    // Inertia tensors MuJoCo takes as they are (the URDF's violate the
+    // triangle inequality, and the plant would put isotropic ones in their
+    // place): principal moments 2, 3, 4 (x 1e-4 m^2 times the mass), turned.
+    for (massid::Model* m : {&with, &without})
+      for (massid::Link& link : m->links) {
+        const Eigen::Matrix3d r =
+            Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.2, 1.0, -0.4).normalized()).matrix();
+        link.inertia =
+            r * Eigen::Vector3d(2e-4, 3e-4, 4e-4).asDiagonal() * r.transpose() * link.mass;
+      }
+  }
+  Eigen::VectorXd expand(const Eigen::VectorXd& q, bool derivative) const {
+    return massid::test::expand(with, without, q, derivative);
+  }
+};
+
+// The sensor turned on the platform so that gravity has components on all its axes.
+PlantOptions turned_sensor() {
+  PlantOptions options;
+  options.platform_T_sensor.translation() = Eigen::Vector3d(0.02, -0.01, 0.05);
+  options.platform_T_sensor.linear() =
+      Eigen::AngleAxisd(0.9, Eigen::Vector3d(1.0, -0.5, 0.3).normalized()).matrix();
+  return options;
+}
+
+massid::Samples motion_samples(const Eigen::MatrixXd& q, const Eigen::MatrixXd& qd,
+                               const Eigen::MatrixXd& qdd, const Eigen::MatrixXd& g) {
+  massid::Samples s;
+  s.q = q;
+  s.qd = qd;
+  s.qdd = qdd;
+  s.gravity = g;
+  s.line.assign(static_cast<std::size_t>(q.rows()), 1);
+  return s;
+}
+
+TEST(MimicPlant, StaticWrenchEqualsMassidAtSeveralMasterPositions) {
+  for (const GripperMimics& c : kMimicCases) {
+    const MimicGripper g(c);
+    ASSERT_EQ(g.with.num_joints(), 3);  // shoulder, finger_a, slide_a
+    ASSERT_EQ(g.with.mimics.size(), 2u);
+    const PlantOptions options = turned_sensor();
+    PlatformPlant plant(g.with, massid::emulator::default_geometry(), options);
+    // Master positions of both signs, the fingers beyond their limits too
+    // (the plant does not limit joints).
+    const double positions[][3] = {{0.0, 0.0, 0.0},
+                                   {0.3, 0.4, 0.04},
+                                   {-0.7, -0.5, -0.05},
+                                   {1.2, 0.9, 0.08},
+                                   {-1.5, 0.2, -0.1}};
+    // Read as built (joints at 0: each mimic joint at its offset), right
+    // after set_joints, and after 0.2 s held there by the servos.
+    const auto check = [&](const Eigen::Vector3d& q, const char* when) {
+      const Eigen::Vector3d gs = gravity_in_sensor(plant, options);
+      const massid::Wrench measured = plant.measured_wrench();
+      const massid::Wrench expected = static_wrench(g.without, g.expand(q, false), gs);
+      const massid::Wrench own = static_wrench(g.with, q, gs);
+      // A plant that ignored the coefficients (mimic at its master's position)
+      // would be off by far more than the tolerance.
+      Eigen::VectorXd naive = g.expand(q, false);
+      naive[g.without.find_joint("finger_b")] = q[1];
+      naive[g.without.find_joint("slide_b")] = q[2];
+      const massid::Wrench wrong = static_wrench(g.without, naive, gs);
+      const double rel = (measured - expected).norm() / expected.norm();
+      std::cout << "[ mimic    ] static " << when << ", multipliers " << c.finger_multiplier << ", "
+                << c.slide_multiplier << ", q " << q.transpose() << ": relative difference " << rel
+                << " (coefficients ignored: " << (wrong - expected).norm() / expected.norm()
+                << ")\n";
+      EXPECT_LT(rel, 1e-9) << when << ", q " << q.transpose() << "\nmeasured "
+                           << measured.transpose() << "\nexpected " << expected.transpose();
+      EXPECT_LT((own - expected).norm(), 1e-12 * expected.norm());
+      EXPECT_GT((wrong - expected).norm(), 1e-5 * expected.norm()) << q.transpose();
+      EXPECT_LT((plant.joint_positions() - q).cwiseAbs().maxCoeff(), 1e-12) << when;
+    };
+    check(Eigen::Vector3d::Zero(), "as built");
+    for (const auto& p : positions) {
+      const Eigen::Vector3d q(p[0], p[1], p[2]);
+      plant.set_joints(q);
+      check(q, "placed");
+      for (int k = 0; k < 200; ++k) plant.advance(kDt);
+      check(q, "held");
+    }
+  }
+}
+
+// In motion: the joints follow a trajectory (computed torque), the mimic
+// joints their masters. At every 1 ms tick the sensor reads what massid's
+// dynamic model gives for the plant's joint positions and velocities and the
+// joint accelerations the servo imposes (the command's, plus its correction
+// of the tracking error: qdd + kp e + kd e'). massid is given a sensor at
+// rest: the platform weighs 1e9 kg (inertia 1e8 kg m^2), so the arm's few N
+// of reaction accelerate it by nm/s^2, which shows as 2e-8 N (it scales with
+// 1 / mass: 2e-5 N at 1e6 kg). The mimic joints' tracking of their masters,
+// which RK4 keeps at rounding, adds nothing measurable. Tolerance 1e-8 of
+// the largest wrench, 4.6e-7 N; a mimic joint moved only to its master's
+// positions (no velocity, no acceleration of its own) is off by 1 N.
+TEST(MimicPlant, DynamicWrenchEqualsMassidAlongATrajectory) {
+  for (const GripperMimics& c : kMimicCases) {
+    const MimicGripper g(c);
+    PlantOptions options = turned_sensor();
+    options.platform_mass = 1e9;
+    options.platform_inertia = Eigen::Matrix3d::Identity() * 1e8;
+    PlatformPlant plant(g.with, massid::emulator::default_geometry(), options);
+    // q_j(t) = q0_j + A_j sin^2(pi f_j t): from rest, the fingers fast.
+    const Eigen::Vector3d q0(0.2, -0.1, 0.01), amplitude(0.8, 0.6, 0.05), freq(0.5, 1.5, 2.0);
+    const auto trajectory = [&](double t, Eigen::VectorXd& q, Eigen::VectorXd& qd,
+                                Eigen::VectorXd& qdd) {
+      q.resize(3);
+      qd.resize(3);
+      qdd.resize(3);
+      for (int j = 0; j < 3; ++j) {
+        const double w = kPi * freq[j], s = std::sin(w * t);
+        q[j] = q0[j] + amplitude[j] * s * s;
+        qd[j] = amplitude[j] * w * std::sin(2.0 * w * t);
+        qdd[j] = 2.0 * amplitude[j] * w * w * std::cos(2.0 * w * t);
+      }
+    };
+    Eigen::VectorXd q, qd, qdd;
+    trajectory(0.0, q, qd, qdd);
+    plant.set_joints(q);
+    const int n = 2000;
+    Eigen::MatrixXd rq(n, 3), rqd(n, 3), racc(n, 3), rg(n, 3), measured(n, 6);
+    Eigen::MatrixXd xq(n, 5), xqd(n, 5), xacc(n, 5), xacc_static(n, 5);
+    double track = 0.0;
+    for (int k = 0; k < n; ++k) {
+      trajectory(k * kDt, q, qd, qdd);
+      plant.set_joint_command(q, qd, qdd);
+      const Eigen::VectorXd qp = plant.joint_positions(), vp = plant.joint_velocities();
+      const Eigen::VectorXd acc = qdd + options.joint_kp * (q - qp) + options.joint_kd * (qd - vp);
+      track = std::max(track, (q - qp).cwiseAbs().maxCoeff());
+      rq.row(k) = qp.transpose();
+      rqd.row(k) = vp.transpose();
+      racc.row(k) = acc.transpose();
+      rg.row(k) = gravity_in_sensor(plant, options).transpose();
+      measured.row(k) = plant.measured_wrench().transpose();
+      xq.row(k) = g.expand(qp, false).transpose();
+      xqd.row(k) = g.expand(vp, true).transpose();
+      xacc.row(k) = g.expand(acc, true).transpose();
+      // A mimic joint that moved with its master's positions only (the
+      // equality of positions, not of velocities and accelerations).
+      Eigen::VectorXd a0 = g.expand(acc, true);
+      a0[g.without.find_joint("finger_b")] = 0.0;
+      a0[g.without.find_joint("slide_b")] = 0.0;
+      xacc_static.row(k) = a0.transpose();
+      plant.advance(kDt);
+    }
+    massid::SimulateOptions dynamic;
+    dynamic.dynamic = true;
+    const Eigen::MatrixXd expected =
+        massid::simulate_wrenches(g.without, motion_samples(xq, xqd, xacc, rg), dynamic);
+    const Eigen::MatrixXd own =
+        massid::simulate_wrenches(g.with, motion_samples(rq, rqd, racc, rg), dynamic);
+    Eigen::MatrixXd xqd_static = xqd;
+    xqd_static.col(g.without.find_joint("finger_b")).setZero();
+    xqd_static.col(g.without.find_joint("slide_b")).setZero();
+    const Eigen::MatrixXd wrong = massid::simulate_wrenches(
+        g.without, motion_samples(xq, xqd_static, xacc_static, rg), dynamic);
+    massid::Samples at_rest;
+    at_rest.q = xq;
+    at_rest.gravity = rg;
+    at_rest.line.assign(static_cast<std::size_t>(n), 1);
+    const Eigen::MatrixXd gravity_only = massid::simulate_wrenches(g.without, at_rest);
+
+    const double scale = expected.rowwise().norm().maxCoeff();
+    const double err = (measured - expected).rowwise().norm().maxCoeff();
+    const double own_err = (own - expected).rowwise().norm().maxCoeff();
+    const double dyn = (expected - gravity_only).rowwise().norm().maxCoeff();
+    const double mimic_dyn = (wrong - expected).rowwise().norm().maxCoeff();
+    std::cout << "[ mimic    ] motion, multipliers " << c.finger_multiplier << ", "
+              << c.slide_multiplier << ": max |w| " << scale << " N, dynamic part up to " << dyn
+              << " N, the mimic joints' own motion " << mimic_dyn << " N; plant vs massid " << err
+              << " (massid with mimic tags vs without " << own_err << "); joints within " << track
+              << " of the command\n";
+    EXPECT_GT(dyn, 2.0);
+    EXPECT_GT(mimic_dyn, 0.2);
+    EXPECT_LT(own_err, 1e-10 * scale);
+    EXPECT_LT(err, 1e-8 * scale);
+  }
+}
+
+// The MJCF gives each mimic joint a joint of its own and an equality
+// constraint with MuJoCo's polynomial (q1 = c0 + c1 q2): offset, multiplier.
+TEST(MimicPlant, MjcfHasTheMimicJointsAndTheirCoupling) {
+  const MimicGripper g(kMimicCases[1]);
+  const std::string bodies =
+      massid::emulator::robot_mjcf(g.with, {}, Eigen::Isometry3d::Identity(), 0);
+  for (const char* joint : {"shoulder", "finger_a", "finger_b", "slide_a", "slide_b"})
+    EXPECT_NE(bodies.find("<joint name=\"" + std::string(joint) + "\""), std::string::npos)
+        << joint << "\n"
+        << bodies;
+  EXPECT_NE(bodies.find("name=\"slide_b\" type=\"slide\""), std::string::npos) << bodies;
+  const std::string eq = massid::emulator::mimic_equalities_mjcf(g.with, 2);
+  EXPECT_NE(
+      eq.find("<joint joint1=\"finger_b\" joint2=\"finger_a\" polycoef=\"-0.29999999999999999 "
+              "0.80000000000000004 0 0 0\"/>"),
+      std::string::npos)
+      << eq;
+  EXPECT_NE(eq.find("<joint joint1=\"slide_b\" joint2=\"slide_a\" polycoef=\"-0.02 -2 0 0 0\"/>"),
+            std::string::npos)
+      << eq;
+  EXPECT_EQ(massid::emulator::mimic_equalities_mjcf(g.without, 2), "");
+  EXPECT_EQ(massid::emulator::mjcf_joint_name("massid_platform_free"),
+            "massid_joint_massid_platform_free");
+  EXPECT_EQ(massid::emulator::mjcf_joint_name("finger_b"), "finger_b");
+}
+
+}  // namespace

@@ -15,10 +15,10 @@
 // Both build MJCF text from the Model with 17 significant digits (robot_mjcf):
 // link origins, joint axes, masses, centres of mass and the URDF's inertia
 // tensors (a link without a usable one gets an isotropic inertia of radius of
-// gyration default_radius_of_gyration). No contacts, no constraints, no joint
-// limits, no geoms. Integrator RK4 (explicit Euler drifts momentum), in a
-// custom loop that mirrors mj_RungeKutta and evaluates both servos at every
-// Runge-Kutta stage (continuous-time servos).
+// gyration default_radius_of_gyration). No contacts, no constraints (a mimic
+// joint's <equality> is in the MJCF but disabled), no joint limits, no geoms. Integrator RK4
+// (explicit Euler drifts momentum), in a custom loop that mirrors mj_RungeKutta and evaluates both
+// servos at every Runge-Kutta stage (continuous-time servos).
 //
 // Servos, both in acceleration units with MuJoCo's joint-space inertia matrix
 // M(q) and the bias forces qfrc_bias (gravity, Coriolis) fed forward, so one
@@ -34,6 +34,14 @@
 //     applied force fixed, a_b = M_bb^-1 (F_b - bias_b - M_bj a) and
 //     tau = M_jb a_b + M_jj a + bias_j. Plant and reference then move their
 //     joints identically: the only difference between the two is the base.
+//   mimic joints (URDF <mimic>): a MuJoCo joint each, in the same computed
+//     torque with its master's actual state as the target:
+//     a = s a_master + kp (s q_master + o - q) + kd (s qd_master - qd). Set on
+//     their masters (constructor, set_joints), they stay there to rounding
+//     (the error obeys e'' + kd e' + kp e = 0 from zero, and RK4 keeps such a
+//     linear invariant), so the sensor reads what massid's model of them
+//     predicts. An equality constraint would be soft (solref), drift, and need
+//     MuJoCo's constraint solver in the loop.
 //
 // Commands are held to second order between updates: target(t) = cmd +
 // velocity tau + acceleration tau^2 / 2 (tau since the command), with the
@@ -84,11 +92,26 @@ struct PlantOptions {
 // users and files keep the URDF names.
 std::string mjcf_body_name(const std::string& link);
 
+// The MJCF joint name of a URDF joint: its name, except the plants' own free
+// joints' names ("massid_platform_free", "massid_spacecraft_free"), which get
+// the prefix "massid_joint_".
+std::string mjcf_joint_name(const std::string& joint);
+
 // The robot's bodies as MJCF <body> elements (17 significant digits), the
 // sensor link's body first with a site "massid_ft" at its origin; `indent`
 // spaces before each line. The sensor link's body gets pos/quat `parent_T_sensor`.
+// Every movable link has a hinge or slide joint named after its URDF joint, a
+// mimic joint's link too (MimicJoint::name).
 std::string robot_mjcf(const Model& model, const PlantOptions& options,
                        const Eigen::Isometry3d& parent_T_sensor, int indent);
+
+// The model's mimic joints as an MJCF <equality> element, one
+// <joint joint1="MIMIC" joint2="MASTER" polycoef="OFFSET MULTIPLIER 0 0 0"/>
+// each (q_mimic = offset + multiplier q_master); "" without mimic joints.
+// The plants include it, so that the MJCF says what it is, but run with
+// constraints disabled: their servo drives each mimic joint onto its master
+// exactly (see the header comment), which a soft equality constraint would not.
+std::string mimic_equalities_mjcf(const Model& model, int indent);
 
 // The MuJoCo model, data and servos behind both plants (mujoco_plant.cpp).
 class MujocoSimulation;
@@ -114,12 +137,14 @@ class PlatformPlant {
   // used to hold the target to second order until the next command.
   void set_platform_command(const Eigen::Isometry3d& base_T_platform, const Twist& twist,
                             const Twist& acceleration);
-  // Joint targets, Model::joints order: position, velocity and (optional,
-  // else zero) acceleration, held to second order until the next command.
+  // Joint targets, Model::joints order (mimic joints follow their masters):
+  // position, velocity and (optional, else zero) acceleration, held to second
+  // order until the next command.
   void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
   void set_joint_command(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                          const Eigen::VectorXd& qdd);
-  // Teleports the joints (initial condition): zero joint velocity, command = q.
+  // Teleports the joints (initial condition): zero joint velocity, command = q,
+  // mimic joints at multiplier q_master + offset.
   void set_joints(const Eigen::VectorXd& q);
   // MuJoCo steps until the time has advanced by dt (rounded to whole steps).
   void advance(double dt);
@@ -128,11 +153,11 @@ class PlatformPlant {
   // negated), sensor frame, moment about the sensor origin, at the current
   // state under the servo forces now in effect (inertial forces included).
   Wrench measured_wrench() const;
-  Eigen::Isometry3d platform_pose() const;  // reached base_T_platform
-  Twist platform_twist() const;             // [v of its origin; w], base frame
-  Eigen::Isometry3d sensor_pose() const;    // world_T_sensor
-  Eigen::VectorXd joint_positions() const;
-  Eigen::VectorXd joint_velocities() const;
+  Eigen::Isometry3d platform_pose() const;   // reached base_T_platform
+  Twist platform_twist() const;              // [v of its origin; w], base frame
+  Eigen::Isometry3d sensor_pose() const;     // world_T_sensor
+  Eigen::VectorXd joint_positions() const;   // Model::joints (no mimic joints)
+  Eigen::VectorXd joint_velocities() const;  // Model::joints
   double time() const;
 
  private:
