@@ -200,15 +200,25 @@ int run_emulate(const EmulateCommand& c) {
                    {"stop_reason", to_string(s.stop_reason)},
                    {"stop_detail", describe_stop(s, o)}};
   }
+  // The largest errors against the reference's excursion; in absolute terms
+  // when the reference hardly moves (a light gripper on a heavy spacecraft:
+  // below 1 mm or 0.05 deg a percentage of it says nothing).
   const auto relative = [&](const EmulationSummary& s) {
-    return fmt::format("{:.3g} % and {:.3g} %",
-                       100 * s.position_error_max_m / s.reference_excursion_m,
-                       100 * s.attitude_error_max_deg / s.reference_excursion_deg);
+    const auto part = [](const char* what, double error, double excursion, double small,
+                         const char* unit) {
+      return excursion >= small ? fmt::format("{} {:.3g} %", what, 100 * error / excursion)
+                                : fmt::format("{} {:.3g} {} (the reference: only {:.2g} {})", what,
+                                              error, unit, excursion, unit);
+    };
+    return fmt::format(
+        "{}, {}", part("position", s.position_error_max_m, s.reference_excursion_m, 1e-3, "m"),
+        part("attitude", s.attitude_error_max_deg, s.reference_excursion_deg, 0.05, "deg"));
   };
   std::cout << fmt::format("reference excursion: {:.4g} m, {:.4g} deg\n",
                            runs[0].reference_excursion_m, runs[0].reference_excursion_deg);
   for (int r = 0; r < 3; ++r) {
-    std::cout << fmt::format("  {:<11} error {} of it", names[r], relative(runs[r]));
+    std::cout << fmt::format("  {:<11} largest error against the reference's excursion: {}",
+                             names[r], relative(runs[r]));
     if (runs[r].supervisor_stops > 0)
       std::cout << fmt::format("; supervisor stopped at {:.3g} s ({}): {}", runs[r].first_stop_s,
                                to_string(runs[r].stop_reason), describe_stop(runs[r], o));

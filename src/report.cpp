@@ -273,9 +273,9 @@ std::string design_report(const Model& model, const BaseParameters& base, const 
   const std::string meshes =
       s.links_with_meshes > 0
           ? fmt::format(
-                " ({} links have collision meshes: checked at their origin and centre of "
+                " ({} link{} collision meshes: checked at their origin and centre of "
                 "mass only)",
-                s.links_with_meshes)
+                s.links_with_meshes, s.links_with_meshes == 1 ? " has" : "s have")
           : "";
   if (s.min_height_relaxed && evaluated.empty())
     out += fmt::format(

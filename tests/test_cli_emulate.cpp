@@ -235,6 +235,12 @@ TEST_F(CliEmulate, RobotiqGripperWithMimicJointsRunsEndToEnd) {
     EXPECT_LT(rel_position, 0.01) << run << "\n" << r;
     EXPECT_LT(rel_attitude, 0.05) << run << "\n" << r;
   }
+  // The reference moves a fraction of a millimetre: the errors are printed in
+  // metres beside it, not as a percentage of next to nothing.
+  EXPECT_NE(r.out.find("identified  largest error against the reference's excursion: position "),
+            std::string::npos)
+      << r;
+  EXPECT_NE(r.out.find(" m (the reference: only "), std::string::npos) << r;
   // Uncompensated, its 4 N of weight run the platform off.
   EXPECT_GE(j["none"]["supervisor_stops"].get<int>(), 1) << r;
 
