@@ -178,8 +178,8 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   if (checks && !report_setup(check_setup_file(model, data_path, sopts))) return 2;
   // With --report the samples and fitted wrenches are kept for the report,
   // which draws this fit (identification.hpp); without, any log in constant memory.
-  const Identification ident = identify_log(c.load(), data_path, offset, opts, motion.dynamic,
-                                            motion.data(), !report.empty());
+  const Identification ident =
+      identify_log(model, data_path, offset, opts, motion.dynamic, motion.data(), !report.empty());
   const IdentifySummary& summary = ident.summary;
   if (ident.motion.derived)
     std::cout << fmt::format(
@@ -188,12 +188,10 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
         "kept: {} of {} rows\n",
         ident.motion.kernels.cutoff, ident.motion.kernels.half_width, ident.motion.decimation,
         summary.samples, ident.motion.rows);
-  if (summary.gravity_from_force)
-    std::cerr << fmt::format(
-        "massid: note: {} has no gx,gy,gz columns: gravity is taken along the measured force "
-        "(paper eq. 37), |g| = {} m/s^2\n",
-        data_path, kStandardGravity);
-  for (const std::string& w : identify_warnings(summary, data_path)) std::cerr << w;
+  // The gravity note first (when gravity came from the force), then the warnings.
+  for (std::size_t i = 0; i < ident.warnings.size(); ++i)
+    std::cerr << (i == 0 && summary.gravity_from_force ? "massid: note: " : "massid: warning: ")
+              << ident.warnings[i] << "\n";
   write_file_atomically(out, params_json(ident.model, ident.base, &summary));
   std::cout << identify_report(ident.model, ident.base, summary, data_path);
   std::cout << "wrote " << out << "\n";
