@@ -32,6 +32,41 @@ std::vector<Eigen::Isometry3d> run_reference(FreeFloatingReference& reference,
   return poses;
 }
 
+// What the emulation and the reference alone share: the plants' options, the
+// interface's pose at the start, the joint trajectory and the tick count.
+struct RunSetup {
+  PlantOptions plant;
+  Eigen::Isometry3d interface0;
+  JointTrajectory trajectory;
+  int ticks = 0;
+
+  RunSetup(const Model& model, const EmulationOptions& o)
+      : plant(o.plant),
+        interface0(o.geometry.home * o.platform_T_sensor),
+        trajectory(o.trajectory ? o.trajectory : smooth_maneuver(model, o.duration)),
+        ticks(static_cast<int>(std::lround(o.duration * o.rate))) {
+    plant.platform_T_sensor = o.platform_T_sensor;
+  }
+  // The joint positions at t = 0.
+  Eigen::VectorXd start(int joints) const {
+    Eigen::VectorXd q(joints), qd(joints), qdd(joints);
+    trajectory(0.0, q, qd, qdd);
+    return q;
+  }
+};
+
+// How far the reference's interface poses get from the start.
+Excursion excursion_of(const std::vector<Eigen::Isometry3d>& poses,
+                       const Eigen::Isometry3d& interface0) {
+  Excursion e;
+  for (const Eigen::Isometry3d& pose : poses) {
+    e.position_m = std::max(e.position_m, (pose.translation() - interface0.translation()).norm());
+    e.angle_rad = std::max(
+        e.angle_rad, Eigen::AngleAxisd(interface0.linear().transpose() * pose.linear()).angle());
+  }
+  return e;
+}
+
 }  // namespace
 
 EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
@@ -50,20 +85,14 @@ EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
   EmulatorData data(em);
 
   // Both MuJoCo models are compiled here, on one thread.
-  PlantOptions plant_options = o.plant;
-  plant_options.platform_T_sensor = o.platform_T_sensor;
-  PlatformPlant plant(model, o.geometry, plant_options);
-  const Eigen::Isometry3d interface0 = o.geometry.home * o.platform_T_sensor;
-  FreeFloatingReference reference(model, o.spacecraft, interface0, plant_options);
-
-  const JointTrajectory trajectory =
-      o.trajectory ? o.trajectory : smooth_maneuver(model, o.duration);
-  const int n = model.num_joints();
-  Eigen::VectorXd q(n), qd(n), qdd(n);
-  trajectory(0.0, q, qd, qdd);
+  const RunSetup setup(model, o);
+  PlatformPlant plant(model, o.geometry, setup.plant);
+  FreeFloatingReference reference(model, o.spacecraft, setup.interface0, setup.plant);
+  const JointTrajectory& trajectory = setup.trajectory;
+  const int n = model.num_joints(), ticks = setup.ticks;
+  Eigen::VectorXd q = setup.start(n), qd(n), qdd(n);
   plant.set_joints(q);
   reference.set_joints(q);
-  const int ticks = static_cast<int>(std::lround(o.duration * o.rate));
   std::future<std::vector<Eigen::Isometry3d>> reference_poses =
       std::async(std::launch::async, run_reference, std::ref(reference), std::cref(trajectory), n,
                  ticks, em.dt);
@@ -108,12 +137,11 @@ EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
     s.attitude_error_max_deg = std::max(s.attitude_error_max_deg, da);
     sum_p2 += dp * dp;
     sum_a2 += da * da;
-    s.reference_excursion_m =
-        std::max(s.reference_excursion_m, (ref[k].translation() - interface0.translation()).norm());
-    s.reference_excursion_deg =
-        std::max(s.reference_excursion_deg, angle_deg(interface0.linear(), ref[k].linear()));
     if (trace) (*trace)[trace->size() - ref.size() + k].reference = ref[k];
   }
+  const Excursion excursion = excursion_of(ref, setup.interface0);
+  s.reference_excursion_m = excursion.position_m;
+  s.reference_excursion_deg = excursion.angle_rad * 180 / std::numbers::pi;
   s.position_error_rms_m = std::sqrt(sum_p2 / std::max(1, ticks));
   s.attitude_error_rms_deg = std::sqrt(sum_a2 / std::max(1, ticks));
   s.control_step_ns = 1e9 * step_seconds / std::max(1, ticks);
@@ -122,25 +150,12 @@ EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
 }
 
 Excursion reference_excursion(const Model& model, const EmulationOptions& o) {
-  PlantOptions plant_options = o.plant;
-  plant_options.platform_T_sensor = o.platform_T_sensor;
-  const Eigen::Isometry3d interface0 = o.geometry.home * o.platform_T_sensor;
-  FreeFloatingReference reference(model, o.spacecraft, interface0, plant_options);
-  const JointTrajectory trajectory =
-      o.trajectory ? o.trajectory : smooth_maneuver(model, o.duration);
+  const RunSetup setup(model, o);
+  FreeFloatingReference reference(model, o.spacecraft, setup.interface0, setup.plant);
   const int n = model.num_joints();
-  Eigen::VectorXd q(n), qd(n), qdd(n);
-  trajectory(0.0, q, qd, qdd);
-  reference.set_joints(q);
-  const int ticks = static_cast<int>(std::lround(o.duration * o.rate));
-  Excursion e;
-  for (const Eigen::Isometry3d& pose :
-       run_reference(reference, trajectory, n, ticks, 1.0 / o.rate)) {
-    e.position_m = std::max(e.position_m, (pose.translation() - interface0.translation()).norm());
-    e.angle_rad = std::max(
-        e.angle_rad, Eigen::AngleAxisd(interface0.linear().transpose() * pose.linear()).angle());
-  }
-  return e;
+  reference.set_joints(setup.start(n));
+  return excursion_of(run_reference(reference, setup.trajectory, n, setup.ticks, 1.0 / o.rate),
+                      setup.interface0);
 }
 
 SpacecraftSizing size_spacecraft(const Model& model, const EmulationOptions& options,
