@@ -284,7 +284,7 @@ int main(int argc, char** argv) {
   std::string plan, data, out, params, offset_text;
   SimulateOptions sim;
   IdentifyOptions idopts;
-  std::string drift_text, report, rest_text = "auto";
+  std::string drift_text, report, rest_text = "auto", delay_text;
   bool no_checks = false;
   double sigma_force = 0, sigma_moment = 0;
   MotionFlags motion;
@@ -363,6 +363,9 @@ int main(int argc, char** argv) {
                    "A static log with t recorded while the robot moved from pose to pose: 'auto' "
                    "(default) uses only its rest windows, 'off' every row")
       ->check(CLI::IsMember({"auto", "off"}));
+  ident->add_option("--delay", delay_text,
+                    "With --dynamic: the lag of the wrench behind the joint stream, s (positive "
+                    "when the wrench arrives late), or 'auto' to estimate it (within +-20 ms)");
   ident->add_flag("--no-checks", no_checks,
                   "Skip the set-up checks (wrench sign, frame, units, gravity, columns)");
   ident->add_option("--sigma-force", sigma_force, "Force noise sigma, N (default: from residuals)")
@@ -422,6 +425,13 @@ int main(int argc, char** argv) {
       if (ident->count("--sigma-moment")) idopts.sigma_moment = sigma_moment;
       if (!drift_text.empty()) idopts.drift = parse_drift(drift_text);
       if (rest_text == "off") idopts.rest.detection = RestDetection::Off;
+      if (delay_text == "auto")
+        idopts.delay_auto = true;
+      else if (!delay_text.empty())
+        idopts.delay = parse_number(delay_text, "--delay");
+      if (!motion.dynamic && ident->count("--delay"))
+        throw InputError(
+            "--delay goes with --dynamic (a motion log): at rest a lag does not matter");
       if (motion.dynamic && ident->count("--rest"))
         throw InputError("--rest goes with static identification (--dynamic uses every row)");
       return run_identify(common, data, out, offset, idopts, !no_checks, report, motion);

@@ -62,12 +62,13 @@ cmake --build "$SANITIZE" -j "$JOBS"
 # 5. The whole suite under the sanitizers (leaks included: LeakSanitizer), but
 #    for volume tests that take minutes each there (a 10^5-row CSV round trip,
 #    an exhaustive D-optimal design search, three 30 s / 1 kHz motion logs per
-#    robot and 100 noise seeds of motion identification): smaller tests run
+#    robot, 100 noise seeds of motion identification, two delay scans of 50
+#    fits each): smaller tests run
 #    the same code. SANITIZE_CTEST_EXCLUDE="" runs them too.
 stage "tests under ASan+UBSan ($SANITIZE)"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:check_initialization_order=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-exclude=${SANITIZE_CTEST_EXCLUDE-^(StreamingTest.HundredThousandRowCsvRoundTrip|Design.DOptimalityMaximisesTheLogDeterminant|MotionIdentify.BaseParametersWithinFourStdAndPredictionWithinOnePercent|MotionIdentify.ReportedStdMatchTheSpreadOverSeeds|MotionIdentify.DerivativesFromPositionsStayWithinFourStd)$}
+exclude=${SANITIZE_CTEST_EXCLUDE-^(StreamingTest.HundredThousandRowCsvRoundTrip|Design.DOptimalityMaximisesTheLogDeterminant|MotionIdentify.BaseParametersWithinFourStdAndPredictionWithinOnePercent|MotionIdentify.ReportedStdMatchTheSpreadOverSeeds|MotionIdentify.DerivativesFromPositionsStayWithinFourStd|Delay.OneMillisecondLagIsFoundAndTheFitIsAsGoodAsWithoutLag)$}
 ctest --test-dir "$SANITIZE" --output-on-failure -j "$JOBS" ${exclude:+-E "$exclude"}
 
 # 6. Each fuzz target on its seed corpus (fuzz/corpus/NAME) for FUZZ_SECONDS,

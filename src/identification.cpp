@@ -12,6 +12,8 @@
 #include <utility>
 
 #include "massid/atomic_file.hpp"
+#include "massid/csv.hpp"
+#include "massid/delay.hpp"
 #include "massid/errors.hpp"
 #include "massid/identify_file.hpp"
 #include "massid/report.hpp"
@@ -24,16 +26,31 @@ Identification identify_log(Model model, const std::string& path, bool offset,
   Identification out;
   Samples* samples = keep_samples ? &out.samples : nullptr;
   out.model = std::move(model);
-  if (dynamic) {
+  const bool with_offset = offset || options.drift != Drift::None;  // a drifting offset is one
+  if (!dynamic && (options.delay || options.delay_auto))
+    throw InputError(
+        "a wrench delay goes with motion logs (--dynamic): at rest it does not matter");
+  if (dynamic && (options.delay || options.delay_auto)) {
+    // In memory: the wrench moved by the delay (estimated by a scan of fits), then the fit.
     out.motion_options = motion_options;
-    out.summary = identify_motion_file(out.model, path, offset, options, motion_options, &out.base,
-                                       &out.motion, samples);
+    Samples raw =
+        read_samples(out.model, read_csv(path), WrenchColumns::Required, motion_options.samples);
+    DelayEstimate delay;
+    out.samples = aligned_motion_samples(out.model, std::move(raw), with_offset, options,
+                                         motion_options, &delay, &out.motion);
+    out.base = find_base_parameters(out.model, motion_base_options(out.samples, with_offset));
+    out.summary = identify(out.model, out.base, out.samples, options);
+    out.summary.delay = std::move(delay);
+  } else if (dynamic) {
+    out.motion_options = motion_options;
+    out.summary = identify_motion_file(out.model, path, with_offset, options, motion_options,
+                                       &out.base, &out.motion, samples);
     if (keep_samples &&
         out.samples.size() < out.summary.samples)  // streamed: only the head came back
       out.samples = read_motion_samples(out.model, path, WrenchColumns::Required, motion_options);
   } else {
     BaseParameterOptions bo;
-    bo.offset = offset || options.drift != Drift::None;  // a drifting offset is an offset
+    bo.offset = with_offset;
     out.base = find_base_parameters(out.model, bo);
     out.summary = identify_file(out.model, out.base, path, options, samples);
   }
@@ -113,6 +130,24 @@ RestWindows rest_of(const json& j) {
   return w;
 }
 
+json delay_json(const DelayEstimate& d) {
+  return {{"applied", d.applied},
+          {"estimated", d.estimated},
+          {"value", d.value},
+          {"std", d.std},
+          {"scan", d.scan}};
+}
+
+DelayEstimate delay_of(const json& j) {
+  DelayEstimate d;
+  d.applied = j.at("applied");
+  d.estimated = j.at("estimated");
+  d.value = j.at("value");
+  d.std = j.at("std");
+  d.scan = j.at("scan").get<std::vector<std::array<double, 2>>>();
+  return d;
+}
+
 json summary_json(const IdentifySummary& s) {
   json outliers = json::array();
   for (const Outlier& o : s.outliers) outliers.push_back({o.sample, o.line, o.score});
@@ -139,7 +174,8 @@ json summary_json(const IdentifySummary& s) {
           {"drift_names", s.drift_names},
           {"drift_value", matrix(s.drift_value)},
           {"drift_stddev", matrix(s.drift_stddev)},
-          {"rest", rest_json(s.rest)}};
+          {"rest", rest_json(s.rest)},
+          {"delay", delay_json(s.delay)}};
 }
 
 IdentifySummary summary_of(const json& j) {
@@ -168,6 +204,7 @@ IdentifySummary summary_of(const json& j) {
   s.drift_value = matrix_of(j.at("drift_value"));
   s.drift_stddev = matrix_of(j.at("drift_stddev"));
   s.rest = rest_of(j.at("rest"));
+  s.delay = delay_of(j.at("delay"));
   return s;
 }
 

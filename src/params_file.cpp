@@ -52,6 +52,7 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
                         : s->gravity_from_upstream ? "upstream joints"
                                                    : "columns";
     j["samples"] = s->samples;
+    if (s->delay.applied) j["delay"] = {{"value", s->delay.value}, {"std", s->delay.std}};
     if (s->rest.continuous)
       j["rest_windows"] = {{"windows", s->rest.windows.size()},
                            {"samples", s->rest.samples},

@@ -199,6 +199,14 @@ std::string identify_report(const Model& model, const BaseParameters& base,
                   : s.gravity_from_upstream ? "the joints above the sensor link"
                                             : "gx,gy,gz",
                   model.sensor_link());
+  if (s.delay.applied)
+    out += s.delay.estimated
+               ? fmt::format(
+                     "wrench delay behind the joints: {:.4g} ms +- {:.2g} ms (estimated: the "
+                     "fit's chi^2 over {} delays), applied\n",
+                     1e3 * s.delay.value, 1e3 * s.delay.std, s.delay.scan.size())
+               : fmt::format("wrench delay behind the joints: {:.4g} ms (given), applied\n",
+                             1e3 * s.delay.value);
   if (s.rest.continuous)
     out += fmt::format(
         "rest windows of a continuous log: {} windows, {} of {} rows used ({} rows found moving "

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "massid/base_parameters.hpp"
+#include "massid/delay_estimate.hpp"
 #include "massid/model.hpp"
 #include "massid/rest_windows.hpp"
 #include "massid/samples.hpp"
@@ -46,6 +47,11 @@ struct IdentifyOptions {
   // only its rest windows are samples (rest_windows.hpp; identify_file and
   // identify_log apply it, identify() takes the samples as given).
   RestWindowOptions rest;
+  // Motion logs: the lag of the wrench behind the joints (delay.hpp), s: given,
+  // or estimated within +-max_delay (delay_auto). identify_log applies it.
+  std::optional<double> delay;
+  bool delay_auto = false;
+  double max_delay = 0.02;
 };
 
 // A sample whose residual is implausible for the fitted noise.
@@ -93,6 +99,8 @@ struct IdentifySummary {
   // The rest windows of a continuous static log (rest.continuous: only their
   // rows are the samples); else not continuous, every row a sample.
   RestWindows rest;
+  // Motion logs: the wrench delay applied before the fit (delay.hpp).
+  DelayEstimate delay;
 };
 
 // Below this many residual degrees of freedom on an axis an estimated noise

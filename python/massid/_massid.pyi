@@ -206,6 +206,7 @@ class Identification:
     drift_values: np.ndarray
     drift_std: np.ndarray
     warnings: list[str]  # also issued as MassidWarning
+    delay: Optional[dict[str, Any]]  # dynamic with delay: value, std (s), estimated, scan
     rest_windows: Optional[dict[str, Any]]  # continuous static log: windows, samples, rows, moving, criterion
     def report(self) -> str: ...  # the CLI's text report
     def to_json(self) -> str: ...  # the params file ("massid-params-1")
@@ -228,6 +229,7 @@ def identify(
     cutoff: Optional[float] = None,  # Hz, dynamic without JOINT_vel/_acc
     root_gravity: Optional[Sequence[float]] = None,  # dynamic: gravity in the URDF root frame
     rest: str = "auto",  # static log with t: "auto" uses its rest windows, "off" every row
+    delay: Union[None, str, float] = None,  # dynamic: wrench lag, s, or "auto"
 ) -> Identification: ...
 
 # The record `massid identify --report` hands to the report: the fit without fitting again.

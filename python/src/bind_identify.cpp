@@ -10,6 +10,7 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 #include "massid/atomic_file.hpp"
+#include "massid/delay.hpp"
 #include "massid/errors.hpp"
 #include "massid/identify_file.hpp"
 #include "massid/params_file.hpp"
@@ -44,7 +45,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
                             std::optional<double> sigma_moment, bool checks, bool dynamic,
                             std::optional<double> cutoff,
                             std::optional<std::vector<double>> root_gravity,
-                            const std::string& rest) {
+                            const std::string& rest, const py::object& delay) {
   Identification out;
   out.model = model_of(robot, sensor, fixed);
   IdentifyOptions opts;
@@ -64,6 +65,18 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
     throw InputError(fmt::format("rest: '{}' is not 'auto' or 'off'", rest));
   if (dynamic && rest != "auto") throw InputError("rest goes with static identification");
   if (rest == "off") opts.rest.detection = RestDetection::Off;
+  if (!delay.is_none()) {
+    if (!dynamic) throw InputError("delay goes with dynamic=True (a motion log)");
+    if (py::isinstance<py::str>(delay)) {
+      if (delay.cast<std::string>() != "auto")
+        throw InputError(fmt::format("delay: '{}' is not 'auto' or a number of seconds",
+                                     delay.cast<std::string>()));
+      opts.delay_auto = true;
+    } else {
+      opts.delay = delay.cast<double>();
+      if (!std::isfinite(*opts.delay)) throw InputError("delay: not a finite number of seconds");
+    }
+  }
   opts.sigma_force = sigma_force;
   opts.sigma_moment = sigma_moment;
   if (!dynamic && (cutoff || root_gravity))
@@ -88,14 +101,15 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
     std::vector<std::string> header;
     std::vector<std::string> notes;
     RestWindows rest_windows;
+    DelayEstimate delay_applied;
     if (dynamic) {
       out.motion_options = motion_data_options(cutoff, root_gravity);
       Samples raw =
           samples_of(out.model, data, WrenchColumns::Required, &header, out.motion_options.samples);
       if (checks) notes = run_checks(out.model, data, &raw, header, dynamic);
       py::gil_scoped_release release;
-      out.samples =
-          prepare_motion_samples(out.model, std::move(raw), out.motion_options, &out.motion);
+      out.samples = aligned_motion_samples(out.model, std::move(raw), bopts.offset, opts,
+                                           out.motion_options, &delay_applied, &out.motion);
       out.base = find_base_parameters(out.model, motion_base_options(out.samples, bopts.offset));
     } else {
       Samples all = samples_of(out.model, data, WrenchColumns::Required, &header);
@@ -108,6 +122,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
       py::gil_scoped_release release;
       out.summary = identify(out.model, out.base, out.samples, opts);
       out.summary.rest = rest_windows;
+      out.summary.delay = delay_applied;
       out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
     }
     out.warnings = notes;
@@ -269,6 +284,22 @@ void bind_identify(py::module_& m) {
           },
           "[N] False for the samples that robust=True rejected")
       .def_property_readonly(
+          "delay",
+          [sum](const I& i) -> py::object {
+            const DelayEstimate& d = sum(i).delay;
+            if (!d.applied) return py::none();
+            py::dict out;
+            out["value"] = d.value;
+            out["std"] = d.std;
+            out["estimated"] = d.estimated;
+            py::list scan;
+            for (const auto& point : d.scan) scan.append(py::make_tuple(point[0], point[1]));
+            out["scan"] = scan;
+            return out;
+          },
+          "dynamic with delay: the wrench's lag applied (value and std in s, estimated, the scan "
+          "of (delay, chi^2)); None when none was")
+      .def_property_readonly(
           "rest_windows",
           [sum](const I& i) -> py::object {
             const RestWindows& w = sum(i).rest;
@@ -348,6 +379,7 @@ a record or whose URDF no longer gives the same base parameters.)");
         py::arg("sigma_force") = py::none(), py::arg("sigma_moment") = py::none(),
         py::arg("checks") = true, py::arg("dynamic") = false, py::arg("cutoff") = py::none(),
         py::arg("root_gravity") = py::none(), py::arg("rest") = "auto",
+        py::arg("delay") = py::none(),
         R"(Identifies the base parameters from measured wrenches (massid identify [--dynamic]).
 
 robot: URDF path or Model. data: a CSV path (streamed, as the CLI) or columns by name
@@ -357,7 +389,9 @@ robust: reject samples with implausible residuals; drift: 'linear' (column t) or
 'per-block' (column block); sigma_force / sigma_moment: noise (default: from residuals);
 checks: the set-up checks (sign, frame, units, gravity, columns). rest: a static log
 with t recorded while the robot moved from pose to pose: 'auto' uses only its rest
-windows (.rest_windows says which), 'off' every row.
+windows (.rest_windows says which), 'off' every row. delay (dynamic): the lag of the wrench
+behind the joint stream, s (positive when the wrench arrives late), or 'auto' to estimate it
+within +-20 ms (.delay says what was applied).
 dynamic: identification in motion, ten parameters per link (inertia about the link origin):
 the data add JOINT_vel and JOINT_acc, or t to derive them from the positions by a zero-phase
 low-pass (cutoff Hz; default min(10, rate/20)); optionally wx..wz, dwx..dwz, ax..az (sensor

@@ -463,3 +463,27 @@ def test_params_file_of_a_dynamic_fit_reads_back(massid: Any, cli_fits: dict[str
     assert any(b.unit == "kg m^2" for b in p.base_parameters)
     given = massid.load_params(cli_fits["given"])
     assert given.dynamic and given.total_mass > 0 and given.offset is None
+
+
+def test_wrench_delay_is_estimated_and_applied(massid: Any, tmp_path: Path) -> None:
+    """A log whose wrench arrives 2 ms late (2 rows at 1 kHz): identify --dynamic --delay
+    auto finds it within 0.2 ms, prints and records it; Python agrees; a given delay is
+    recorded with std 0; --delay goes with --dynamic only."""
+    traj = massid.fourier_trajectory(str(UR), duration=4.0, rate=1000.0, period=4.0, seed=3)
+    data = massid.simulate(str(UR), traj, dynamic=True, noise_force=0.1, noise_moment=0.01, seed=8)
+    lag = 2
+    for a in AXES:
+        data[a] = np.concatenate([np.repeat(data[a][:1], lag), data[a][:-lag]])  # late by 2 rows
+    csv = write_csv(tmp_path / "late.csv", data)
+    r = run_cli("identify", UR, csv, "--dynamic", "--delay", "auto", "-o", tmp_path / "p.json")
+    assert "wrench delay behind the joints:" in r.stdout and "(estimated" in r.stdout
+    delay = json.loads((tmp_path / "p.json").read_text())["delay"]
+    assert delay["value"] == pytest.approx(0.002, abs=2e-4)
+    assert 0 < delay["std"] < 2e-4
+    ident = massid.identify(str(UR), data, dynamic=True, delay="auto")
+    assert ident.delay["value"] == pytest.approx(delay["value"], abs=1e-12)
+    assert ident.delay["estimated"] and len(ident.delay["scan"]) >= 17
+    run_cli("identify", UR, csv, "--dynamic", "--delay", "0.002", "-o", tmp_path / "g.json")
+    assert json.loads((tmp_path / "g.json").read_text())["delay"] == {"value": 0.002, "std": 0.0}
+    r = run_cli("identify", UR, csv, "--delay", "auto", "-o", tmp_path / "s.json", check=False)
+    assert r.returncode == 2 and "--delay goes with --dynamic" in r.stderr
