@@ -72,10 +72,13 @@ RestWindows find_rest_windows(const Samples& s, const RestWindowOptions& o) {
     for (int c = 0; c < 3; ++c)
       wrench += mark(s.wrench.col(c), k, tolerance(s.wrench.col(c), floor), moving);
   }
+  // Continuous: the joints or the platform moved, or (gravity from the force)
+  // the force turned. A wrench that jumps while nothing moves is a bump for
+  // the outlier test, not a reason to cut the log.
+  if (joints + gravity == 0 && !(s.gravity_from_force && wrench > 0)) return every_row(n);
   RestWindows out;
   out.rows = n;
   out.moving = joints + gravity + wrench;
-  if (out.moving == 0) return every_row(n);
   out.continuous = true;
   for (auto [count, name] : {std::pair{joints, "joints"}, {gravity, "gravity"}, {wrench, "wrench"}})
     if (count > 0) out.criterion += (out.criterion.empty() ? "" : ", ") + std::string(name);

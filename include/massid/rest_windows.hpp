@@ -50,7 +50,11 @@ struct RestWindows {
 // magnitude). A row moves when some signal differs by more than its tolerance
 // both from the row `lag` before and from the row `lag` after: rows between
 // two poses, not the last or first row of a pose (a plan-like log whose
-// poses change from one row to the next has no moving row).
+// poses change from one row to the next has no moving row). The log is
+// continuous when joints or gravity moved, or, with gravity from the force,
+// the force turned; the force then also marks the ringing after a stop. A
+// force that jumps while nothing moves (a bump) leaves the log whole: the
+// outlier test judges it.
 RestWindows find_rest_windows(const Samples& samples, const RestWindowOptions& options = {});
 
 // The samples inside the windows (all of them when !windows.continuous).
