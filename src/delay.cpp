@@ -67,22 +67,15 @@ Samples delay_wrench(const Samples& raw, double delay, int margin) {
     at[i] = j;
     frac[i] = span > 0 ? std::clamp((t - raw.time[j]) / span, 0.0, 1.0) : 0.0;
   }
-  const auto moved = [&](const Eigen::MatrixXd& m) -> Eigen::MatrixXd {
-    if (m.rows() == 0) return m;
+  const auto moved = [&](Eigen::MatrixXd& m) {
+    if (m.rows() == 0) return;
     Eigen::MatrixXd out(rows, m.cols());
     for (int i = 0; i < rows; ++i)
       out.row(i) = (1 - frac[i]) * m.row(at[i]) + frac[i] * m.row(at[i] + 1);
-    return out;
+    m = std::move(out);
   };
   Samples out = raw;
-  out.q = moved(raw.q);
-  out.qd = moved(raw.qd);
-  out.qdd = moved(raw.qdd);
-  out.q_upstream = moved(raw.q_upstream);
-  out.qd_upstream = moved(raw.qd_upstream);
-  out.qdd_upstream = moved(raw.qdd_upstream);
-  out.gravity = moved(raw.gravity);
-  out.sensor_motion = moved(raw.sensor_motion);
+  for_each_joint_stream_array(out, moved);
   out.wrench = middle(raw.wrench, margin, rows);
   out.time = raw.time.segment(margin, rows);
   if (!raw.line.empty())

@@ -67,12 +67,7 @@ std::vector<std::string> identification_notes(const IdentifySummary& summary,
         "{} has no gx,gy,gz columns: gravity is taken along the measured force (paper eq. 37), "
         "|g| = {} m/s^2",
         source, kStandardGravity));
-  constexpr std::string_view prefix = "massid: warning: ";
-  for (std::string w : identify_warnings(summary, source)) {
-    if (w.starts_with(prefix)) w.erase(0, prefix.size());
-    while (!w.empty() && w.back() == '\n') w.pop_back();
-    out.push_back(std::move(w));
-  }
+  for (std::string& w : identify_warnings(summary, source)) out.push_back(std::move(w));
   return out;
 }
 

@@ -117,9 +117,9 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
   std::vector<std::string> out;
   if (s.condition_number > 1e6)
     out.push_back(fmt::format(
-        "massid: warning: {}: the plan hardly determines some parameters (condition number "
+        "{}: the plan hardly determines some parameters (condition number "
         "{:.3g}, eq. 36): their standard deviations are large and any error in the data is "
-        "magnified; record more varied poses and tilts (massid design)\n",
+        "magnified; record more varied poses and tilts (massid design)",
         source, s.condition_number));
   {
     // An estimated noise level with few residual degrees of freedom (many
@@ -138,11 +138,11 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
       const long unknowns = static_cast<long>(s.value.size() + s.drift_value.size());
       const long more = static_cast<long>(std::ceil(kFewResidualDof - fewest));
       out.push_back(fmt::format(
-          "massid: warning: {}: {} samples for {} unknowns leave few degrees of freedom for the "
+          "{}: {} samples for {} unknowns leave few degrees of freedom for the "
           "noise estimate ({} of {} per axis; fewer than {:.0f}): the estimated sigma, and with "
           "it every std, is uncertain by about {:.0f} % and errors beyond 2 std are more "
           "frequent than the std say; record at least {} samples, or give the sensor's noise "
-          "(--sigma-force, --sigma-moment)\n",
+          "(--sigma-force, --sigma-moment)",
           source, s.samples, unknowns, axes, s.samples, kFewResidualDof,
           100.0 / std::sqrt(2.0 * std::max(fewest, 0.5)), s.samples + more));
     }
@@ -158,9 +158,9 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
       const double scale = k < 3 && s.gravity_from_force ? s.sigma.head<3>().norm() : s.sigma[k];
       if (s.residual_max[k] > bound * scale)
         out.push_back(fmt::format(
-            "massid: warning: {}: the largest {} residual is {:.3g} sigma (above {:.3g}, expected "
+            "{}: the largest {} residual is {:.3g} sigma (above {:.3g}, expected "
             "with probability 1 %): some samples are implausible for the fitted noise; run "
-            "identify with --robust to find them by line and reject them\n",
+            "identify with --robust to find them by line and reject them",
             source, kWrenchColumns[k], s.residual_max[k] / scale, bound));
     }
     return out;
@@ -168,23 +168,23 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
   if (s.outliers.empty()) return out;
   const double fraction = static_cast<double>(s.outliers.size()) / std::max(s.samples, 1);
   if (s.robust) {
-    out.push_back(fmt::format(
-        "massid: warning: {}: rejected {} of {} samples ({:.2g} %) as outliers (standardised "
-        "residual d above {:.3g}), at lines {}\n",
-        source, s.outliers.size(), s.samples, 100 * fraction, s.outlier_threshold,
-        line_list(s.outliers)));
+    out.push_back(
+        fmt::format("{}: rejected {} of {} samples ({:.2g} %) as outliers (standardised "
+                    "residual d above {:.3g}), at lines {}",
+                    source, s.outliers.size(), s.samples, 100 * fraction, s.outlier_threshold,
+                    line_list(s.outliers)));
     if (fraction > 0.2)
       out.push_back(fmt::format(
-          "massid: warning: {}: more than 20 % of the samples rejected: the model or the set-up "
+          "{}: more than 20 % of the samples rejected: the model or the set-up "
           "is likely wrong (sign, frame, units, sensor link, a drifting offset: see --drift), "
-          "not the samples\n",
+          "not the samples",
           source));
   } else {
     out.push_back(fmt::format(
-        "massid: warning: {}: {} sample(s) have residuals implausible for the fitted noise "
+        "{}: {} sample(s) have residuals implausible for the fitted noise "
         "(standardised residual d above {:.3g}, expected with probability 1 %): lines {}. They "
         "bias the estimate: check them (a bump, a cable, a transient), or run identify with "
-        "--robust to reject them\n",
+        "--robust to reject them",
         source, s.outliers.size(), s.outlier_threshold, line_list(s.outliers)));
   }
   return out;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace massid {
@@ -113,24 +115,18 @@ Samples rest_samples(const Samples& s, const RestWindows& w) {
   rows.reserve(static_cast<std::size_t>(w.samples));
   for (const RestWindow& win : w.windows)
     for (int r = win.first; r <= win.last; ++r) rows.push_back(r);
-  const auto pick = [&rows](const Eigen::MatrixXd& m) -> Eigen::MatrixXd {
-    if (m.rows() == 0) return m;
-    Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), m.cols());
+  const auto pick = [&rows](auto& m) {
+    if (m.rows() == 0) return;
+    std::decay_t<decltype(m)> out;
+    out.resize(static_cast<Eigen::Index>(rows.size()), m.cols());
     for (std::size_t i = 0; i < rows.size(); ++i)
       out.row(static_cast<Eigen::Index>(i)) = m.row(rows[i]);
-    return out;
+    m = std::move(out);
   };
   Samples out = s;
-  out.q = pick(s.q);
-  out.qd = pick(s.qd);
-  out.qdd = pick(s.qdd);
-  out.q_upstream = pick(s.q_upstream);
-  out.qd_upstream = pick(s.qd_upstream);
-  out.qdd_upstream = pick(s.qdd_upstream);
-  out.gravity = pick(s.gravity);
-  out.sensor_motion = pick(s.sensor_motion);
-  out.wrench = pick(s.wrench);
-  out.time = pick(s.time);
+  for_each_joint_stream_array(out, pick);
+  pick(out.wrench);
+  pick(out.time);
   out.line.clear();
   out.block.clear();
   for (int r : rows) {

@@ -39,15 +39,6 @@ Samples lagged_log(const Model& model, double lag, std::uint64_t seed, double du
   return log;
 }
 
-double worst_normalised_error(const Model& model, const BaseParameters& base,
-                              const IdentifySummary& fit) {
-  const Eigen::VectorXd truth = base.K * ParameterLayout::full().nominal(model);
-  double worst = 0.0;
-  for (int i = 0; i < base.num_mass(); ++i)
-    worst = std::max(worst, std::abs(fit.value[i] - truth[i]) / fit.stddev[i]);
-  return worst;
-}
-
 IdentifySummary fit_of(const Model& model, const Samples& raw, const IdentifyOptions& o,
                        DelayEstimate* d, BaseParameters* base) {
   const Samples s = aligned_motion_samples(model, raw, false, o, {}, d);
@@ -97,7 +88,7 @@ TEST(Delay, OneMillisecondLagIsFoundAndTheFitIsAsGoodAsWithoutLag) {
     EXPECT_LT(d.std, 2e-4);
     EXPECT_LT(std::abs(d.value - lag), 4 * d.std + 2e-5);  // the std is honest
     EXPECT_GE(d.scan.size(), 17u);
-    EXPECT_LT(worst_normalised_error(model, base, fit), 4.5);
+    EXPECT_LT(test::worst_normalised_error(model, base, fit), 4.5);
 
     // The lag ignored: the fit is off by far more than its std.
     IdentifyOptions plain;
@@ -105,8 +96,8 @@ TEST(Delay, OneMillisecondLagIsFoundAndTheFitIsAsGoodAsWithoutLag) {
     BaseParameters base0;
     const IdentifySummary ignored = fit_of(model, raw, plain, &none, &base0);
     EXPECT_FALSE(none.applied);
-    EXPECT_GT(worst_normalised_error(model, base0, ignored),
-              3 * worst_normalised_error(model, base, fit));
+    EXPECT_GT(test::worst_normalised_error(model, base0, ignored),
+              3 * test::worst_normalised_error(model, base, fit));
 
     // The lag given: the same as estimated, to what the estimate's error moves.
     IdentifyOptions given;
@@ -116,7 +107,7 @@ TEST(Delay, OneMillisecondLagIsFoundAndTheFitIsAsGoodAsWithoutLag) {
     const IdentifySummary known = fit_of(model, raw, given, &g, &base1);
     EXPECT_TRUE(g.applied && !g.estimated);
     EXPECT_EQ(g.value, lag);
-    EXPECT_LT(worst_normalised_error(model, base1, known), 4.5);
+    EXPECT_LT(test::worst_normalised_error(model, base1, known), 4.5);
   }
 }
 

@@ -100,15 +100,6 @@ Samples static_part(const Samples& s) {
   return out;
 }
 
-double worst_normalised_error(const Model& model, const BaseParameters& base,
-                              const IdentifySummary& fit) {
-  const Eigen::VectorXd truth = base.K * ParameterLayout::first_moments().nominal(model);
-  double worst = 0.0;
-  for (int i = 0; i < base.num_mass(); ++i)
-    worst = std::max(worst, std::abs(fit.value[i] - truth[i]) / fit.stddev[i]);
-  return worst;
-}
-
 TEST(RestWindows, FoundWhereTheRobotRestedAndTheFitIsUnbiased) {
   const test::Example ex = test::examples()[1];  // ur_like, a tilting plan
   const Model model = load_urdf(ex.urdf);
@@ -142,10 +133,10 @@ TEST(RestWindows, FoundWhereTheRobotRestedAndTheFitIsUnbiased) {
   ASSERT_EQ(rest.size(), w.samples);
   EXPECT_EQ(rest.line.front(), log.line[w.windows.front().first]);
   const IdentifySummary fit = identify(model, base, rest);
-  EXPECT_LT(worst_normalised_error(model, base, fit), 4.0);
+  EXPECT_LT(test::worst_normalised_error(model, base, fit), 4.0);
   // Every row, transitions included: the motion's forces bias the fit.
   const IdentifySummary all = identify(model, base, log);
-  EXPECT_GT(worst_normalised_error(model, base, all), 20.0);
+  EXPECT_GT(test::worst_normalised_error(model, base, all), 20.0);
 }
 
 TEST(RestWindows, PlanLikeLogsAreLeftAlone) {
@@ -239,7 +230,7 @@ TEST(RestWindows, IdentifyFileUsesTheWindowsOfAContinuousCsv) {
   EXPECT_EQ(w.samples, fit.rest.samples);
   const IdentifySummary dense = identify(model, base, rest_samples(all, w));
   EXPECT_EQ(dense.value, fit.value);
-  EXPECT_LT(worst_normalised_error(model, base, fit), 4.0);
+  EXPECT_LT(test::worst_normalised_error(model, base, fit), 4.0);
   IdentifyOptions off;
   off.rest.detection = RestDetection::Off;
   const IdentifySummary every = identify_file(model, base, path, off);

@@ -3,11 +3,14 @@
 
 #include <Eigen/Core>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
+#include "massid/estimation.hpp"
 #include "massid/model.hpp"
 #include "massid/samples.hpp"
 
@@ -58,6 +61,17 @@ inline double paper_condition_number(const Samples& s) {
   }
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(FW);
   return svd.singularValues()(0) / svd.singularValues()(8);
+}
+
+// Largest |estimate - truth| / std over the base parameters (offsets
+// excluded), the truth K pi of the URDF's parameters in the base's layout.
+inline double worst_normalised_error(const Model& model, const BaseParameters& base,
+                                     const IdentifySummary& fit) {
+  const Eigen::VectorXd truth = base.K * base.layout.nominal(model);
+  double worst = 0.0;
+  for (int i = 0; i < base.num_mass(); ++i)
+    worst = std::max(worst, std::abs(fit.value[i] - truth[i]) / fit.stddev[i]);
+  return worst;
 }
 
 }  // namespace massid::test

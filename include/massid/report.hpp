@@ -39,7 +39,8 @@ Eigen::VectorXd parameter_scales(const Model& model, const BaseParameters& base,
                                  const IdentifySummary* summary);
 // A parameter is poorly determined when its std exceeds this part of its scale.
 constexpr double kPoorStdOfScale = 0.01;
-// Warnings about an identification, one line each ("massid: warning: ..."):
+// Warnings about an identification, one line each starting with the source
+// and without a prefix or newline (the CLI prints "massid: warning: "):
 // an estimated noise level with fewer than kFewResidualDof residual degrees of
 // freedom on an axis, samples whose residuals are implausible for the fitted
 // noise (reported, or rejected with --robust), and the largest residuals of a

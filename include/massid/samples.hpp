@@ -44,6 +44,17 @@ struct Samples {
   bool has_sensor_motion() const { return sensor_motion.cols() == 9; }
 };
 
+// Calls f(matrix) on each per-row array of the joint stream: q, qd, qdd, the
+// upstream ones, gravity and sensor_motion (not the wrench, time, line, block).
+// The one list of them for code that selects or moves rows (rest_windows.hpp,
+// delay.hpp).
+template <class F>
+void for_each_joint_stream_array(Samples& s, F f) {
+  for (Eigen::MatrixXd* m : {&s.q, &s.qd, &s.qdd, &s.q_upstream, &s.qd_upstream, &s.qdd_upstream,
+                             &s.gravity, &s.sensor_motion})
+    f(*m);
+}
+
 enum class WrenchColumns { Required, Optional };
 
 // Reads joint columns (named as the joint, or JOINT_deg in degrees), gx,gy,gz,
