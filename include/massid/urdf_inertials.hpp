@@ -1,0 +1,44 @@
+// A URDF with some links' inertials replaced and every other byte kept: the
+// identified URDF (`identify --urdf-out`). Comments, meshes, <mujoco> and
+// <gazebo> blocks, attribute order, indentation and line endings stay as the
+// author wrote them; only each edited link's <inertial> element is rewritten
+// (or added, for a link that had none), in the URDF's convention:
+//   <origin xyz="c" rpy="0 0 0"/>  centre of mass in the link frame
+//   <mass value="m"/>
+//   <inertia .../>                 about the centre of mass, link-frame axes
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "massid/model.hpp"
+#include "massid/parameters.hpp"
+
+namespace massid {
+
+struct LinkInertial {
+  std::string link;  // URDF link name
+  double mass = 0.0;
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();      // link frame, m
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about com, link frame, kg m^2
+  std::string note;  // written as an XML comment inside the element ("" for none)
+};
+
+// The inertial of link `link` from standard parameters in `layout` (the
+// link-origin convention of parameters.hpp): c = h / m and
+//   I_C = I_O - m (|c|^2 1 - c c^T)
+// (inertia_about_origin inverted). In the first-moment layout the inertia
+// about the centre of mass is the model's (the URDF's): rest data do not see it.
+// InputError for a mass that is not positive.
+LinkInertial link_inertial(const Model& model, const ParameterLayout& layout,
+                           const Eigen::VectorXd& standard, int link);
+
+// `urdf` (the file's text; `source` names it in messages) with the inertials of
+// `edits` written in. InputError when a link is not in the file, is named
+// twice, or the text is not XML the edit can follow (it has been read by
+// load_urdf first, so this means a construct the scanner does not know).
+std::string replace_inertials(const std::string& urdf, const std::string& source,
+                              const std::vector<LinkInertial>& edits);
+
+}  // namespace massid
