@@ -34,6 +34,7 @@ class Joint:
     limited: bool
     lower: float  # rad or m
     upper: float
+    velocity_limit: float
 
 class Link:
     name: str

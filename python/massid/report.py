@@ -206,6 +206,7 @@ class _JointInfo:
     limited: bool
     lower: float
     upper: float
+    velocity_limit: float = math.nan  # the URDF's <limit velocity>, rad/s or m/s; nan if none
 
     @property
     def scale(self) -> float:
@@ -225,7 +226,9 @@ def _joint_infos(model: Any) -> list[_JointInfo]:
         if j is None:
             out.append(_JointInfo(name, "revolute", False, math.nan, math.nan))
         else:
-            out.append(_JointInfo(name, str(j.type), bool(j.limited), float(j.lower), float(j.upper)))
+            vmax = float(getattr(j, "velocity_limit", 0.0))
+            out.append(_JointInfo(name, str(j.type), bool(j.limited), float(j.lower), float(j.upper),
+                                  vmax if vmax > 0 else math.nan))
     return out
 
 
@@ -483,7 +486,10 @@ class _Figures:
 
     # -- coverage --------------------------------------------------------
 
-    def joint_coverage(self, q: np.ndarray, joints: Sequence[_JointInfo], velocity: bool = False) -> str:
+    def joint_coverage(self, q: np.ndarray, joints: Sequence[_JointInfo],
+                       derivative: int = 0) -> str:
+        """Histograms of each joint's position (derivative 0) against its limits,
+        velocity (1) against the URDF's velocity limit, or acceleration (2)."""
         n = len(joints)
         nc = min(4, n)
         nr = math.ceil(n / nc)
@@ -493,7 +499,11 @@ class _Figures:
             info = joints[j]
             x = q[:, j] * info.scale
             x = x[np.isfinite(x)]
-            if info.limited and math.isfinite(info.lower) and math.isfinite(info.upper):
+            limited = info.limited if derivative == 0 else (
+                derivative == 1 and math.isfinite(info.velocity_limit))
+            if derivative == 1 and limited:
+                lo, hi = -info.velocity_limit * info.scale, info.velocity_limit * info.scale
+            elif limited and math.isfinite(info.lower) and math.isfinite(info.upper):
                 lo, hi = info.lower * info.scale, info.upper * info.scale
             elif x.size:
                 lo, hi = float(x.min()), float(x.max())
@@ -504,18 +514,44 @@ class _Figures:
             if rng_hi <= rng_lo:
                 rng_lo, rng_hi = rng_lo - 1.0, rng_hi + 1.0
             ax.hist(x, bins=36, range=(rng_lo, rng_hi), color="C0", alpha=0.85)
-            if info.limited:
+            if limited:
                 for v in (lo, hi):
                     ax.axvline(v, color="C3", lw=1.0, ls="--")
-            span = (float(x.max() - x.min()) / (hi - lo)) if x.size and hi > lo else math.nan
-            covered = f", spans {span * 100:.0f} % of {'its limits' if info.limited else 'the data range'}" \
-                if math.isfinite(span) and info.limited else ""
+            if derivative == 1 and limited and x.size:
+                peak = float(np.max(np.abs(x))) / hi
+                covered = f"\npeaks at {peak * 100:.0f} % of its limit"
+            elif derivative == 2 and x.size:
+                covered = f"\npeak {float(np.max(np.abs(x))):.3g} {info.unit}/s²"
+            else:
+                span = (float(x.max() - x.min()) / (hi - lo)) if x.size and hi > lo else math.nan
+                covered = f", spans {span * 100:.0f} % of its limits" \
+                    if math.isfinite(span) and limited else ""
             ax.set_title(f"{info.name}{covered}")
-            ax.set_xlabel(f"{info.name} velocity [{info.unit}/s]" if velocity else f"{info.name} [{info.unit}]")
+            ax.set_xlabel([f"{info.name} [{info.unit}]", f"{info.name} velocity [{info.unit}/s]",
+                           f"{info.name} acceleration [{info.unit}/s²]"][derivative])
             ax.set_ylabel("samples")
             ax.yaxis.set_major_locator(self.mpl.ticker.MaxNLocator(integer=True))
         for ax in list(axs):
             ax.set_visible(False)
+        return self.png(fig)
+
+    def delay_scan(self, scan: np.ndarray, value: float, std: float) -> str:
+        fig = self.new(11.0, 3.6)
+        ax1, ax2 = fig.subplots(1, 2)
+        order = np.argsort(scan[:, 0])
+        d, chi2 = scan[order, 0] * 1e3, scan[order, 1]
+        best = float(np.min(chi2))
+        near = np.zeros(d.size, dtype=bool)
+        near[np.argsort(chi2, kind="stable")[:7]] = True  # the fine scan about the best point
+        for ax, sel, title in ((ax1, np.ones(d.size, dtype=bool), "whole scan"),
+                               (ax2, near, "the best fits")):
+            ax.plot(d[sel], chi2[sel] - best, "o-", color="C0", ms=3, lw=1)
+            ax.axvline(value * 1e3, color="C3", lw=1.2)
+            if std > 0:
+                ax.axvspan((value - std) * 1e3, (value + std) * 1e3, color="C3", alpha=0.15, lw=0)
+            ax.set_xlabel("delay of the wrench behind the joints [ms]")
+            ax.set_ylabel("χ² − its minimum")
+            ax.set_title(title)
         return self.png(fig)
 
     def tilt(self, tilt: Mapping[str, Any], idx: np.ndarray) -> str:
@@ -834,7 +870,7 @@ def _offset_unit(name: str) -> str:
 
 def _coverage_section(doc: _Doc, figs: _Figures, q: np.ndarray, joints: Sequence[_JointInfo],
                       gravity: Optional[np.ndarray], n: int, gravity_note: str,
-                      qd: Optional[np.ndarray] = None) -> None:
+                      qd: Optional[np.ndarray] = None, qdd: Optional[np.ndarray] = None) -> None:
     doc.add('<h2 id="coverage">Coverage of the experiment</h2>')
     if qd is None:
         doc.add("<p>How much of each joint's range the samples visit, and in how many directions "
@@ -853,11 +889,19 @@ def _coverage_section(doc: _Doc, figs: _Figures, q: np.ndarray, joints: Sequence
                    "limits; the data range for joints without limits). Revolute joints in "
                    "degrees, prismatic in metres.")
     if qd is not None and joints and qd.size:
-        doc.figure(figs.joint_coverage(qd, [_JointInfo(j.name, j.kind, False, math.nan, math.nan)
-                                             for j in joints], velocity=True),
+        doc.figure(figs.joint_coverage(qd, joints, derivative=1),
                    "joint velocity histograms",
                    "Histogram of each joint's velocity (degrees per second for revolute joints, "
-                   "metres per second for prismatic ones).")
+                   "metres per second for prismatic ones); dashed red: the URDF's velocity limit "
+                   "(&lt;limit velocity&gt;), where it gives one. Velocities near the limits "
+                   "excite the inertial parameters best.")
+    if qdd is not None and joints and qdd.size:
+        doc.figure(figs.joint_coverage(qdd, joints, derivative=2),
+                   "joint acceleration histograms",
+                   "Histogram of each joint's acceleration (degrees per second squared for "
+                   "revolute joints, metres per second squared for prismatic ones). A URDF "
+                   "gives no acceleration limit: compare with the limits the trajectory was "
+                   "designed for (massid design --dynamic --acceleration-limit).")
     tilt = _tilt(gravity) if gravity is not None else None
     if tilt is not None:
         idx, k = _subsample(tilt["tilt"].size, np.empty(0, dtype=int))
@@ -1004,6 +1048,28 @@ def _dynamic_fit_figures(doc: _Doc, figs: _Figures, measured: np.ndarray, model:
                        f"mechanism.{sub}")
 
 
+def _delay_section(doc: _Doc, figs: _Figures, delay: Mapping[str, Any]) -> None:
+    """The lag of the wrench behind the joints: the value applied and, when
+    estimated, the scan of fits it was read from."""
+    value, std = float(delay["value"]), float(delay.get("std", 0.0))
+    scan = np.asarray(delay.get("scan") or [], dtype=float).reshape(-1, 2)
+    doc.add('<h3 id="delay">Clock alignment</h3>')
+    if not delay.get("estimated") or scan.shape[0] < 3:
+        doc.add(f"<p>The wrench was taken as lagging the joints by {value * 1e3:.4g} ms (given, "
+                f"<code>--delay</code>), applied before the fit.</p>")
+        return
+    doc.add(f"<p>The wrench lags the joints by <b>{value * 1e3:.4g} ± {std * 1e3:.2g} ms</b> "
+            f"(estimated, applied before the fit). A lag of a millisecond between the streams "
+            f"already shows as residuals proportional to the joints' accelerations.</p>")
+    doc.figure(figs.delay_scan(scan, value, std), "delay scan",
+               "The fit's χ² (weighted residual sum, with the noise of the fit at zero delay) "
+               "for each delay tried: a coarse scan over the window, then a fine one about its "
+               "best point. The estimate (red) is the vertex of the parabola through the best "
+               "fits, its std (shaded) from the parabola's curvature, √(2/χ²''). A minimum at "
+               "the window's edge would be an error; a flat curve means the motion cannot tell "
+               "the lag.")
+
+
 # --------------------------------------------------------------------------
 # Identification report
 
@@ -1028,6 +1094,8 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
     dynamic = bool(getattr(ident, "dynamic", False))
     qd = getattr(ident, "qd", None) if dynamic else None
     qd = np.asarray(qd, dtype=float).reshape(n, -1) if qd is not None and n else None
+    qdd = getattr(ident, "qdd", None) if dynamic else None
+    qdd = np.asarray(qdd, dtype=float).reshape(n, -1) if qdd is not None and n else None
     t = getattr(ident, "time", None)
     t = np.asarray(t, dtype=float).reshape(-1) if t is not None and np.size(t) == n else None
     filt = getattr(ident, "filter", None) if dynamic else None
@@ -1047,6 +1115,7 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
     doc.add('<nav><a href="#summary">summary</a><a href="#fit">fit</a>'
             '<a href="#residuals">residuals</a>'
             + ('<a href="#spectrum">spectrum</a>' if dynamic else "")
+            + ('<a href="#delay">delay</a>' if dynamic and getattr(ident, "delay", None) else "")
             + '<a href="#parameters">parameters</a>'
             '<a href="#correlation">correlation</a><a href="#coverage">coverage</a></nav>')
 
@@ -1136,6 +1205,9 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
         else:
             _fit_figures(doc, figs, wrench, fitted, residuals, q, joints, rejected, outlier, sigma,
                          "fitted", "residuals (measured − fitted)")
+    delay = getattr(ident, "delay", None) if dynamic else None
+    if delay:
+        _delay_section(doc, figs, delay)
 
     # d) parameters
     params = list(ident.base_parameters)
@@ -1173,7 +1245,7 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
     gravity = np.asarray(ident.gravity, dtype=float).reshape(n, 3) if n else None
     _coverage_section(doc, figs, q, joints, gravity, n,
                       " (taken along the measured force)" if getattr(ident, "gravity_from_force", False) else "",
-                      qd)
+                      qd, qdd)
     return doc.render()
 
 
@@ -1346,7 +1418,7 @@ def _predict_html(robot: Union[PathType, Any, None], params: Any,
     n = predicted.shape[0]
     predicted = predicted.reshape(n, 6)
     joints = _joint_infos(model)
-    t = qd = None
+    t = qd = qdd = None
     prepared_note = ""
     if dynamic:
         # The samples massid predict compares: derivatives given, or derived by the
@@ -1364,6 +1436,7 @@ def _predict_html(robot: Union[PathType, Any, None], params: Any,
         n = rows.size
         t = cols.get("t")
         qd = _joint_matrix({k[:-4]: v for k, v in cols.items() if k.endswith("_vel")}, joints, n)
+        qdd = _joint_matrix({k[:-4]: v for k, v in cols.items() if k.endswith("_acc")}, joints, n)
     q = _joint_matrix(cols, joints, n)
     has_wrench = all(a in cols for a in AXES)
     if all(c in cols for c in ("gx", "gy", "gz")):
@@ -1484,7 +1557,7 @@ def _predict_html(robot: Union[PathType, Any, None], params: Any,
             if len(labels) != mat.shape[0]:
                 labels = [f"u{i + 1}" for i in range(mat.shape[0])]
             _correlation_section(doc, figs, _correlation_from_covariance(mat), labels)
-    _coverage_section(doc, figs, q, joints, gravity, n, gnote, qd)
+    _coverage_section(doc, figs, q, joints, gravity, n, gnote, qd, qdd)
     return doc.render()
 
 

@@ -120,6 +120,8 @@ void bind_model(py::module_& m) {
       .def_readonly("limited", &Joint::limited)
       .def_readonly("lower", &Joint::lower, "lower limit, rad or m")
       .def_readonly("upper", &Joint::upper, "upper limit, rad or m")
+      .def_readonly("velocity_limit", &Joint::velocity_limit,
+                    "the URDF's <limit velocity>, rad/s or m/s; 0 when not given")
       .def("__repr__", [](const Joint& j) {
         return fmt::format("Joint('{}', {}{})", j.name, joint_type_name(j.type),
                            j.limited ? fmt::format(", [{:.6g}, {:.6g}]", j.lower, j.upper) : "");

@@ -12,13 +12,13 @@ from typing import Any
 import numpy as np
 import pytest
 
-from conftest import UR, massid_cli, write_csv
+from conftest import AXES, UR, massid_cli, write_csv
 from test_report import Page, check_self_contained, expected_flags, parameter_scales, read_page
 
 # along time, fitted against measured, residuals along time, spectrum, residuals
 # against positions (6 joints: 2 figures) and velocities (2), correlation,
-# position and velocity coverage, gravity directions
-DYNAMIC_IMAGES_UR = 12
+# position, velocity and acceleration coverage, gravity directions
+DYNAMIC_IMAGES_UR = 13
 
 
 def run_cli(*args: Any) -> subprocess.CompletedProcess:
@@ -54,8 +54,9 @@ def test_dynamic_identify_report_content(massid: Any, dynamic_report: Path, dyna
     names = alts(page)
     for alt in ("fitted and measured wrench along time", "residuals (measured − fitted) along time",
                 "amplitude spectrum of the residuals", "residuals (measured − fitted) against joint velocities",
-                "joint velocity histograms"):
+                "joint velocity histograms", "joint acceleration histograms"):
         assert alt in names, (alt, names)
+    assert "delay scan" not in names and 'id="delay"' not in text  # no --delay, no section
     assert names.count("residuals (measured − fitted) against joint velocities") == 2  # 6 joints, 4 a figure
     # the weight joined offset_fz (level platform, offsets)
     assert "not identifiable" in body and "offset_fz" in body
@@ -163,3 +164,44 @@ def test_cli_reports_in_motion(massid: Any, tmp_path: Path, ur_positions_csv: Pa
     ident = massid.identify(str(UR), ur_positions_csv, dynamic=True, offset=True)
     for p in ident.base_parameters:
         assert fit_page.row(p.name)[1][1] == f"{p.value:.6g}"
+
+
+def test_report_shows_the_delay_scan_and_the_velocity_limits(massid: Any, tmp_path: Path) -> None:
+    """A wrench 3 ms late: the report's clock-alignment section gives the estimate with its
+    std and draws the scan; the velocity histograms give each joint's peak against the
+    URDF's <limit velocity> (3.15 rad/s on the UR-like arm's first joints)."""
+    traj = massid.fourier_trajectory(str(UR), duration=4.0, rate=1000.0, period=4.0, seed=5)
+    data = massid.simulate(str(UR), traj, dynamic=True, noise_force=0.1, noise_moment=0.01, seed=2)
+    for a in AXES:
+        data[a] = np.concatenate([np.repeat(data[a][:1], 3), data[a][:-3]])
+    ident = massid.identify(str(UR), data, dynamic=True, delay="auto")
+    out = tmp_path / "late.html"
+    massid.report.write_identify_report(out, ident)
+    text, page = read_page(out)
+    check_self_contained(text, page, DYNAMIC_IMAGES_UR + 1)
+    d = ident.delay
+    assert abs(d["value"] - 0.003) < 2e-4
+    assert 'id="delay"' in text and "delay scan" in alts(page)
+    assert f"lags the joints by {d['value'] * 1e3:.4g} ± {d['std'] * 1e3:.2g} ms" in page.text
+    joint = ident.model.joints[0]
+    assert joint.velocity_limit == pytest.approx(3.15)
+    peak = float(np.max(np.abs(np.asarray(ident.qd)[:, 0]))) / joint.velocity_limit
+    assert f"\npeaks at {peak * 100:.0f} % of its limit" in _figure_titles(ident, tmp_path)
+
+
+def _figure_titles(ident: Any, tmp_path: Path) -> str:
+    """The titles the velocity histograms are drawn with (read from the figure code, since
+    the PNG's text is not searchable)."""
+    from massid.report import _Figures, _joint_infos
+
+    titles: list[str] = []
+    with _Figures() as figs:
+        orig = figs.new
+
+        def spy(*a: Any, **k: Any) -> Any:
+            fig = orig(*a, **k)
+            titles.append(fig)
+            return fig
+        figs.new = spy  # type: ignore[method-assign]
+        figs.joint_coverage(np.asarray(ident.qd), _joint_infos(ident.model), derivative=1)
+    return " ".join(ax.get_title() for fig in titles for ax in fig.axes)
