@@ -78,6 +78,10 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
       ->check(CLI::Range(1, 50));
   d->add_option("--velocity-limit", c.velocity_limits,
                 "With --dynamic: JOINT=V (rad/s or m/s; default the URDF's, else 1); repeatable");
+  d->add_option("--evaluations", c.evaluations,
+                "With --dynamic: criterion evaluations of the optimiser (default 6000; 0: the best "
+                "of the random starts)")
+      ->check(CLI::Range(0, 100000000));
   d->add_option("--acceleration-limit", c.acceleration_limits,
                 "With --dynamic: JOINT=A (rad/s^2 or m/s^2; default 4); repeatable");
 }
@@ -95,33 +99,32 @@ std::optional<double> parse_min_height(const DesignCommand& c) {
   return h;
 }
 
-// The trajectory's lowest point above the platform plane (design --dynamic
-// does not constrain it yet): a warning with the time, link and height.
-void check_trajectory_clearance(const Model& model, const Samples& traj,
-                                const Eigen::Vector3d& gravity, std::optional<double> min_height) {
-  if (!min_height) return;
-  DesignOptions o;
-  o.level_gravity = gravity;
-  o.min_height = min_height;
-  const Clearance c = lowest_clearance(model, o, traj);
-  if (c.height < *min_height)
-    std::cerr << fmt::format(
-        "warning: the trajectory takes link '{}' {:.3g} m {} the platform plane at t = {:.4g} s "
-        "(row {}; wanted: at least {:.3g} m above, --min-height; design --dynamic does not "
-        "constrain it yet): narrow the joints' ranges with --limits JOINT=LO:HI or try another "
-        "--seed\n",
-        c.link, std::abs(c.height), c.height < 0 ? "below" : "above",
-        traj.time.size() > c.row ? traj.time[c.row] : 0.0, c.row + 1, *min_height);
+// --tilts ax_deg:ay_deg,... -> tilts (rad); empty text: none.
+std::vector<Tilt> parse_tilts(const std::string& text) {
+  std::vector<Tilt> tilts;
+  if (text.empty()) return tilts;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? comma : comma - start);
+    const size_t colon = item.find(':');
+    if (colon == std::string::npos)
+      throw InputError(fmt::format("--tilts: '{}' should read ax_deg:ay_deg", item));
+    tilts.push_back({parse_number(item.substr(0, colon), "--tilts") * kDeg,
+                     parse_number(item.substr(colon + 1), "--tilts") * kDeg});
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return tilts;
 }
 
 int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterOptions& bo_in) {
   if (c.output.empty()) throw InputError("design --dynamic: -o TRAJ.csv is required");
-  for (const char* opt : {"--tilt-max", "--tilts", "--tilt-groups", "--criterion", "--poses",
-                          "--evaluate", "--level-poses"})
+  for (const char* opt : {"--poses", "--evaluate", "--level-poses", "--no-checks"})
     if (c.app->count(opt))
       throw InputError(fmt::format(
-          "design --dynamic: {} is not supported with --dynamic in this version (the trajectory "
-          "is designed for one gravity, --gravity, within the joints' limits)",
+          "design --dynamic: {} applies to static plans only (a trajectory has no poses to count "
+          "or keep level; check a trajectory by simulating and identifying it)",
           opt));
   for (const std::string& l : c.limits) {  // narrow a joint's range
     const auto [joint, range] = parse_assignment(l, "--limits");
@@ -145,9 +148,21 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
   o.rate = c.rate;
   o.seed = c.seed;
   if (c.candidates > 0) o.candidates = c.candidates;
+  if (c.app->count("--evaluations")) o.evaluations = c.evaluations;
+  o.criterion = c.criterion == "d-opt" ? Criterion::DOpt : Criterion::Cond;
   o.noise_force = c.noise_force;
   o.noise_moment = c.noise_moment;
   if (!c.gravity.empty()) o.gravity = parse_numbers<3>(c.gravity, "--gravity", "gx,gy,gz");
+  o.tilts = parse_tilts(c.tilts);
+  if (c.app->count("--tilt-max")) {
+    if (c.tilt_groups < 1)
+      throw InputError(
+          "design --dynamic --tilt-max: --tilt-groups must be at least 1 (the trajectory runs "
+          "once per tilt)");
+    o.tilts = cone_tilts(o.gravity, c.tilt_max_deg * kDeg, c.tilt_groups);
+  }
+  o.min_height = parse_min_height(c);
+  o.min_height_required = c.app->count("--min-height") > 0;
   for (const std::string& v : c.velocity_limits) {
     const auto [joint, value] = parse_assignment(v, "--velocity-limit");
     const int j = model.find_joint(joint);
@@ -161,21 +176,65 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
     if (j < 0) throw InputError(fmt::format("--acceleration-limit: no movable joint '{}'", joint));
     o.limits.joint_acceleration[j] = parse_number(value, "--acceleration-limit " + joint);
   }
+  // The base parameters of the data the trajectory gives: gravity fixed
+  // unless the blocks' gravities differ (tilts).
+  const std::vector<Eigen::Vector3d> gravities = block_gravities(o);
   BaseParameterOptions bo = bo_in;
   bo.layout = ParameterLayout::full();
   bo.fixed_gravity = true;
-  bo.gravity = o.gravity;
+  for (const Eigen::Vector3d& g : gravities)
+    bo.fixed_gravity = bo.fixed_gravity && (g - gravities[0]).norm() <= 1e-6 * g.norm();
+  bo.gravity = gravities[0];
   const BaseParameters base = find_base_parameters(model, bo);
   const ExcitationSummary s = design_excitation(model, base, o);
   if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);
-  const Samples traj = sample_trajectory(s.trajectory, o.duration, o.rate, o.gravity);
-  check_trajectory_clearance(model, traj, o.gravity, parse_min_height(c));
-  write_trajectory(c.output, model, traj);
+  write_trajectory(c.output, model, s.samples);
+
+  const bool cond = o.criterion == Criterion::Cond;
   std::cout << fmt::format(
       "exciting trajectory for {} (sensor link '{}'): {} harmonics, period {:.6g} s, {:.6g} s at "
-      "{:.6g} Hz, the best of {} random Fourier trajectories (seed {})\n",
-      model.name, model.sensor_link(), o.harmonics, o.period, o.duration, o.rate, o.candidates,
-      o.seed);
+      "{:.6g} Hz{}; criterion {} optimised over the Fourier coefficients in {} evaluations on a "
+      "{:.3g} Hz grid, {:.3g} s (seed {})\n",
+      model.name, model.sensor_link(), o.harmonics, o.period, o.duration, o.rate,
+      gravities.size() > 1 ? fmt::format(", once per tilt ({} blocks)", gravities.size()) : "",
+      cond ? "cond" : "d-opt", s.evaluations, s.grid_rate, s.seconds, o.seed);
+  for (size_t b = 0; b < o.tilts.size(); ++b)
+    std::cout << fmt::format(
+        "  block {}: tilt {:.4g}:{:.4g} deg (about x, then y), gravity {:.4g},{:.4g},{:.4g}\n", b,
+        o.tilts[b].x / kDeg, o.tilts[b].y / kDeg, gravities[b].x(), gravities[b].y(),
+        gravities[b].z());
+  std::cout << fmt::format(
+      "limits at every written sample: positions within the joints' limits ({:g} % margin), "
+      "velocities (URDF <limit velocity>, else {:g}, or --velocity-limit), accelerations "
+      "(--acceleration-limit, default {:g}); at rest (velocity and acceleration 0) at t = 0{}\n",
+      100 * o.limits.position_margin, o.limits.default_velocity, o.limits.acceleration,
+      s.at_rest_at_end ? " and at the end of each block"
+                       : " only (the duration is not a whole number of periods: the end is not "
+                         "at rest)");
+  if (s.min_height_relaxed)
+    std::cout << fmt::format(
+        "clearance: not constrained (no pose keeps every moving point {:g} m above the platform "
+        "plane: the default --min-height is dropped; give one to insist)\n",
+        *o.min_height);
+  else if (o.min_height)
+    std::cout << fmt::format(
+        "clearance: every moving link origin, centre of mass and collision sphere at least {:g} "
+        "m above the platform plane; lowest {:.3g} m ('{}'); --min-height none turns it off\n",
+        *o.min_height, s.lowest_clearance, s.lowest_link);
+  else
+    std::cout << "clearance: not constrained (--min-height none)\n";
+  if (cond && s.random_count > 0)
+    std::cout << fmt::format(
+        "condition number {:.4g}, random trajectories within the same limits: median {:.4g} "
+        "({} seeds, {:.3g}x better; both on the criterion's grid, the optimised {:.4g})\n",
+        s.condition_number, s.random_median, s.random_count, s.random_median / s.grid_figure,
+        s.grid_figure);
+  else if (s.random_count > 0)
+    std::cout << fmt::format(
+        "log det of the information matrix on the criterion's grid {:.6g}, random trajectories "
+        "within the same limits: median {:.6g} ({} seeds, +{:.4g}); over the written samples "
+        "{:.6g}\n",
+        s.grid_figure, s.random_median, s.random_count, s.grid_figure - s.random_median, s.log_det);
   std::cout << fmt::format(
       "condition number (all rows, columns scaled, noise-weighted): {:.4g}\n"
       "predicted std at {} N / {} N m noise, {} dynamic base parameters{}:\n",
@@ -218,21 +277,7 @@ int run_design(const DesignCommand& c) {
   o.candidates = c.candidates;
   if (c.app->count("--tilt-max")) o.tilt_max = c.tilt_max_deg * kDeg;
   o.tilt_groups = c.tilt_groups;
-  if (!c.tilts.empty()) {
-    size_t start = 0;
-    while (start <= c.tilts.size()) {
-      const size_t comma = c.tilts.find(',', start);
-      const std::string item =
-          c.tilts.substr(start, comma == std::string::npos ? comma : comma - start);
-      const size_t colon = item.find(':');
-      if (colon == std::string::npos)
-        throw InputError(fmt::format("--tilts: '{}' should read ax_deg:ay_deg", item));
-      o.tilts.push_back({parse_number(item.substr(0, colon), "--tilts") * kDeg,
-                         parse_number(item.substr(colon + 1), "--tilts") * kDeg});
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
-  }
+  o.tilts = parse_tilts(c.tilts);
   if (!c.gravity.empty()) o.level_gravity = parse_numbers<3>(c.gravity, "--gravity", "gx,gy,gz");
   for (const std::string& l : c.limits) {
     const auto [joint, range] = parse_assignment(l, "--limits");

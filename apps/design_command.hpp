@@ -20,7 +20,7 @@ struct DesignCommand {
   bool dynamic = false;
   bool no_checks = false;  // --evaluate: skip the file's set-up checks
   double duration = 30.0, rate = 1000.0, period = 10.0;
-  int harmonics = 5;
+  int harmonics = 5, evaluations = 6000;
   std::vector<std::string> velocity_limits, acceleration_limits;
 };
 

@@ -3,13 +3,13 @@
 #include <fmt/format.h>
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <random>
 
+#include "design_criterion.hpp"
 #include "design_space.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
@@ -21,54 +21,6 @@ namespace massid {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-// The rows of one pose that enter the criterion and the criterion itself,
-// evaluated on the information matrix I = sum over poses of R^T R.
-class CriterionRows {
- public:
-  CriterionRows(const Model& model, const BaseParameters& base, const DesignOptions& o)
-      : model_(model), base_(base), reg_(model, base), criterion_(o.criterion) {
-    for (int c = 0; c < base.num_unknowns(); ++c)
-      if (criterion_ == Criterion::DOpt || base.is_moment_unknown(c)) cols_.push_back(c);
-    // cond: the moment rows, unweighted (eq. 33); d-opt: all rows over sigma.
-    for (int k = criterion_ == Criterion::Cond ? 3 : 0; k < 6; ++k) {
-      rows_.push_back(k);
-      weight_.push_back(criterion_ == Criterion::Cond ? 1.0
-                        : k < 3                       ? 1.0 / o.noise_force
-                                                      : 1.0 / o.noise_moment);
-    }
-  }
-  int size() const { return static_cast<int>(cols_.size()); }
-  int num_rows() const { return static_cast<int>(rows_.size()); }
-
-  void rows(const PlanPose& pose, Eigen::Ref<Eigen::MatrixXd> out) {
-    base_regressor(model_, base_, reg_, pose.q, pose.gravity);
-    for (int r = 0; r < num_rows(); ++r)
-      for (int c = 0; c < size(); ++c) out(r, c) = weight_[r] * reg_.base(rows_[r], cols_[c]);
-  }
-
-  // cond: lambda_max / lambda_min of I (= cond^2 of the stacked rows);
-  // d-opt: -log det I. +inf when I is singular.
-  double value(const Eigen::MatrixXd& info) const {
-    if (criterion_ == Criterion::DOpt) {
-      Eigen::LLT<Eigen::MatrixXd> llt(info);
-      if (llt.info() != Eigen::Success) return kInfinity;
-      return -2.0 * llt.matrixLLT().diagonal().array().log().sum();
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(info, Eigen::EigenvaluesOnly);
-    const auto& ev = es.eigenvalues();
-    if (!(ev[0] > 1e-13 * ev[ev.size() - 1])) return kInfinity;
-    return ev[ev.size() - 1] / ev[0];
-  }
-
- private:
-  const Model& model_;
-  const BaseParameters& base_;
-  RegressorData reg_;
-  Criterion criterion_;
-  std::vector<int> cols_, rows_;
-  std::vector<double> weight_;
-};
 
 // A plan under optimisation: poses, their criterion rows, the information matrix.
 struct Working {
@@ -166,7 +118,7 @@ bool refine(Working& w, DesignSpace& space, CriterionRows& crit) {
           y[d] += sign * step[d];
           ++evals;
           if (!space.pose_at(y, w.poses[i], trial)) continue;
-          crit.rows(trial, R);
+          crit.rows(trial.q, trial.gravity, R);
           const Eigen::MatrixXd info = without + R.transpose() * R;
           const double v = crit.value(info);
           if (v < w.value * (1.0 - 1e-12)) {
@@ -208,7 +160,7 @@ bool refine_tilts(Working& w, std::vector<PlanPose>& cand, std::vector<Eigen::Ma
           if (trial.poses[i].group != k) continue;
           trial.info -= trial.rows[i].transpose() * trial.rows[i];
           retilt(trial.poses[i], t);
-          crit.rows(trial.poses[i], trial.rows[i]);
+          crit.rows(trial.poses[i].q, trial.poses[i].gravity, trial.rows[i]);
           trial.info += trial.rows[i].transpose() * trial.rows[i];
         }
         trial.value = crit.value(trial.info);
@@ -226,7 +178,7 @@ bool refine_tilts(Working& w, std::vector<PlanPose>& cand, std::vector<Eigen::Ma
     for (size_t c = 0; c < cand.size(); ++c) {
       if (cand[c].group != k) continue;
       retilt(cand[c], best);
-      crit.rows(cand[c], cand_rows[c]);
+      crit.rows(cand[c].q, cand[c].gravity, cand_rows[c]);
     }
   }
   return any;
@@ -303,7 +255,7 @@ DesignSummary design(const Model& model, const BaseParameters& base, const Desig
     if (probe.min_height_relaxed()) opts.min_height.reset();
   }
   DesignSpace space(model, opts);
-  CriterionRows crit(model, base, opts);
+  CriterionRows crit(model, base, opts.criterion, opts.noise_force, opts.noise_moment);
   std::mt19937_64 rng(o.seed);
 
   const int count =
@@ -318,7 +270,7 @@ DesignSummary design(const Model& model, const BaseParameters& base, const Desig
   for (int c = 0; c < count + level_count; ++c) {
     cand.push_back(space.sample(rng, c >= count));
     cand_rows.emplace_back(crit.num_rows(), crit.size());
-    crit.rows(cand.back(), cand_rows.back());
+    crit.rows(cand.back().q, cand.back().gravity, cand_rows.back());
   }
 
   Working w = greedy_start(cand, cand_rows, o.poses, level, crit.size());

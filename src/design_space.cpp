@@ -51,12 +51,7 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
     groups_ = std::max(0, o.tilt_groups);
     if (!(tilt_max_ >= 0.0 && tilt_max_ < std::numbers::pi / 2))
       throw InputError("--tilt-max: the tilt must be between 0 and 90 degrees");
-    // Tilt groups start evenly spread on the cone's rim.
-    for (int k = 0; k < groups_; ++k) {
-      const double az = 2 * std::numbers::pi * (k + 0.25) / groups_;
-      tilts_.push_back(
-          clamp_to_cone({1.5 * tilt_max_ * std::cos(az), 1.5 * tilt_max_ * std::sin(az)}));
-    }
+    tilts_ = cone_tilts(level_, tilt_max_, groups_);  // tilt groups start on the rim
   } else {
     tilts_ = o.tilts.empty() ? std::vector<Tilt>{Tilt{}} : o.tilts;
   }
@@ -136,14 +131,33 @@ bool DesignSpace::high_enough(const Eigen::VectorXd& q) {
   return !min_height_ || clearance(q) >= *min_height_;
 }
 
-Tilt DesignSpace::clamp_to_cone(Tilt t) const {
-  if (tilt_angle(level_, t) <= tilt_max_) return t;
+namespace {
+
+// The tilt scaled back onto the cone of half-angle tilt_max when outside it.
+Tilt clamp_to_cone(const Eigen::Vector3d& level, double tilt_max, Tilt t) {
+  if (tilt_angle(level, t) <= tilt_max) return t;
   double lo = 0.0, hi = 1.0;  // scale the tilt back onto the cone
   for (int i = 0; i < 50; ++i) {
     const double mid = 0.5 * (lo + hi);
-    (tilt_angle(level_, {mid * t.x, mid * t.y}) <= tilt_max_ ? lo : hi) = mid;
+    (tilt_angle(level, {mid * t.x, mid * t.y}) <= tilt_max ? lo : hi) = mid;
   }
   return {lo * t.x, lo * t.y};
+}
+
+}  // namespace
+
+std::vector<Tilt> cone_tilts(const Eigen::Vector3d& level, double tilt_max, int count) {
+  std::vector<Tilt> out;
+  for (int k = 0; k < count; ++k) {
+    const double az = 2 * std::numbers::pi * (k + 0.25) / count;
+    out.push_back(clamp_to_cone(level, tilt_max,
+                                {1.5 * tilt_max * std::cos(az), 1.5 * tilt_max * std::sin(az)}));
+  }
+  return out;
+}
+
+Tilt DesignSpace::clamp_to_cone(Tilt t) const {
+  return massid::clamp_to_cone(level_, tilt_max_, t);
 }
 
 PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {

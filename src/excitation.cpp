@@ -1,6 +1,5 @@
 #include "massid/excitation.hpp"
 
-#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -8,8 +7,6 @@
 #include <string>
 
 #include "massid/csv.hpp"
-#include "massid/estimation.hpp"
-#include "massid/identifiability.hpp"
 
 namespace massid {
 
@@ -113,53 +110,21 @@ Samples sample_trajectory(const FourierTrajectory& tr, double duration, double r
   return s;
 }
 
-ExcitationSummary design_excitation(const Model& model, const BaseParameters& base,
-                                    const ExcitationOptions& o) {
-  const double eval_rate = std::min(o.rate, 100.0);
-  Eigen::Matrix<double, 6, 1> sigma;
-  sigma << o.noise_force, o.noise_force, o.noise_force, o.noise_moment, o.noise_moment,
-      o.noise_moment;
-  ExcitationSummary best;
-  best.condition_number = INFINITY;
-  for (int c = 0; c < std::max(1, o.candidates); ++c) {
-    const FourierTrajectory tr =
-        random_fourier_trajectory(model, o.harmonics, o.period, o.seed + 7919u * c, o.limits);
-    Samples s = sample_trajectory(tr, o.duration, eval_rate, o.gravity);
-    Eigen::MatrixXd A = stacked_regressor(model, base, s);
-    for (Eigen::Index r = 0; r < A.rows(); ++r) A.row(r) /= sigma[r % 6];
-    const double cond = scaled_condition_number(A);
-    if (!(cond < best.condition_number) && c > 0) continue;
-    best.trajectory = tr;
-    best.condition_number = cond;
-    const IdentifiabilityReport report = check_identifiability(model, base, s, A, 1e-9);
-    best.identifiable = report.ok();
-    best.identifiability_message = report.message;
-    if (report.ok()) {
-      // cov = (A^T W A)^-1 at the evaluation rate; the written rate has
-      // rate / eval_rate times the rows.
-      Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
-      const Eigen::MatrixXd R = qr.matrixQR().topRows(A.cols()).triangularView<Eigen::Upper>();
-      const Eigen::MatrixXd Rinv =
-          R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(A.cols(), A.cols()));
-      best.predicted_std =
-          (Rinv * Rinv.transpose()).diagonal().cwiseSqrt() * std::sqrt(eval_rate / o.rate);
-    }
-  }
-  return best;
-}
-
 void write_trajectory(const std::string& path, const Model& model, const Samples& s) {
   std::vector<std::string> header{"t"};
   for (const Joint& j : model.joints) header.push_back(j.name);
   for (const Joint& j : model.joints) header.push_back(j.name + "_vel");
   for (const Joint& j : model.joints) header.push_back(j.name + "_acc");
   for (const char* g : {"gx", "gy", "gz"}) header.push_back(g);
+  const bool blocks = s.block.size() == static_cast<size_t>(s.size());
+  if (blocks) header.push_back("block");
   std::vector<std::vector<std::string>> rows(s.size());
   for (int i = 0; i < s.size(); ++i) {
     auto& r = rows[i];
     r.push_back(format_number(s.time[i]));
     for (const Eigen::MatrixXd* m : {&s.q, &s.qd, &s.qdd, &s.gravity})
       for (Eigen::Index c = 0; c < m->cols(); ++c) r.push_back(format_number((*m)(i, c)));
+    if (blocks) r.push_back(std::to_string(s.block[i]));
   }
   write_csv(path, header, rows);
 }

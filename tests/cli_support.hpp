@@ -119,6 +119,24 @@ inline Table read_table(const std::string& path) {
 // The non-comment lines of a plan, split into cells.
 inline Table read_plan(const std::string& path) { return read_table(path); }
 
+// The table without the columns `drop` says yes to.
+template <class Drop>
+inline Table without_columns(const Table& t, Drop drop) {
+  Table p;
+  std::vector<int> keep;
+  for (size_t c = 0; c < t.header.size(); ++c)
+    if (!drop(t.header[c])) {
+      keep.push_back(static_cast<int>(c));
+      p.header.push_back(t.header[c]);
+    }
+  for (const auto& row : t.rows) {
+    std::vector<std::string> r;
+    for (int c : keep) r.push_back(row[c]);
+    p.rows.push_back(r);
+  }
+  return p;
+}
+
 inline std::string join(const std::vector<std::string>& cells) {
   std::string s;
   for (size_t i = 0; i < cells.size(); ++i) s += (i ? "," : "") + cells[i];

@@ -665,24 +665,125 @@ TEST_F(CliDesign, MinHeightNoneAndLevelPosesZeroTurnTheDefaultsOff) {
   expect_input_error(design(ur5, "bad.csv", 12, {"--min-height", "low"}), {"--min-height"});
 }
 
-TEST_F(CliDesign, DynamicTrajectoryWarnsWhenItGoesBelowThePlate) {
+// design --dynamic, cheaply: 6 s, 3 harmonics, 100 Hz, a short search.
+std::vector<std::string> dynamic_args(const std::string& urdf, const std::string& out) {
+  return {"design", urdf,     "--dynamic", "-o",          out, "--duration",    "6",  "--period",
+          "6",      "--rate", "100",       "--harmonics", "3", "--evaluations", "300"};
+}
+
+// Independently from the CSV: every row within the position limits (10 %
+// margin), the velocity and acceleration limits, at rest in the first and
+// last rows, the moving link origins at least `height` above the plate.
+void expect_trajectory_within(const Table& t, const massid::Model& m,
+                              const std::map<std::string, double>& velocity,
+                              const std::map<std::string, double>& acceleration, double height) {
+  ASSERT_GT(t.rows.size(), 2u);
+  for (const auto& j : m.joints) {
+    const double margin = 0.1 * (j.upper - j.lower);
+    const double v = velocity.count(j.name) ? velocity.at(j.name)
+                     : j.velocity_limit > 0 ? j.velocity_limit
+                                            : 1.0;
+    const double a = acceleration.count(j.name) ? acceleration.at(j.name) : 4.0;
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+      if (j.limited) {
+        EXPECT_GE(t.num(r, j.name), j.lower + margin - 1e-9) << j.name << " row " << r;
+        EXPECT_LE(t.num(r, j.name), j.upper - margin + 1e-9) << j.name << " row " << r;
+      }
+      EXPECT_LE(std::abs(t.num(r, j.name + "_vel")), v * (1 + 1e-9)) << j.name << " row " << r;
+      EXPECT_LE(std::abs(t.num(r, j.name + "_acc")), a * (1 + 1e-9)) << j.name << " row " << r;
+    }
+    for (const size_t r : {size_t{0}, t.rows.size() - 1}) {
+      EXPECT_NEAR(t.num(r, j.name + "_vel"), 0.0, 1e-9) << j.name << " row " << r;
+      EXPECT_NEAR(t.num(r, j.name + "_acc"), 0.0, 1e-9) << j.name << " row " << r;
+    }
+  }
+  for (size_t r = 0; r < t.rows.size(); ++r)
+    EXPECT_GE(lowest_origin(m, joints_of(t, r, m), gravity_of(t, 0)), height - 1e-9) << "row " << r;
+}
+
+TEST_F(CliDesign, DynamicTrajectoryKeepsEveryLimitAndStaysAboveThePlate) {
   const std::string ur5 = kSource + "/tests/data/robots/ur5_robot.urdf";
-  const Result r = run(
-      {"design", ur5, "--dynamic", "-o", path("traj.csv"), "--duration", "10", "--rate", "100"});
-  ASSERT_EQ(r.code, 0) << r;
-  // Independent check of the warning: the lowest moving link origin over the rows.
   const massid::Model m = massid::load_urdf(ur5);
+  const Result r = run(dynamic_args(ur5, path("traj.csv")) +
+                       std::vector<std::string>{"--velocity-limit", "shoulder_pan_joint=0.5",
+                                                "--acceleration-limit", "elbow_joint=2"});
+  ASSERT_EQ(r.code, 0) << r;
   const Table t = read_plan(path("traj.csv"));
-  double lowest = INFINITY;
-  for (size_t i = 0; i < t.rows.size(); ++i)
-    lowest = std::min(lowest, lowest_origin(m, joints_of(t, i, m), {0, 0, -kG}));
-  // Unconstrained Fourier series swing the UR5 through its plate.
-  EXPECT_LT(lowest, 0.0);
-  EXPECT_NE(r.err.find("warning: the trajectory takes link"), std::string::npos) << r;
-  EXPECT_NE(r.err.find("below the platform plane"), std::string::npos) << r;
-  EXPECT_NE(r.err.find("--limits JOINT=LO:HI"), std::string::npos) << r;
-  const Result off = run({"design", ur5, "--dynamic", "-o", path("traj2.csv"), "--duration", "10",
-                          "--rate", "100", "--min-height", "none"});
+  EXPECT_EQ(t.rows.size(), 601u);
+  expect_trajectory_within(t, m, {{"shoulder_pan_joint", 0.5}}, {{"elbow_joint", 2.0}}, 0.05);
+  EXPECT_NE(r.out.find("clearance: every moving link origin"), std::string::npos) << r;
+  EXPECT_NE(r.out.find("random trajectories within the same limits: median"), std::string::npos)
+      << r;
+  // A height above the arm's reach: no trajectory keeps it, an error names the option.
+  expect_input_error(
+      run(dynamic_args(ur5, path("traj2.csv")) + std::vector<std::string>{"--min-height", "3"}),
+      {"--min-height", "above the platform plane"});
+  // Without the constraint the search may go below.
+  const Result off =
+      run(dynamic_args(ur5, path("traj3.csv")) + std::vector<std::string>{"--min-height", "none"});
   ASSERT_EQ(off.code, 0) << off;
-  EXPECT_EQ(off.err.find("warning: the trajectory takes link"), std::string::npos) << off;
+  EXPECT_NE(off.out.find("clearance: not constrained"), std::string::npos) << off;
+  // Options of static plans only are refused.
+  expect_input_error(
+      run(dynamic_args(ur5, path("traj4.csv")) + std::vector<std::string>{"--poses", "10"}),
+      {"--poses", "static plans only"});
+}
+
+TEST_F(CliDesign, DynamicTrajectoryIsByteIdenticalForTheSameSeed) {
+  const std::string urdf = example("ur_like/ur_like.urdf");
+  for (const char* name : {"a.csv", "b.csv"})
+    ASSERT_EQ(run(dynamic_args(urdf, path(name)) + std::vector<std::string>{"--seed", "4"}).code,
+              0);
+  EXPECT_EQ(read_file(path("a.csv")), read_file(path("b.csv")));
+  ASSERT_EQ(run(dynamic_args(urdf, path("c.csv")) + std::vector<std::string>{"--seed", "5"}).code,
+            0);
+  EXPECT_NE(read_file(path("a.csv")), read_file(path("c.csv")));
+}
+
+// Tilts: a block per tilt, gravity fixed in each and tilted as listed; the
+// simulated log identifies end to end with gravity varying (44 parameters of
+// ur_like, against 43 level), from the given derivatives and from positions
+// only (the filter restarts at each block).
+TEST_F(CliDesign, DynamicTiltsGiveGravityBlocksThatIdentifyEndToEnd) {
+  const std::string urdf = example("ur_like/ur_like.urdf");
+  const massid::Model m = massid::load_urdf(urdf);
+  const Result r = run(dynamic_args(urdf, path("traj.csv")) +
+                       std::vector<std::string>{"--tilts", "0:0,20:0,0:-20"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.out.find("once per tilt (3 blocks)"), std::string::npos) << r;
+  const Table t = read_plan(path("traj.csv"));
+  ASSERT_EQ(t.rows.size(), 3u * 601u);
+  ASSERT_GE(t.col("block"), 0);
+  const Eigen::Vector3d level(0, 0, -kG);
+  const Eigen::Vector3d want[3] = {level, tilted(level, 20, 0), tilted(level, 0, -20)};
+  for (size_t i = 0; i < t.rows.size(); ++i) {
+    const int b = static_cast<int>(i / 601);
+    EXPECT_EQ(t.num(i, "block"), b) << "row " << i;
+    EXPECT_LT((gravity_of(t, i) - want[b]).norm(), 1e-9) << "row " << i;
+    if (i > 0) {
+      EXPECT_GT(t.num(i, "t"), t.num(i - 1, "t")) << "row " << i;
+    }
+    // Every block is the same trajectory.
+    for (const auto& j : m.joints) EXPECT_EQ(t.num(i, j.name), t.num(i % 601, j.name));
+  }
+  expect_trajectory_within(t, m, {}, {}, 0.05);
+  const Result sim = run({"simulate", urdf, path("traj.csv"), "-o", path("log.csv"), "--dynamic",
+                          "--noise-force", "0.1", "--noise-moment", "0.01"});
+  ASSERT_EQ(sim.code, 0) << sim;
+  const Result id = run({"identify", urdf, path("log.csv"), "--dynamic", "-o", path("p.json")});
+  ASSERT_EQ(id.code, 0) << id;
+  const json p = json::parse(read_file(path("p.json")));
+  EXPECT_EQ(p["base_parameters"].size(), 44u) << id;
+  const Result level_id = run(dynamic_args(urdf, path("level.csv")));
+  ASSERT_EQ(level_id.code, 0) << level_id;
+  EXPECT_NE(level_id.out.find("43 dynamic base parameters"), std::string::npos) << level_id;
+  EXPECT_NE(r.out.find("44 dynamic base parameters"), std::string::npos) << r;
+  // From positions only: drop the _vel and _acc columns.
+  const Table pos = without_columns(read_plan(path("log.csv")), [](const std::string& c) {
+    return c.ends_with("_vel") || c.ends_with("_acc");
+  });
+  write_file(path("log_q.csv"), to_csv(pos));
+  const Result idq = run({"identify", urdf, path("log_q.csv"), "--dynamic", "-o", path("q.json")});
+  ASSERT_EQ(idq.code, 0) << idq;
+  EXPECT_EQ(json::parse(read_file(path("q.json")))["base_parameters"].size(), 44u) << idq;
 }

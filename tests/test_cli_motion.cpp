@@ -18,11 +18,11 @@ const std::string kUr = example("ur_like/ur_like.urdf");
 
 class CliMotion : public Cli {
  protected:
-  // A trajectory of ur_like (design --dynamic) and its simulated log.
+  // A trajectory of ur_like (design --dynamic, a short search) and its simulated log.
   std::string trajectory(const std::string& name, int seed, double duration, double rate) {
-    const Result r =
-        run({"design", kUr, "--dynamic", "-o", path(name), "--duration", std::to_string(duration),
-             "--rate", std::to_string(rate), "--seed", std::to_string(seed)});
+    const Result r = run({"design", kUr, "--dynamic", "-o", path(name), "--duration",
+                          std::to_string(duration), "--rate", std::to_string(rate), "--seed",
+                          std::to_string(seed), "--evaluations", "1000"});
     EXPECT_EQ(r.code, 0) << r;
     return path(name);
   }
@@ -35,24 +35,6 @@ class CliMotion : public Cli {
     return path(name);
   }
 };
-
-// The table without the columns `drop` says yes to.
-template <class Drop>
-Table without_columns(const Table& t, Drop drop) {
-  Table p;
-  std::vector<int> keep;
-  for (size_t c = 0; c < t.header.size(); ++c)
-    if (!drop(t.header[c])) {
-      keep.push_back(static_cast<int>(c));
-      p.header.push_back(t.header[c]);
-    }
-  for (const auto& row : t.rows) {
-    std::vector<std::string> r;
-    for (int c : keep) r.push_back(row[c]);
-    p.rows.push_back(r);
-  }
-  return p;
-}
 
 // The true value of every base parameter of a params file: its terms on the URDF.
 double true_value(const massid::Model& model, const json& p) {

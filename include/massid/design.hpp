@@ -45,6 +45,10 @@ struct Tilt {
 Eigen::Vector3d tilted_gravity(const Eigen::Vector3d& level, const Tilt& tilt);
 // Angle between tilted and level gravity, radians.
 double tilt_angle(const Eigen::Vector3d& level, const Tilt& tilt);
+// `count` tilts evenly spread on the rim of the cone of half-angle tilt_max
+// (rad) around level: where design's tilt groups start, and the blocks of
+// design --dynamic --tilt-max.
+std::vector<Tilt> cone_tilts(const Eigen::Vector3d& level, double tilt_max, int count);
 
 inline constexpr double kDefaultMinHeight = 0.05;  // m
 
