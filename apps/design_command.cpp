@@ -145,6 +145,19 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
   o.harmonics = c.harmonics;
   o.period = c.period;
   o.duration = c.duration;
+  // At rest at both ends: the trajectory is at rest at every whole period, so
+  // the period becomes the nearest that divides the duration evenly.
+  std::string period_note;
+  if (o.period > 0 && o.duration > 0) {
+    const double periods = std::max(1.0, std::round(o.duration / o.period));
+    if (std::abs(periods * o.period - o.duration) > 1e-9 * o.duration) {
+      period_note = fmt::format(
+          " (--period {:.6g} s adjusted to {:.6g} periods in {:.6g} s: at "
+          "rest at both ends)",
+          o.period, periods, o.duration);
+      o.period = o.duration / periods;
+    }
+  }
   o.rate = c.rate;
   o.seed = c.seed;
   if (c.candidates > 0) o.candidates = c.candidates;
@@ -193,9 +206,9 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
   const bool cond = o.criterion == Criterion::Cond;
   std::cout << fmt::format(
       "exciting trajectory for {} (sensor link '{}'): {} harmonics, period {:.6g} s, {:.6g} s at "
-      "{:.6g} Hz{}; criterion {} optimised over the Fourier coefficients in {} evaluations on a "
+      "{:.6g} Hz{}{}; criterion {} optimised over the Fourier coefficients in {} evaluations on a "
       "{:.3g} Hz grid, {:.3g} s (seed {})\n",
-      model.name, model.sensor_link(), o.harmonics, o.period, o.duration, o.rate,
+      model.name, model.sensor_link(), o.harmonics, o.period, o.duration, o.rate, period_note,
       gravities.size() > 1 ? fmt::format(", once per tilt ({} blocks)", gravities.size()) : "",
       cond ? "cond" : "d-opt", s.evaluations, s.grid_rate, s.seconds, o.seed);
   for (size_t b = 0; b < o.tilts.size(); ++b)

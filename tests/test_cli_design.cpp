@@ -729,6 +729,24 @@ TEST_F(CliDesign, DynamicTrajectoryKeepsEveryLimitAndStaysAboveThePlate) {
       {"--poses", "static plans only"});
 }
 
+// A duration that is not a whole number of periods: the period is adjusted so
+// that the trajectory still ends at rest, and the output says so.
+TEST_F(CliDesign, DynamicTrajectoryEndsAtRestWhateverTheDuration) {
+  const std::string urdf = example("ur_like/ur_like.urdf");
+  const massid::Model m = massid::load_urdf(urdf);
+  std::vector<std::string> args = dynamic_args(urdf, path("traj.csv"));
+  args[6] = "5";  // --duration 5 with --period 6
+  ASSERT_EQ(args[5], "--duration");
+  const Result r = run(args);
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.out.find("period 5 s, 5 s at 100 Hz (--period 6 s adjusted to 1 periods in 5 s"),
+            std::string::npos)
+      << r;
+  const Table t = read_plan(path("traj.csv"));
+  EXPECT_EQ(t.rows.size(), 501u);
+  expect_trajectory_within(t, m, {}, {}, 0.05);
+}
+
 TEST_F(CliDesign, DynamicTrajectoryIsByteIdenticalForTheSameSeed) {
   const std::string urdf = example("ur_like/ur_like.urdf");
   for (const char* name : {"a.csv", "b.csv"})
