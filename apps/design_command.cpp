@@ -152,9 +152,8 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
     const double periods = std::max(1.0, std::round(o.duration / o.period));
     if (std::abs(periods * o.period - o.duration) > 1e-9 * o.duration) {
       period_note = fmt::format(
-          " (--period {:.6g} s adjusted to {:.6g} periods in {:.6g} s: at "
-          "rest at both ends)",
-          o.period, periods, o.duration);
+          " (--period {:.6g} s adjusted to {:.6g} period{} in {:.6g} s: at rest at both ends)",
+          o.period, periods, periods > 1 ? "s" : "", o.duration);
       o.period = o.duration / periods;
     }
   }

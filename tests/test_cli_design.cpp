@@ -739,7 +739,7 @@ TEST_F(CliDesign, DynamicTrajectoryEndsAtRestWhateverTheDuration) {
   ASSERT_EQ(args[5], "--duration");
   const Result r = run(args);
   ASSERT_EQ(r.code, 0) << r;
-  EXPECT_NE(r.out.find("period 5 s, 5 s at 100 Hz (--period 6 s adjusted to 1 periods in 5 s"),
+  EXPECT_NE(r.out.find("period 5 s, 5 s at 100 Hz (--period 6 s adjusted to 1 period in 5 s"),
             std::string::npos)
       << r;
   const Table t = read_plan(path("traj.csv"));
