@@ -192,8 +192,10 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   for (std::size_t i = 0; i < ident.warnings.size(); ++i)
     std::cerr << (i == 0 && summary.gravity_from_force ? "massid: note: " : "massid: warning: ")
               << ident.warnings[i] << "\n";
-  write_file_atomically(out, params_json(ident.model, ident.base, &summary));
+  write_file_atomically(out, params_json(ident.model, ident.base, &summary,
+                                         ident.physical ? &*ident.physical : nullptr));
   std::cout << identify_report(ident.model, ident.base, summary, data_path);
+  if (ident.physical) std::cout << physical_report(ident.base, *ident.physical);
   std::cout << "wrote " << out << "\n";
   if (!report.empty()) return run_identify_report(ident, report);
   return 0;
@@ -201,10 +203,16 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
 
 int run_predict(const std::string& urdf, const std::string& params_path,
                 const std::string& data_path, const std::string& out, const std::string& report,
-                const MotionFlags& motion, bool checks) {
+                const MotionFlags& motion, bool checks, bool physical) {
+  if (!report.empty() && physical)
+    throw InputError("predict --report draws the identified base parameters: drop --physical");
   if (!report.empty()) check_report_tools();  // before any work
   const ParamsFile params = read_params(params_path);
   const Model model = hold_joints(load_urdf(urdf, params.sensor_link), params.held);
+  const BaseParameters base = find_base_parameters(model, base_parameter_options(params));
+  // The identified base parameters, or with --physical K pi of the physical ones.
+  const Eigen::VectorXd values = physical ? physical_values_in_basis(params, model, base)
+                                          : values_in_basis(params, model, base);
 
   CsvTable table = read_csv(data_path);
   Samples samples;
@@ -225,16 +233,14 @@ int run_predict(const std::string& urdf, const std::string& params_path,
           mr.kernels.cutoff, mr.kernels.half_width);
       table = keep_lines(std::move(table), samples.line);
     }
-    const BaseParameters base = find_base_parameters(model, base_parameter_options(params));
     // The full wrench, offsets included as the static predictor does (with
     // level data they hold the weight the offsets absorbed).
-    const MotionPredictor predictor =
-        compile_motion_predictor(model, base, values_in_basis(params, model, base));
+    const MotionPredictor predictor = compile_motion_predictor(model, base, values);
     MotionPredictorData data(predictor);
     P = predict_samples(predictor, data, samples);
     offset = predictor.offset;
   } else {
-    const Predictor predictor = compile_predictor(model, params);
+    const Predictor predictor = compile_predictor(model, base, values);
     offset = predictor.offset;
     PredictorData data(predictor);
     samples = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
@@ -256,8 +262,9 @@ int run_predict(const std::string& urdf, const std::string& params_path,
         t.set_column(std::string(kWrenchColumns[k]) + "_comp", samples.wrench.col(k) - P.col(k));
     write_csv(out, t.header, t.rows);
   }
-  std::cout << fmt::format("predicted {} samples of {} with {} (sensor link '{}'{})\n",
-                           samples.size(), data_path, params_path, model.sensor_link(),
+  std::cout << fmt::format("predicted {} samples of {} with {}{} (sensor link '{}'{})\n",
+                           samples.size(), data_path, params_path,
+                           physical ? "'s physical parameters" : "", model.sensor_link(),
                            samples.gravity_from_force ? ", gravity from the measured force" : "");
   if (samples.has_wrench())
     std::cout << prediction_report(prediction_errors(samples.wrench, P), samples.size());
@@ -285,7 +292,7 @@ int main(int argc, char** argv) {
   SimulateOptions sim;
   IdentifyOptions idopts;
   std::string drift_text, report, rest_text = "auto", delay_text;
-  bool no_checks = false;
+  bool no_checks = false, physical = false;
   double sigma_force = 0, sigma_moment = 0;
   MotionFlags motion;
   auto add_motion = [&](CLI::App* sub, bool filter) {
@@ -375,6 +382,10 @@ int main(int argc, char** argv) {
                    "Moment noise sigma, N m (default: from residuals)")
       ->check(sign_check(true));
 
+  ident->add_flag("--physical", physical,
+                  "Also fit physically consistent standard parameters (ten per link: mass > 0, "
+                  "positive semi-definite pseudo-inertia) that reproduce the base parameters, the "
+                  "URDF's inertials where the data cannot see; written under \"physical\"");
   ident->add_option("--report", report,
                     "Also write an HTML report (plots; needs Python with matplotlib)");
   add_motion(ident, true);
@@ -391,6 +402,9 @@ int main(int argc, char** argv) {
   pred->add_option("--cutoff", motion.cutoff,
                    "Dynamic params, log without JOINT_vel/_acc: low-pass cutoff, Hz")
       ->check(CLI::PositiveNumber);
+  pred->add_flag("--physical", physical,
+                 "Predict from the params file's physical parameters (identify --physical) "
+                 "instead of its base parameters");
   pred->add_flag("--no-checks", no_checks,
                  "Skip the file's set-up checks (joint and wrench units, signs, frame, columns)");
 
@@ -432,11 +446,13 @@ int main(int argc, char** argv) {
       if (!motion.dynamic && ident->count("--delay"))
         throw InputError(
             "--delay goes with --dynamic (a motion log): at rest a lag does not matter");
+      if (physical) idopts.physical = PhysicalOptions{};
       if (motion.dynamic && ident->count("--rest"))
         throw InputError("--rest goes with static identification (--dynamic uses every row)");
       return run_identify(common, data, out, offset, idopts, !no_checks, report, motion);
     }
-    if (*pred) return run_predict(common.urdf, params, data, out, report, motion, !no_checks);
+    if (*pred)
+      return run_predict(common.urdf, params, data, out, report, motion, !no_checks, physical);
     if (*design.app) return run_design(design);
     if (*emulate.app) return run_emulate(emulate);
     if (*bench.app) return run_bench(bench);

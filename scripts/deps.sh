@@ -3,7 +3,7 @@
 # already present. Safe to run repeatedly; needs root (or sudo) for apt-get.
 set -euo pipefail
 pkgs=(build-essential cmake libeigen3-dev liburdfdom-dev libtinyxml2-dev nlohmann-json3-dev
-      libcli11-dev libfast-float-dev libfmt-dev libgtest-dev libbenchmark-dev
+      libcli11-dev libfast-float-dev libfmt-dev libceres-dev libgtest-dev libbenchmark-dev
       libmujoco-dev libqhull-dev libgl-dev liborocos-kdl-dev python3-numpy
       clang libclang-rt-14-dev  # clang + its sanitizer and libFuzzer runtimes: scripts/test.sh
       pybind11-dev python3-dev python3-matplotlib  # the Python package and --report

@@ -55,6 +55,8 @@ Identification identify_log(Model model, const std::string& path, bool offset,
     out.summary = identify_file(out.model, out.base, path, options, samples);
   }
   if (keep_samples) out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
+  if (options.physical)
+    out.physical = fit_physical(out.model, out.base, out.summary, *options.physical);
   out.warnings = identification_notes(out.summary, path);
   return out;
 }
@@ -203,6 +205,49 @@ IdentifySummary summary_of(const json& j) {
   return s;
 }
 
+// The physical fit: its ten parameters per link and figures; the per-link
+// summaries are derived again on reading (physical_link).
+json physical_json(const PhysicalSummary& p) {
+  std::vector<bool> prior;
+  for (const PhysicalLink& l : p.links) prior.push_back(l.prior_body);
+  return {{"standard", matrix(p.standard)},
+          {"mismatch", matrix(p.mismatch)},
+          {"worst", p.worst},
+          {"worst_mismatch", p.worst_mismatch},
+          {"static_layout", p.static_layout},
+          {"initial_cost", p.initial_cost},
+          {"cost", p.cost},
+          {"iterations", p.iterations},
+          {"solve_seconds", p.solve_seconds},
+          {"converged", p.converged},
+          {"message", p.message},
+          {"prior_body", prior}};
+}
+
+PhysicalSummary physical_of(const json& j, const Model& model) {
+  PhysicalSummary p;
+  p.standard = matrix_of(j.at("standard"));
+  p.mismatch = matrix_of(j.at("mismatch"));
+  p.worst = j.at("worst");
+  p.worst_mismatch = j.at("worst_mismatch");
+  p.static_layout = j.at("static_layout");
+  p.initial_cost = j.at("initial_cost");
+  p.cost = j.at("cost");
+  p.iterations = j.at("iterations");
+  p.solve_seconds = j.at("solve_seconds");
+  p.converged = j.at("converged");
+  p.message = j.at("message");
+  const std::vector<bool> prior = j.at("prior_body").get<std::vector<bool>>();
+  if (p.standard.size() != 10 * model.num_links() ||
+      prior.size() != static_cast<std::size_t>(model.num_links()))
+    throw std::runtime_error("its physical parameters do not fit the model");
+  for (int l = 0; l < model.num_links(); ++l) {
+    p.links.push_back(physical_link(model.links[l].name, p.standard.segment<10>(10 * l)));
+    p.links.back().prior_body = prior[l];
+  }
+  return p;
+}
+
 json samples_json(const Samples& s) {
   return {{"source", s.source},
           {"q", matrix(s.q)},
@@ -253,37 +298,38 @@ void write_identification(const std::string& path, const Identification& ident) 
   for (const auto& [name, value] : ident.model.held) held.push_back({name, value});
   const MotionDataReport& m = ident.motion;
   const MotionDataOptions& mo = ident.motion_options;
-  const json j = {{"format", kRecordFormat},
-                  {"urdf", std::filesystem::absolute(ident.model.source).string()},
-                  {"sensor_link", ident.model.sensor_link()},
-                  {"held", held},
-                  {"base",
-                   {{"per_link", b.layout.per_link()},
-                    {"sensor_moving", b.sensor_moving},
-                    {"fixed_gravity", b.fixed_gravity},
-                    {"gravity", matrix(b.gravity)},
-                    {"offset", b.offset},
-                    {"rank_tolerance", b.rank_tolerance},
-                    {"names",
-                     [&] {
-                       std::vector<std::string> names;
-                       for (const BaseParameter& p : b.params) names.push_back(p.expression);
-                       return names;
-                     }()}}},
-                  {"summary", summary_json(ident.summary)},
-                  {"samples", samples_json(ident.samples)},
-                  {"fitted", matrix(ident.fitted)},
-                  {"warnings", ident.warnings},
-                  {"motion",
-                   {{"rows", m.rows},
-                    {"derived", m.derived},
-                    {"dt", m.kernels.dt},
-                    {"cutoff", m.kernels.cutoff},
-                    {"decimation", m.decimation},
-                    {"option_cutoff", mo.filter.cutoff},
-                    {"option_decimation", mo.filter.decimation},
-                    {"g0", mo.samples.g0},
-                    {"root_gravity", matrix(mo.samples.root_gravity)}}}};
+  json j = {{"format", kRecordFormat},
+            {"urdf", std::filesystem::absolute(ident.model.source).string()},
+            {"sensor_link", ident.model.sensor_link()},
+            {"held", held},
+            {"base",
+             {{"per_link", b.layout.per_link()},
+              {"sensor_moving", b.sensor_moving},
+              {"fixed_gravity", b.fixed_gravity},
+              {"gravity", matrix(b.gravity)},
+              {"offset", b.offset},
+              {"rank_tolerance", b.rank_tolerance},
+              {"names",
+               [&] {
+                 std::vector<std::string> names;
+                 for (const BaseParameter& p : b.params) names.push_back(p.expression);
+                 return names;
+               }()}}},
+            {"summary", summary_json(ident.summary)},
+            {"samples", samples_json(ident.samples)},
+            {"fitted", matrix(ident.fitted)},
+            {"warnings", ident.warnings},
+            {"motion",
+             {{"rows", m.rows},
+              {"derived", m.derived},
+              {"dt", m.kernels.dt},
+              {"cutoff", m.kernels.cutoff},
+              {"decimation", m.decimation},
+              {"option_cutoff", mo.filter.cutoff},
+              {"option_decimation", mo.filter.decimation},
+              {"g0", mo.samples.g0},
+              {"root_gravity", matrix(mo.samples.root_gravity)}}}};
+  if (ident.physical) j["physical"] = physical_json(*ident.physical);
   const std::vector<std::uint8_t> bytes = json::to_cbor(j);
   write_file_atomically(path, std::string(bytes.begin(), bytes.end()));
 }
@@ -328,6 +374,7 @@ Identification read_identification(const std::string& path) {
     out.motion_options.samples.root_gravity = vector_of<3>(m.at("root_gravity"));
     if (out.motion.derived)
       out.motion.kernels = make_kernels(m.at("dt").get<double>(), m.at("cutoff").get<double>());
+    if (j.contains("physical")) out.physical = physical_of(j.at("physical"), out.model);
     if (out.summary.value.size() != out.base.num_unknowns() ||
         out.fitted.rows() != out.samples.size())
       throw std::runtime_error("its parts do not fit together");

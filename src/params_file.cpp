@@ -33,9 +33,38 @@ json wrench_part(const Eigen::VectorXd& v, int start) {
   return json::array({v[start], v[start + 1], v[start + 2]});
 }
 
+// The "physical" section: the ten parameters of every link under "links",
+// then what the fit says about them.
+json physical_json(const Model& model, const BaseParameters& base, const PhysicalSummary& p) {
+  json links = json::object();
+  for (int l = 0; l < model.num_links(); ++l) {
+    json e = json::object();
+    for (int k = 0; k < 10; ++k) e[ParameterLayout::kind_name(k)] = p.standard[10 * l + k];
+    links[model.links[l].name] = e;
+  }
+  json out;
+  out["links"] = links;
+  out["inertia_about"] = "link origin";
+  out["inertia_from"] = p.static_layout ? "urdf (about the centre of mass)" : "data and urdf";
+  out["consistent"] = p.consistent();
+  json prior = json::array();
+  for (const PhysicalLink& l : p.links)
+    if (l.prior_body) prior.push_back(l.name);
+  out["tiny_prior_bodies"] = prior;
+  json mismatch = json::object();
+  for (int i = 0; i < base.num_mass(); ++i) mismatch[base.params[i].name] = p.mismatch[i];
+  out["mismatch_std"] = mismatch;
+  if (p.worst >= 0)
+    out["worst_mismatch"] = {{"name", base.params[p.worst].name}, {"std", p.worst_mismatch}};
+  // No solve time: the file is the same for the same data (CLI and Python alike).
+  out["solver"] = {{"cost", p.cost}, {"iterations", p.iterations}, {"converged", p.converged}};
+  return out;
+}
+
 }  // namespace
 
-std::string params_json(const Model& model, const BaseParameters& base, const IdentifySummary* s) {
+std::string params_json(const Model& model, const BaseParameters& base, const IdentifySummary* s,
+                        const PhysicalSummary* physical) {
   json j;
   j["format"] = kFormat;
   j["sensor_link"] = model.sensor_link();
@@ -145,6 +174,7 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     }
     j["covariance"] = {{"unknowns", names}, {"matrix", cov}};
   }
+  if (physical) j["physical"] = physical_json(model, base, *physical);
   return j.dump(2) + "\n";
 }
 
@@ -214,6 +244,23 @@ ParamsFile read_params(const std::string& path) {
       }
     }
     p.condition_number = j.value("condition_number", 0.0);
+    if (j.contains("physical")) {
+      const json& links = j["physical"].at("links");
+      if (!links.is_object()) fail("\"physical\": \"links\" must be an object keyed by link name");
+      for (const auto& [name, e] : links.items()) {
+        ParamsFile::PhysicalEntry entry;
+        entry.link = name;
+        for (int k = 0; k < 10; ++k) {
+          const char* kind = ParameterLayout::kind_name(k);
+          if (!e.contains(kind) || !e[kind].is_number())
+            fail(fmt::format("\"physical\": link '{}' needs a number \"{}\"", name, kind));
+          entry.params[k] = e[kind].get<double>();
+          if (!std::isfinite(entry.params[k]))
+            fail(fmt::format("\"physical\": link '{}': \"{}\" is not finite", name, kind));
+        }
+        p.physical.push_back(entry);
+      }
+    }
   } catch (const json::exception& e) {
     fail(fmt::format("missing or wrong field: {}", e.what()));
   }
@@ -255,6 +302,33 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
         params.source, model.source, model.sensor_link()));
   Eigen::VectorXd v(base.num_unknowns());
   v.head(base.num_mass()) = At.transpose() * vf;
+  if (base.offset) v.tail(6) = params.offset;
+  return v;
+}
+
+Eigen::VectorXd physical_values_in_basis(const ParamsFile& params, const Model& model,
+                                         const BaseParameters& base) {
+  if (params.physical.empty())
+    throw InputError(fmt::format(
+        "{}: has no \"physical\" section: identify with --physical to predict from physically "
+        "consistent parameters",
+        params.source));
+  Eigen::VectorXd pi =
+      Eigen::VectorXd::Constant(10 * model.num_links(), std::numeric_limits<double>::quiet_NaN());
+  for (const ParamsFile::PhysicalEntry& e : params.physical) {
+    const int l = model.find_link(e.link);
+    if (l < 0)
+      throw InputError(fmt::format(
+          "{}: \"physical\" names link '{}', which is not a measured link of {} below '{}'",
+          params.source, e.link, model.source, model.sensor_link()));
+    pi.segment<10>(10 * l) = e.params;
+  }
+  for (int l = 0; l < model.num_links(); ++l)
+    if (std::isnan(pi[10 * l]))
+      throw InputError(fmt::format("{}: \"physical\" has no parameters for link '{}'",
+                                   params.source, model.links[l].name));
+  Eigen::VectorXd v(base.num_unknowns());
+  v.head(base.num_mass()) = base_values_of_standard(model, base, pi);
   if (base.offset) v.tail(6) = params.offset;
   return v;
 }

@@ -247,6 +247,31 @@ std::string identify_report(const Model& model, const BaseParameters& base,
   return out;
 }
 
+std::string physical_report(const BaseParameters& base, const PhysicalSummary& p) {
+  std::string out =
+      fmt::format("physically consistent parameters (--physical{}):\n",
+                  p.static_layout ? "; inertia about each centre of mass from the URDF" : "");
+  out += fmt::format("  {:<20} {:>11} {:>10} {:>10} {:>10} {:>11} {:>11} {:>11}  {}\n", "link",
+                     "m [kg]", "cx [m]", "cy [m]", "cz [m]", "I1 [kg m^2]", "I2", "I3",
+                     "consistent (min eig J)");
+  for (const PhysicalLink& l : p.links)
+    out += fmt::format(
+        "  {:<20} {:>11.5g} {:>10.4g} {:>10.4g} {:>10.4g} {:>11.4g} {:>11.4g} "
+        "{:>11.4g}  {} ({:.2g}){}\n",
+        l.name, l.mass, l.com.x(), l.com.y(), l.com.z(), l.principal_moments[0],
+        l.principal_moments[1], l.principal_moments[2], l.consistent ? "yes" : "NO",
+        l.min_eigenvalue, l.prior_body ? "  no mass in the URDF: tiny prior body" : "");
+  if (p.worst >= 0)
+    out += fmt::format(
+        "worst base-parameter mismatch (K pi_phys - identified) / std: {} {:+.3g} std ({})\n",
+        base.params[p.worst].name, p.worst_mismatch,
+        std::abs(p.worst_mismatch) <= 1.0 ? "within std"
+                                          : "beyond std: no real bodies reproduce the estimate");
+  out += fmt::format("solver: {} iterations, {:.3g} ms, cost {:.4g}{}\n", p.iterations,
+                     1e3 * p.solve_seconds, p.cost, p.converged ? "" : " (not converged)");
+  return out;
+}
+
 std::string prediction_report(const PredictionErrors& e, int samples) {
   std::string out =
       fmt::format("prediction error over {} samples (measured - predicted):\n", samples);

@@ -13,6 +13,7 @@
 #include "massid/base_parameters.hpp"
 #include "massid/delay_estimate.hpp"
 #include "massid/model.hpp"
+#include "massid/physical.hpp"
 #include "massid/rest_windows.hpp"
 #include "massid/samples.hpp"
 
@@ -52,6 +53,9 @@ struct IdentifyOptions {
   std::optional<double> delay;
   bool delay_auto = false;
   double max_delay = 0.02;
+  // Physically consistent standard parameters fitted to the identified base
+  // parameters (physical.hpp): identify_log applies it, identify() ignores it.
+  std::optional<PhysicalOptions> physical;
 };
 
 // A sample whose residual is implausible for the fitted noise.

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
 #include "massid/motion_data.hpp"
+#include "massid/physical.hpp"
 #include "massid/samples.hpp"
 
 namespace massid {
@@ -27,12 +29,15 @@ struct Identification {
   std::vector<std::string> warnings;  // one line each, without "massid: warning: "
   MotionDataReport motion;            // dynamic: how the log became samples
   MotionDataOptions motion_options;   // dynamic: cutoff and root gravity as given
+  // Physically consistent standard parameters (IdentifyOptions::physical).
+  std::optional<PhysicalSummary> physical;
 };
 
 // A data file identified as `massid identify` does it (identify_file, or in
 // motion identify_motion_file: streamed where it can be), with the warnings
 // and, when `keep_samples`, every sample and the fitted wrenches (without:
 // no samples, constant memory for any log). `model` is moved into the result.
+// With options.physical, fit_physical (physical.hpp) on the fit, in `physical`.
 Identification identify_log(Model model, const std::string& path, bool offset,
                             const IdentifyOptions& options, bool dynamic,
                             const MotionDataOptions& motion_options = {}, bool keep_samples = true);

@@ -9,6 +9,7 @@
 #include "massid/base_parameters.hpp"
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
+#include "massid/physical.hpp"
 #include "massid/predictor.hpp"
 
 namespace massid {
@@ -42,12 +43,20 @@ struct ParamsFile {
   Wrench offset = Wrench::Zero(), offset_std = Wrench::Zero();
   double condition_number = 0.0;
   Wrench residual_rms = Wrench::Zero();
+  // "physical" (identify --physical): the ten standard parameters of every
+  // measured link (m, mx, my, mz, ixx .. izz; inertia about the link origin),
+  // in the file's order. Empty when the file has no such section.
+  struct PhysicalEntry {
+    std::string link;
+    Eigen::Matrix<double, 10, 1> params = Eigen::Matrix<double, 10, 1>::Zero();
+  };
+  std::vector<PhysicalEntry> physical;
 };
 
 // JSON text of an identification (values omitted when summary is null, as
-// `model --json` prints).
+// `model --json` prints), with a "physical" section when `physical` is given.
 std::string params_json(const Model& model, const BaseParameters& base,
-                        const IdentifySummary* summary);
+                        const IdentifySummary* summary, const PhysicalSummary* physical = nullptr);
 
 // Reads and checks a params file; InputError names file:line:column.
 ParamsFile read_params(const std::string& path);
@@ -61,6 +70,13 @@ BaseParameterOptions base_parameter_options(const ParamsFile& params);
 // file's parameters do not match the model (another robot or sensor link).
 Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
                                 const BaseParameters& base);
+
+// The file's physical parameters as values in `base` (K pi_phys, then the
+// file's offsets): what `predict --physical` predicts from. InputError when
+// the file has no "physical" section or it does not name every measured link
+// of `model` (or names another).
+Eigen::VectorXd physical_values_in_basis(const ParamsFile& params, const Model& model,
+                                         const BaseParameters& base);
 
 // The predictor of the file's values for `model`, the URDF loaded at the
 // file's sensor link with its held joints: the file's basis (offsets

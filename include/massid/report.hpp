@@ -10,6 +10,7 @@
 #include "massid/design.hpp"
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
+#include "massid/physical.hpp"
 #include "massid/predictor.hpp"
 
 namespace massid {
@@ -49,6 +50,10 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
 
 std::string identify_report(const Model& model, const BaseParameters& base,
                             const IdentifySummary& summary, const std::string& data_source);
+// identify --physical: per link m, centre of mass, principal moments about it
+// and consistency (J's smallest eigenvalue), then the worst base-parameter
+// mismatch in std and the solver's figures.
+std::string physical_report(const BaseParameters& base, const PhysicalSummary& p);
 std::string prediction_report(const PredictionErrors& errors, int samples);
 // `evaluated` names the file for --evaluate, empty for a new plan.
 std::string design_report(const Model& model, const BaseParameters& base, const DesignSummary& s,

@@ -135,6 +135,8 @@ class Predictor:
         self,
         robot: Optional[Union[PathType, Model]],  # None with an Identification (it has its model)
         params: Union[PathType, "Params", "Identification"],
+        *,
+        physical: bool = False,  # from the physical parameters (identify physical=True): K pi_phys
     ) -> None: ...
     model: Model
     joint_names: list[str]
@@ -164,6 +166,29 @@ class Predictor:
         t: Optional[npt.ArrayLike] = None,
         cutoff: Optional[float] = None,
     ) -> np.ndarray: ...
+
+class PhysicalLink:
+    name: str
+    mass: float  # kg
+    com: np.ndarray  # [3] centre of mass, link frame, m
+    inertia_com: np.ndarray  # [3, 3] about the centre of mass, link frame, kg m^2
+    principal_moments: np.ndarray  # [3] of inertia_com, ascending
+    min_eigenvalue: float  # smallest eigenvalue of the pseudo-inertia J
+    consistent: bool  # m > 0 and J >= 0 within round-off
+    prior_body: bool  # no mass in the URDF: the prior was a tiny body
+
+class PhysicalSummary:
+    standard: np.ndarray  # [10 num_links] m, mx, my, mz, ixx .. izz (inertia about the link origin)
+    links: list[PhysicalLink]
+    mismatch: np.ndarray  # [num base parameters] (K pi_phys - identified) / std
+    worst: int  # index of the worst mismatch, -1 when none
+    worst_mismatch: float
+    static_layout: bool  # identified at rest: inertias about the centres of mass from the URDF
+    cost: float
+    iterations: int
+    solve_seconds: float
+    converged: bool
+    consistent: bool  # every link
 
 class Identification:
     model: Model
@@ -209,6 +234,7 @@ class Identification:
     warnings: list[str]  # also issued as MassidWarning
     delay: Optional[dict[str, Any]]  # dynamic with delay: value, std (s), estimated, scan
     rest_windows: Optional[dict[str, Any]]  # continuous static log: windows, samples, rows, moving, criterion
+    physical: Optional[PhysicalSummary]  # physical=True: physically consistent parameters
     def report(self) -> str: ...  # the CLI's text report
     def to_json(self) -> str: ...  # the params file ("massid-params-1")
     def save(self, path: PathType) -> None: ...  # params file, written atomically
@@ -231,6 +257,7 @@ def identify(
     root_gravity: Optional[Sequence[float]] = None,  # dynamic: gravity in the URDF root frame
     rest: str = "auto",  # static log with t: "auto" uses its rest windows, "off" every row
     delay: Union[None, str, float] = None,  # dynamic: wrench lag, s, or "auto"
+    physical: bool = False,  # also physically consistent standard parameters (.physical)
 ) -> Identification: ...
 
 # The record `massid identify --report` hands to the report: the fit without fitting again.
@@ -253,6 +280,7 @@ class Params:
     offset_std: Optional[np.ndarray]
     condition_number: float
     residual_rms: np.ndarray
+    physical: Optional[dict[str, dict[str, float]]]  # "physical" links: name -> {m, mx, ..., izz}
 
 def load_params(path: PathType) -> Params: ...
 def predict(
@@ -262,6 +290,7 @@ def predict(
     *,
     cutoff: Optional[float] = None,
     root_gravity: Optional[Sequence[float]] = None,
+    physical: bool = False,  # from the physical parameters (identify physical=True)
 ) -> np.ndarray:
     """[N, 6] the mechanism's predicted wrench at every row of data (joint and gravity
     columns), without the identified sensor offsets (massid predict's fx_pred); dynamic

@@ -14,6 +14,7 @@
 #include "massid/errors.hpp"
 #include "massid/identify_file.hpp"
 #include "massid/params_file.hpp"
+#include "massid/physical.hpp"
 #include "massid/report.hpp"
 #include "massid/setup_checks.hpp"
 
@@ -45,7 +46,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
                             std::optional<double> sigma_moment, bool checks, bool dynamic,
                             std::optional<double> cutoff,
                             std::optional<std::vector<double>> root_gravity,
-                            const std::string& rest, const py::object& delay) {
+                            const std::string& rest, const py::object& delay, bool physical) {
   Identification out;
   out.model = model_of(robot, sensor, fixed);
   IdentifyOptions opts;
@@ -79,6 +80,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   }
   opts.sigma_force = sigma_force;
   opts.sigma_moment = sigma_moment;
+  if (physical) opts.physical = PhysicalOptions{};
   if (!dynamic && (cutoff || root_gravity))
     throw InputError(fmt::format("{} goes with dynamic=True (identification in motion)",
                                  cutoff ? "cutoff" : "root_gravity"));
@@ -124,6 +126,8 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
       out.summary.rest = rest_windows;
       out.summary.delay = delay_applied;
       out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
+      if (opts.physical)  // as identify_log
+        out.physical = fit_physical(out.model, out.base, out.summary, *opts.physical);
     }
     out.warnings = notes;
     for (std::string& w : identification_notes(out.summary, out.samples.source))
@@ -151,6 +155,45 @@ std::optional<Eigen::VectorXd> optional_vector(bool present, const Eigen::Vector
 }  // namespace
 
 void bind_identify(py::module_& m) {
+  py::class_<PhysicalLink>(m, "PhysicalLink",
+                           "One link's physically consistent parameters (massid/physical.hpp).")
+      .def_readonly("name", &PhysicalLink::name)
+      .def_readonly("mass", &PhysicalLink::mass, "kg")
+      .def_readonly("com", &PhysicalLink::com, "[3] centre of mass, link frame, m")
+      .def_readonly("inertia_com", &PhysicalLink::inertia_com,
+                    "[3, 3] rotational inertia about the centre of mass, link frame, kg m^2")
+      .def_readonly("principal_moments", &PhysicalLink::principal_moments,
+                    "[3] principal moments about the centre of mass, ascending")
+      .def_readonly("min_eigenvalue", &PhysicalLink::min_eigenvalue,
+                    "smallest eigenvalue of the pseudo-inertia J, kg m^2")
+      .def_readonly("consistent", &PhysicalLink::consistent, "m > 0 and J >= 0 (round-off)")
+      .def_readonly("prior_body", &PhysicalLink::prior_body,
+                    "the URDF gave no mass: the prior was a tiny body")
+      .def("__repr__", [](const PhysicalLink& l) {
+        return fmt::format("PhysicalLink('{}', mass={:.6g}, consistent={})", l.name, l.mass,
+                           l.consistent ? "True" : "False");
+      });
+  py::class_<PhysicalSummary>(m, "PhysicalSummary",
+                              "Physically consistent standard parameters fitted to identified "
+                              "base parameters (massid/physical.hpp).")
+      .def_readonly("standard", &PhysicalSummary::standard,
+                    "[10 num_links] m, mx, my, mz, ixx .. izz per link (inertia about the link "
+                    "origin)")
+      .def_readonly("links", &PhysicalSummary::links)
+      .def_readonly("mismatch", &PhysicalSummary::mismatch,
+                    "[num base parameters] (K pi_phys - identified) / std")
+      .def_readonly("worst", &PhysicalSummary::worst, "index of the worst mismatch (-1: none)")
+      .def_readonly("worst_mismatch", &PhysicalSummary::worst_mismatch)
+      .def_readonly("static_layout", &PhysicalSummary::static_layout)
+      .def_readonly("cost", &PhysicalSummary::cost)
+      .def_readonly("iterations", &PhysicalSummary::iterations)
+      .def_readonly("solve_seconds", &PhysicalSummary::solve_seconds)
+      .def_readonly("converged", &PhysicalSummary::converged)
+      .def_property_readonly("consistent", &PhysicalSummary::consistent)
+      .def("__repr__", [](const PhysicalSummary& p) {
+        return fmt::format("PhysicalSummary({} links, consistent={}, worst mismatch {:.3g} std)",
+                           p.links.size(), p.consistent() ? "True" : "False", p.worst_mismatch);
+      });
   py::class_<Outlier>(m, "Outlier", "A sample whose residual is implausible for the fitted noise.")
       .def_readonly("sample", &Outlier::sample, "row in the data")
       .def_readonly("line", &Outlier::line, "file line (row index for columns given as arrays)")
@@ -330,18 +373,25 @@ void bind_identify(py::module_& m) {
       .def_property_readonly("drift_names", [sum](const I& i) { return sum(i).drift_names; })
       .def_property_readonly("drift_values", [sum](const I& i) { return sum(i).drift_value; })
       .def_property_readonly("drift_std", [sum](const I& i) { return sum(i).drift_stddev; })
+      .def_readonly("physical", &I::physical,
+                    "physical=True: the physically consistent parameters (PhysicalSummary), "
+                    "else None")
       .def_readonly("warnings", &I::warnings)
       .def(
           "report",
           [sum](const I& i) { return identify_report(i.model, i.base, sum(i), i.samples.source); },
           "The text report that massid identify prints.")
       .def(
-          "to_json", [sum](const I& i) { return params_json(i.model, i.base, &sum(i)); },
+          "to_json",
+          [sum](const I& i) {
+            return params_json(i.model, i.base, &sum(i), i.physical ? &*i.physical : nullptr);
+          },
           "The params file's text ('massid-params-1').")
       .def(
           "save",
           [sum](const I& i, const py::object& path) {
-            write_file_atomically(path_of(path), params_json(i.model, i.base, &sum(i)));
+            write_file_atomically(path_of(path), params_json(i.model, i.base, &sum(i),
+                                                             i.physical ? &*i.physical : nullptr));
           },
           py::arg("path"), "Writes the params file (atomically: never half-written).")
       .def(
@@ -379,7 +429,7 @@ a record or whose URDF no longer gives the same base parameters.)");
         py::arg("sigma_force") = py::none(), py::arg("sigma_moment") = py::none(),
         py::arg("checks") = true, py::arg("dynamic") = false, py::arg("cutoff") = py::none(),
         py::arg("root_gravity") = py::none(), py::arg("rest") = "auto",
-        py::arg("delay") = py::none(),
+        py::arg("delay") = py::none(), py::arg("physical") = false,
         R"(Identifies the base parameters from measured wrenches (massid identify [--dynamic]).
 
 robot: URDF path or Model. data: a CSV path (streamed, as the CLI) or columns by name
@@ -391,7 +441,9 @@ checks: the set-up checks (sign, frame, units, gravity, columns). rest: a static
 with t recorded while the robot moved from pose to pose: 'auto' uses only its rest
 windows (.rest_windows says which), 'off' every row. delay (dynamic): the lag of the wrench
 behind the joint stream, s (positive when the wrench arrives late), or 'auto' to estimate it
-within +-20 ms (.delay says what was applied).
+within +-20 ms (.delay says what was applied). physical: also fit ten physically consistent
+standard parameters per link that reproduce the base parameters, the URDF's inertials where the
+data cannot see (.physical, a PhysicalSummary; saved under "physical").
 dynamic: identification in motion, ten parameters per link (inertia about the link origin):
 the data add JOINT_vel and JOINT_acc, or t to derive them from the positions by a zero-phase
 low-pass (cutoff Hz; default min(10, rate/20)); optionally wx..wz, dwx..dwz, ax..az (sensor

@@ -156,7 +156,8 @@ struct PyPredictor {
   }
 };
 
-std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::object& params) {
+std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::object& params,
+                                            bool physical = false) {
   if (py::isinstance<Identification>(params)) {
     const auto& id = params.cast<const Identification&>();
     if (!robot.is_none()) {
@@ -165,9 +166,16 @@ std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::o
         throw InputError(
             fmt::format("robot '{}' is not the identified robot '{}'", check.name, id.model.name));
     }
-    if (id.base.motion()) return std::make_unique<PyPredictor>(id.model, id.base, id.summary.value);
-    return std::make_unique<PyPredictor>(
-        id.model, compile_predictor(id.model, id.base, id.summary.value), id.base.offset);
+    Eigen::VectorXd values = id.summary.value;
+    if (physical) {
+      if (!id.physical)
+        throw InputError("physical=True needs an identification made with physical=True");
+      values.head(id.base.num_mass()) =
+          base_values_of_standard(id.model, id.base, id.physical->standard);
+    }
+    if (id.base.motion()) return std::make_unique<PyPredictor>(id.model, id.base, values);
+    return std::make_unique<PyPredictor>(id.model, compile_predictor(id.model, id.base, values),
+                                         id.base.offset);
   }
   const ParamsFile file = py::isinstance<ParamsFile>(params) ? params.cast<ParamsFile>()
                           : is_path(params)                  ? read_params(path_of(params))
@@ -175,12 +183,11 @@ std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::o
                                                                    "params: expected a params file path, "
                                                                                     "massid.Params or massid.Identification");
   Model model = model_for(robot, file.sensor_link, file.held);
-  if (file.dynamic) {
-    const BaseParameters base = find_base_parameters(model, base_parameter_options(file));
-    const Eigen::VectorXd values = values_in_basis(file, model, base);
-    return std::make_unique<PyPredictor>(std::move(model), base, values);
-  }
-  Predictor predictor = compile_predictor(model, file);
+  const BaseParameters base = find_base_parameters(model, base_parameter_options(file));
+  const Eigen::VectorXd values =
+      physical ? physical_values_in_basis(file, model, base) : values_in_basis(file, model, base);
+  if (file.dynamic) return std::make_unique<PyPredictor>(std::move(model), base, values);
+  Predictor predictor = compile_predictor(model, base, values);
   return std::make_unique<PyPredictor>(std::move(model), std::move(predictor), file.has_offset);
 }
 
@@ -239,6 +246,19 @@ void bind_predict(py::module_& m) {
           "offset_std",
           [](const ParamsFile& p) { return optional_wrench(p.has_offset, p.offset_std); })
       .def_readonly("condition_number", &ParamsFile::condition_number)
+      .def_property_readonly(
+          "physical",
+          [](const ParamsFile& p) -> py::object {
+            if (p.physical.empty()) return py::none();
+            py::dict out;
+            for (const auto& e : p.physical) {
+              py::dict link;
+              for (int k = 0; k < 10; ++k) link[ParameterLayout::kind_name(k)] = e.params[k];
+              out[py::str(e.link)] = link;
+            }
+            return out;
+          },
+          "the \"physical\" section's links: name -> {m, mx, ..., izz}; None without")
       .def_property_readonly("residual_rms", [](const ParamsFile& p) { return p.residual_rms; })
       .def("__repr__", [](const ParamsFile& p) {
         return fmt::format("Params('{}'{}, total_mass={:.6g}, {} base parameters)", p.source,
@@ -264,9 +284,11 @@ void bind_predict(py::module_& m) {
                           "the gravity wrench w = Y_b(q, g) pi_b (paper eq. 29), about 50 ns per "
                           "pose; dynamic, the full wrench in motion by Newton-Euler over the "
                           "identified bodies.")
-      .def(py::init(&make_predictor), py::arg("robot"), py::arg("params"),
+      .def(py::init(&make_predictor), py::arg("robot"), py::arg("params"), py::kw_only(),
+           py::arg("physical") = false,
            "robot: URDF path or Model (None with an Identification); params: a params file "
-           "path, massid.Params or massid.Identification.")
+           "path, massid.Params or massid.Identification; physical: predict from its physical "
+           "parameters (identify physical=True) instead of its base parameters.")
       .def_readonly("model", &PyPredictor::model)
       .def_readonly("dynamic", &PyPredictor::dynamic, "dynamic parameters (predicts in motion)")
       .def_readonly("offset", &PyPredictor::offset,
@@ -290,8 +312,9 @@ void bind_predict(py::module_& m) {
   m.def(
       "predict",
       [](const py::object& robot, const py::object& params, const py::object& data,
-         std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity) {
-        auto p = make_predictor(robot, params);
+         std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity,
+         bool physical) {
+        auto p = make_predictor(robot, params, physical);
         SampleOptions sopts;
         sopts.root_gravity = root_gravity_of(root_gravity);
         if (!p->dynamic) {
@@ -317,6 +340,7 @@ void bind_predict(py::module_& m) {
       },
       py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),
       py::arg("cutoff") = py::none(), py::arg("root_gravity") = py::none(),
+      py::arg("physical") = false,
       "[N, 6] the mechanism's predicted wrench at every row of data, WITHOUT the identified "
       "sensor offsets (massid predict's fx_pred..mz_pred; a Predictor's call and "
       "Predictor.offset give the offsets): data is a CSV path or columns by name "
@@ -324,7 +348,9 @@ void bind_predict(py::module_& m) {
       "Dynamic parameters: the full wrench in motion from JOINT_vel and "
       "JOINT_acc, or derived from t and the positions by the zero-phase low-pass of massid "
       "predict (cutoff Hz): the rows the filter drops at each end (of each block) are NaN. "
-      "root_gravity: gravity in the URDF root frame (sensor below movable joints).");
+      "root_gravity: gravity in the URDF root frame (sensor below movable joints). "
+      "physical: from the params' physical parameters (identify physical=True), K pi_phys "
+      "into the same predictor.");
 
   m.def(
       "simulate",

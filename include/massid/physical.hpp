@@ -1,0 +1,135 @@
+// Physically consistent standard parameters from identified base parameters.
+//
+// Identification gives base parameters pi_b = K pi (base_parameters.hpp) with
+// their covariance. Unconstrained, they may be those of no real body (a
+// negative mass, an inertia breaking the triangle inequalities), and they say
+// nothing about the directions K does not see. fit_physical finds, for every
+// measured link, ten standard parameters (m, h = m c, inertia about the link
+// origin: parameters.hpp) that
+//   - are physically consistent: m > 0 and the pseudo-inertia
+//       J = [[ Sigma, h ], [ h^T, m ]],  Sigma = 1/2 tr(I) 1 - I  (I about the origin)
+//     is positive definite (Wensing, Kim & Slotine 2017: J >= 0 is equivalent to
+//     a density on the link, and implies the triangle inequalities of the
+//     principal moments about the centre of mass);
+//   - reproduce the identified base parameters within their std;
+//   - keep the URDF's inertials where the data cannot see (a weak prior).
+//
+// Parameterisation (Rucker & Wensing 2022, log-Cholesky): per link ten free
+// numbers theta = (alpha, d1, d2, d3, s12, s23, s13, t1, t2, t3),
+//       U = e^alpha [[ e^d1  s12   s13   t1 ]
+//                    [ 0     e^d2  s23   t2 ]
+//                    [ 0     0     e^d3  t3 ]
+//                    [ 0     0     0     1  ]],    J = U U^T,
+// so every theta is a consistent body (m = e^{2 alpha} > 0, J > 0) and every
+// body with J > 0 has exactly one theta. The cost, minimised by Ceres' Levenberg-
+// Marquardt over theta (the samples never enter: only pi_b and its covariance),
+//   sum |L^-1 (K pi(theta) - pi_b)|^2                     data: Sigma_b = L L^T
+// + w^2 sum_l sum_k ((q_lk(theta) - q_lk(URDF)) / s_k)^2   prior
+// where Sigma_b is the marginal covariance of the mass base parameters (the
+// offsets left out), q_l = (m, h, I_C) the link's mass, first moment and
+// rotational inertia about its centre of mass (the URDF's own convention: a
+// link whose mass or centre of mass the data moves keeps the URDF's shape),
+// s_k = M, M L, M L^2 (total mass, reach: parameter_scales) and w small, so that
+// the prior only decides what the data does not.
+//
+// Static identification (first-moment layout, 4 per link): the same solve;
+// the data sees only m and h, and the prior keeps each link's inertia about
+// its centre of mass at the URDF's, so the ten parameters stay consistent.
+//
+// The search is bounded (PhysicalOptions::min_mass_fraction,
+// min_extent_fraction): masses cannot collapse to zero nor extents to a point.
+//
+// A link without <inertial>, or with zero mass, has the prior of a tiny body
+// (a log parameterisation cannot reach m = 0): PhysicalOptions::tiny_mass_fraction
+// of the total mass, at the link origin, a solid sphere of radius
+// tiny_radius_fraction of the reach. A URDF inertia that is itself
+// inconsistent is kept as the prior's target, but the solve starts from the
+// nearest consistent body.
+//
+// Options -> fit_physical() -> PhysicalSummary, in the style of Ceres' Solve().
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "massid/base_parameters.hpp"
+#include "massid/model.hpp"
+
+namespace massid {
+
+struct IdentifySummary;
+
+struct PhysicalOptions {
+  // w above: the prior's weight against data whitened to unit std.
+  double prior_weight = 1e-3;
+  // The prior body of a link without a mass (see above).
+  double tiny_mass_fraction = 1e-4;
+  double tiny_radius_fraction = 0.02;
+  // Bounds of the search: every mass within [min_mass_fraction,
+  // 1 / min_mass_fraction] times the total mass, every spread of a body's
+  // mass e^d_i (the diagonal of U / e^alpha: lengths with
+  // sum_i e^{2 d_i} <= tr(Sigma_C) / m) within [min_extent_fraction,
+  // 1 / min_extent_fraction] times the reach, and the centre of mass t and
+  // shears s within 1 / min_extent_fraction reaches. They keep the solve finite
+  // where the data pull a mass towards zero or below (an estimate no body
+  // can match), and are far from any real body.
+  double min_mass_fraction = 1e-9;
+  double min_extent_fraction = 1e-6;
+  int max_iterations = 500;
+  double function_tolerance = 1e-12;
+  double gradient_tolerance = 1e-14;
+  double parameter_tolerance = 1e-12;
+};
+
+// One measured link's consistent parameters.
+struct PhysicalLink {
+  std::string name;
+  double mass = 0.0;                                            // kg
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();                // centre of mass, link frame, m
+  Eigen::Matrix3d inertia_com = Eigen::Matrix3d::Zero();        // about com, link frame, kg m^2
+  Eigen::Vector3d principal_moments = Eigen::Vector3d::Zero();  // of inertia_com, ascending
+  // Smallest eigenvalue of the pseudo-inertia J (kg m^2) and whether it is
+  // non-negative within round-off (-1e-12 tr J): the link is a real body.
+  double min_eigenvalue = 0.0;
+  bool consistent = false;
+  bool prior_body = false;  // the URDF gave no mass: the prior was the tiny body
+};
+
+struct PhysicalSummary {
+  // [10 num_links] full layout (parameters.hpp): m, mx, my, mz, ixx .. izz per
+  // link, inertia about the link origin. What a URDF writer consumes.
+  Eigen::VectorXd standard;
+  std::vector<PhysicalLink> links;  // in Model::links order
+  // Per mass base parameter: (K pi_phys - pi_b) / std; the worst by magnitude.
+  Eigen::VectorXd mismatch;
+  int worst = -1;  // index in base.params, -1 when there are none
+  double worst_mismatch = 0.0;
+  bool static_layout = false;             // identified at rest: inertias from the URDF
+  double initial_cost = 0.0, cost = 0.0;  // Ceres' 1/2 |r|^2 at the start and the end
+  int iterations = 0;
+  double solve_seconds = 0.0;
+  bool converged = false;
+  std::string message;  // Ceres' termination message
+
+  bool consistent() const;  // every link
+};
+
+// Throws InputError when the summary does not belong to `base`.
+PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
+                             const IdentifySummary& identified,
+                             const PhysicalOptions& options = {});
+
+// K pi for ten standard parameters per link (full layout, [10 num_links]):
+// the base parameters (num_mass) they give in base's layout (4 or 10 per link).
+Eigen::VectorXd base_values_of_standard(const Model& model, const BaseParameters& base,
+                                        const Eigen::VectorXd& standard);
+
+// The pseudo-inertia J of one link's ten standard parameters (m, h, I about the origin).
+Eigen::Matrix4d pseudo_inertia(const Eigen::Ref<const Eigen::VectorXd>& ten);
+
+// One link's summary fields (mass, com, inertia about the com, principal
+// moments, J's smallest eigenvalue) from its ten standard parameters.
+PhysicalLink physical_link(const std::string& name, const Eigen::Ref<const Eigen::VectorXd>& ten);
+
+}  // namespace massid

@@ -1,0 +1,143 @@
+// identify --physical and predict --physical, as a user runs them: the table
+// printed, the params file's "physical" section (every link's ten parameters
+// checked for consistency here, with Eigen, not by massid), and predict
+// --physical against predict of a params file whose values are K pi_phys
+// computed here from the file's own terms.
+#include <Eigen/Eigenvalues>
+
+#include "cli_support.hpp"
+
+namespace massid_cli_test {
+namespace {
+
+const std::string kUr = example("ur_like/ur_like.urdf");
+const char* kKinds[10] = {"m", "mx", "my", "mz", "ixx", "ixy", "ixz", "iyy", "iyz", "izz"};
+
+// Every link of the section: exactly ten numbers, m > 0, J >= 0.
+void expect_consistent_links(const json& links, size_t count) {
+  ASSERT_TRUE(links.is_object());
+  EXPECT_EQ(links.size(), count);
+  for (const auto& [name, p] : links.items()) {
+    SCOPED_TRACE(name);
+    EXPECT_EQ(p.size(), 10u);
+    for (const char* k : kKinds) ASSERT_TRUE(p.contains(k)) << k;
+    const double m = p["m"];
+    EXPECT_GT(m, 0.0);
+    Eigen::Matrix3d I;
+    I << p["ixx"], p["ixy"], p["ixz"], p["ixy"], p["iyy"], p["iyz"], p["ixz"], p["iyz"], p["izz"];
+    Eigen::Matrix4d J;
+    J.topLeftCorner<3, 3>() = 0.5 * I.trace() * Eigen::Matrix3d::Identity() - I;
+    J.block<3, 1>(0, 3) << p["mx"], p["my"], p["mz"];
+    J.block<1, 3>(3, 0) = J.block<3, 1>(0, 3).transpose();
+    J(3, 3) = m;
+    EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(J).eigenvalues()[0],
+              -1e-12 * J.trace());
+  }
+}
+
+// The params file with every base parameter's value replaced by its terms
+// evaluated on the physical section (K pi_phys), and the section dropped.
+json with_physical_values(json p) {
+  const json& links = p["physical"]["links"];
+  for (auto& e : p["base_parameters"]) {
+    double v = 0.0;
+    for (const auto& t : e["terms"])
+      v += t["coef"].get<double>() *
+           links.at(t["link"].get<std::string>()).at(t["param"].get<std::string>()).get<double>();
+    e["value"] = v;
+  }
+  p.erase("physical");
+  return p;
+}
+
+class CliPhysical : public Cli {
+ protected:
+  // The PUMA's plan simulated with noise (data.csv), identified --physical (params.json).
+  Result identify_puma() {
+    const Result sim = run({"simulate", kPumaUrdf, kPumaPlan, "-o", path("data.csv"),
+                            "--noise-force", "0.05", "--noise-moment", "0.005", "--seed", "1"});
+    EXPECT_EQ(sim.code, 0) << sim;
+    const Result r =
+        run({"identify", kPumaUrdf, path("data.csv"), "--physical", "-o", path("params.json")});
+    EXPECT_EQ(r.code, 0) << r;
+    return r;
+  }
+  // predict --physical equals predict of the file carrying K pi_phys.
+  void expect_physical_prediction(const std::vector<std::string>& predict_args,
+                                  const std::string& params, const std::string& data) {
+    auto predict = [&](const std::string& file, const std::string& out, bool physical) {
+      std::vector<std::string> a = predict_args;
+      a.insert(a.end(), {file, data, "-o", path(out)});
+      if (physical) a.push_back("--physical");
+      const Result res = run(a);
+      EXPECT_EQ(res.code, 0) << res;
+      return read_table(path(out));
+    };
+    write_file(path("direct.json"), with_physical_values(json::parse(read_file(params))).dump());
+    const Table a = predict(params, "phys.csv", true),
+                b = predict(path("direct.json"), "direct.csv", false);
+    ASSERT_EQ(a.rows.size(), b.rows.size());
+    ASSERT_GT(a.rows.size(), 0u);
+    for (const char* c : {"fx_pred", "fy_pred", "fz_pred", "mx_pred", "my_pred", "mz_pred"})
+      for (size_t r = 0; r < a.rows.size(); r += 7)
+        EXPECT_NEAR(a.num(r, c), b.num(r, c), 1e-9 * (1 + std::abs(b.num(r, c)))) << c << r;
+  }
+};
+
+TEST_F(CliPhysical, DynamicIdentifyPrintsTheTableAndPredictUsesIt) {
+  Result r = run({"design", kUr, "--dynamic", "-o", path("traj.csv"), "--duration", "10", "--rate",
+                  "200", "--seed", "1"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"simulate", kUr, path("traj.csv"), "-o", path("log.csv"), "--dynamic", "--noise-force",
+           "0.1", "--noise-moment", "0.01", "--offset", "1,2,3,0.1,0.2,0.3", "--seed", "2"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"identify", kUr, path("log.csv"), "--dynamic", "--offset", "--physical", "-o",
+           path("params.json")});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.out.find("physically consistent parameters"), std::string::npos) << r;
+  EXPECT_NE(r.out.find("forearm_link"), std::string::npos) << r;
+  EXPECT_NE(r.out.find("worst base-parameter mismatch"), std::string::npos) << r;
+  EXPECT_NE(r.out.find("within std"), std::string::npos) << r;
+  EXPECT_NE(r.out.find("tiny prior body"), std::string::npos) << r;  // the sensor link
+  const json p = json::parse(read_file(path("params.json")));
+  ASSERT_TRUE(p.contains("physical")) << p.dump(1);
+  expect_consistent_links(p["physical"]["links"], 10);
+  EXPECT_TRUE(p["physical"]["consistent"].get<bool>());
+  EXPECT_LE(std::abs(p["physical"]["worst_mismatch"]["std"].get<double>()), 1.0);
+  expect_physical_prediction({"predict", kUr}, path("params.json"), path("log.csv"));
+  // Without --physical the file has no such section, and predict --physical says so.
+  r = run({"identify", kUr, path("log.csv"), "--dynamic", "--offset", "-o", path("plain.json")});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_FALSE(json::parse(read_file(path("plain.json"))).contains("physical"));
+  r = run({"predict", kUr, path("plain.json"), path("log.csv"), "--physical"});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_NE(r.err.find("no \"physical\" section"), std::string::npos) << r;
+}
+
+TEST_F(CliPhysical, StaticIdentifyGivesMassesAndPredictUsesThem) {
+  const Result r = identify_puma();
+  EXPECT_NE(r.out.find("inertia about each centre of mass from the URDF"), std::string::npos) << r;
+  const json p = json::parse(read_file(path("params.json")));
+  expect_consistent_links(p["physical"]["links"], 5);
+  EXPECT_EQ(p["physical"]["inertia_from"], "urdf (about the centre of mass)");
+  expect_physical_prediction({"predict", kPumaUrdf}, path("params.json"), path("data.csv"));
+}
+
+TEST_F(CliPhysical, ABrokenPhysicalSectionIsAnInputError) {
+  Result r = identify_puma();
+  json p = json::parse(read_file(path("params.json")));
+  p["physical"]["links"]["link2"].erase("izz");
+  write_file(path("broken.json"), p.dump());
+  r = run({"predict", kPumaUrdf, path("broken.json"), path("data.csv"), "--physical"});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_NE(r.err.find("link 'link2' needs a number \"izz\""), std::string::npos) << r;
+  p = json::parse(read_file(path("params.json")));
+  p["physical"]["links"].erase("link3");
+  write_file(path("missing.json"), p.dump());
+  r = run({"predict", kPumaUrdf, path("missing.json"), path("data.csv"), "--physical"});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_NE(r.err.find("no parameters for link 'link3'"), std::string::npos) << r;
+}
+
+}  // namespace
+}  // namespace massid_cli_test
