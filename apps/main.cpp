@@ -27,6 +27,7 @@
 #include "massid/samples.hpp"
 #include "massid/setup_checks.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf_inertials.hpp"
 #include "options.hpp"
 #include "python_report.hpp"
 
@@ -166,7 +167,7 @@ int run_simulate(const Common& c, const std::string& plan_path, const std::strin
 
 int run_identify(const Common& c, const std::string& data_path, const std::string& out, bool offset,
                  const IdentifyOptions& opts, bool checks, const std::string& report,
-                 const MotionFlags& motion) {
+                 const MotionFlags& motion, const std::string& urdf_out) {
   if (!report.empty()) check_report_tools();  // before any work
   const Model model = c.load();
   // Before any work: wrong signs, units, frames or columns (the first 20 000
@@ -197,6 +198,21 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   std::cout << identify_report(ident.model, ident.base, summary, data_path);
   if (ident.physical) std::cout << physical_report(ident.base, *ident.physical);
   std::cout << "wrote " << out << "\n";
+  if (!urdf_out.empty()) {
+    const bool rest = ident.physical->static_layout;
+    write_file_atomically(
+        urdf_out,
+        identified_urdf(ident.model, *ident.physical,
+                        fmt::format("identified by massid from {}: {}", data_path,
+                                    rest ? "mass and centre of mass at rest, the inertia about "
+                                           "the centre of mass the URDF's"
+                                         : "mass, centre of mass and inertia in motion")));
+    std::cout << fmt::format(
+        "wrote {}: {} with the physical inertials of the measured links ({}), every other byte "
+        "as it was\n",
+        urdf_out, c.urdf,
+        rest ? "masses and centres of mass" : "masses, centres of mass, inertias");
+  }
   if (!report.empty()) return run_identify_report(ident, report);
   return 0;
 }
@@ -291,7 +307,7 @@ int main(int argc, char** argv) {
   std::string plan, data, out, params, offset_text;
   SimulateOptions sim;
   IdentifyOptions idopts;
-  std::string drift_text, report, rest_text = "auto", delay_text;
+  std::string drift_text, report, rest_text = "auto", delay_text, urdf_out;
   bool no_checks = false, physical = false;
   double sigma_force = 0, sigma_moment = 0;
   MotionFlags motion;
@@ -386,6 +402,9 @@ int main(int argc, char** argv) {
                   "Also fit physically consistent standard parameters (ten per link: mass > 0, "
                   "positive semi-definite pseudo-inertia) that reproduce the base parameters, the "
                   "URDF's inertials where the data cannot see; written under \"physical\"");
+  ident->add_option("--urdf-out", urdf_out,
+                    "Also write the URDF with the identified inertials (implies --physical; "
+                    "everything but the measured links' <inertial> elements kept byte for byte)");
   ident->add_option("--report", report,
                     "Also write an HTML report (plots; needs Python with matplotlib)");
   add_motion(ident, true);
@@ -446,10 +465,10 @@ int main(int argc, char** argv) {
       if (!motion.dynamic && ident->count("--delay"))
         throw InputError(
             "--delay goes with --dynamic (a motion log): at rest a lag does not matter");
-      if (physical) idopts.physical = PhysicalOptions{};
+      if (physical || !urdf_out.empty()) idopts.physical = PhysicalOptions{};
       if (motion.dynamic && ident->count("--rest"))
         throw InputError("--rest goes with static identification (--dynamic uses every row)");
-      return run_identify(common, data, out, offset, idopts, !no_checks, report, motion);
+      return run_identify(common, data, out, offset, idopts, !no_checks, report, motion, urdf_out);
     }
     if (*pred)
       return run_predict(common.urdf, params, data, out, report, motion, !no_checks, physical);

@@ -5,35 +5,15 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <tuple>
 
 #include "massid/errors.hpp"
 
 namespace massid {
-
-LinkInertial link_inertial(const Model& model, const ParameterLayout& layout,
-                           const Eigen::VectorXd& standard, int link) {
-  const Link& l = model.links[link];
-  LinkInertial out;
-  out.link = l.name;
-  out.mass = standard[layout.index(link, kMass)];
-  if (!(out.mass > 0.0))
-    throw InputError(
-        fmt::format("link '{}': mass {} kg cannot be written into a URDF", l.name, out.mass));
-  out.com = standard.segment<3>(layout.index(link, kMx)) / out.mass;
-  if (!layout.inertia()) {
-    out.inertia = l.inertia;
-    return out;
-  }
-  Eigen::Matrix3d about_origin;
-  const auto p = [&](int kind) { return standard[layout.index(link, kind)]; };
-  about_origin << p(kIxx), p(kIxy), p(kIxz), p(kIxy), p(kIyy), p(kIyz), p(kIxz), p(kIyz), p(kIzz);
-  // I_C = I_O - m (|c|^2 1 - c c^T): the parallel-axis theorem backwards.
-  out.inertia = about_origin - (inertia_about_origin(out.mass, out.com, Eigen::Matrix3d::Zero()));
-  return out;
-}
 
 namespace {
 
@@ -220,7 +200,12 @@ std::string inertial_element(const LinkInertial& e, const std::string& indent,
                              const std::string& step, const std::string& newline) {
   const std::string in = indent + step;
   std::string s = "<inertial>" + newline;
-  if (!e.note.empty()) s += in + "<!-- " + e.note + " -->" + newline;
+  if (!e.note.empty()) {  // "--" may not appear inside an XML comment
+    std::string note = e.note;
+    for (size_t at = note.find("--"); at != std::string::npos; at = note.find("--", at))
+      note.replace(at, 2, "- -");
+    s += in + "<!-- " + note + " -->" + newline;
+  }
   s += fmt::format("{}<origin xyz=\"{} {} {}\" rpy=\"0 0 0\"/>{}", in, number(e.com.x()),
                    number(e.com.y()), number(e.com.z()), newline);
   s += fmt::format("{}<mass value=\"{}\"/>{}", in, number(e.mass), newline);
@@ -282,6 +267,25 @@ std::string replace_inertials(const std::string& urdf, const std::string& source
   std::string out = urdf;
   for (const auto& [b, e, text] : cuts) out.replace(b, e - b, text);
   return out;
+}
+
+std::string identified_urdf(const Model& model, const PhysicalSummary& physical,
+                            const std::string& note) {
+  std::ifstream in(model.source, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot read the URDF", model.source));
+  std::stringstream text;
+  text << in.rdbuf();
+  if (static_cast<int>(physical.links.size()) != model.num_links())
+    throw InputError(fmt::format("{}: the physical parameters are of another model", model.source));
+  std::vector<LinkInertial> edits;
+  for (int i = 0; i < model.num_links(); ++i) {
+    const PhysicalLink& l = physical.links[i];
+    edits.push_back(LinkInertial{model.links[i].name, l.mass, l.com, l.inertia_com,
+                                 l.prior_body ? note + "; no mass in the original URDF: the "
+                                                       "fit's small body"
+                                              : note});
+  }
+  return replace_inertials(text.str(), model.source, edits);
 }
 
 }  // namespace massid

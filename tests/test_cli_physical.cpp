@@ -141,3 +141,80 @@ TEST_F(CliPhysical, ABrokenPhysicalSectionIsAnInputError) {
 
 }  // namespace
 }  // namespace massid_cli_test
+
+namespace massid_cli_test {
+namespace {
+
+// identify --urdf-out: the URDF with the physical inertials reloads (urdfdom,
+// through simulate), and simulate on it gives the wrench predict --physical
+// ascribes to the same rows, at rest (masses and centres of mass) and in motion
+// (full inertials); everything outside the measured links' inertials is kept.
+class CliUrdfOut : public Cli {
+ protected:
+  void expect_same_wrench(const std::string& simulated, const std::string& predicted) {
+    const Table s = read_table(simulated), p = read_table(predicted);
+    ASSERT_EQ(s.rows.size(), p.rows.size());
+    ASSERT_GT(s.rows.size(), 0u);
+    const char* axes[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+    for (const char* a : axes)
+      for (size_t r = 0; r < s.rows.size(); ++r)
+        ASSERT_NEAR(s.num(r, a), p.num(r, std::string(a) + "_pred"),
+                    1e-8 * (1 + std::abs(s.num(r, a))))
+            << a << " row " << r;
+  }
+};
+
+TEST_F(CliUrdfOut, StaticIdentifiedUrdfReproducesThePhysicalPrediction) {
+  ASSERT_EQ(run({"simulate", kPumaUrdf, kPumaPlan, "-o", path("data.csv"), "--noise-force", "0.05",
+                 "--noise-moment", "0.005", "--seed", "1"})
+                .code,
+            0);
+  const Result r = run({"identify", kPumaUrdf, path("data.csv"), "-o", path("params.json"),
+                        "--urdf-out", path("puma_identified.urdf")});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.out.find("physically consistent parameters"), std::string::npos) << r;  // implied
+  EXPECT_NE(r.out.find("masses and centres of mass), every other byte as it was"),
+            std::string::npos)
+      << r;
+  const std::string text = read_file(path("puma_identified.urdf"));
+  EXPECT_NE(text.find("identified by massid from"), std::string::npos);
+  ASSERT_EQ(run({"simulate", path("puma_identified.urdf"), kPumaPlan, "-o", path("sim.csv")}).code,
+            0);
+  ASSERT_EQ(run({"predict", kPumaUrdf, path("params.json"), path("data.csv"), "-o",
+                 path("pred.csv"), "--physical"})
+                .code,
+            0);
+  expect_same_wrench(path("sim.csv"), path("pred.csv"));
+}
+
+TEST_F(CliUrdfOut, DynamicIdentifiedUrdfReproducesThePhysicalPrediction) {
+  ASSERT_EQ(run({"design", kUr, "--dynamic", "-o", path("traj.csv"), "--duration", "6", "--period",
+                 "6", "--rate", "100", "--harmonics", "3", "--evaluations", "300"})
+                .code,
+            0);
+  ASSERT_EQ(run({"simulate", kUr, path("traj.csv"), "-o", path("log.csv"), "--dynamic",
+                 "--noise-force", "0.1", "--noise-moment", "0.01", "--seed", "2"})
+                .code,
+            0);
+  const Result r = run({"identify", kUr, path("log.csv"), "--dynamic", "-o", path("params.json"),
+                        "--urdf-out", path("ur_identified.urdf")});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.out.find("masses, centres of mass, inertias), every other byte"), std::string::npos)
+      << r;
+  ASSERT_EQ(run({"simulate", path("ur_identified.urdf"), path("traj.csv"), "-o", path("sim.csv"),
+                 "--dynamic"})
+                .code,
+            0);
+  ASSERT_EQ(run({"predict", kUr, path("params.json"), path("log.csv"), "-o", path("pred.csv"),
+                 "--physical"})
+                .code,
+            0);
+  expect_same_wrench(path("sim.csv"), path("pred.csv"));
+  // A URDF that cannot be written to: exit 2, nothing left behind.
+  const Result bad = run({"identify", kUr, path("log.csv"), "--dynamic", "-o", path("p2.json"),
+                          "--urdf-out", path("no/such/dir/x.urdf")});
+  EXPECT_EQ(bad.code, 2) << bad;
+}
+
+}  // namespace
+}  // namespace massid_cli_test

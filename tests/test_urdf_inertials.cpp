@@ -137,25 +137,6 @@ TEST(UrdfInertials, MistakesNameTheLinkOrThePlace) {
   }
 }
 
-// link_inertial inverts the parallel-axis shift of ParameterLayout::nominal.
-TEST(UrdfInertials, LinkInertialInvertsTheStandardParameters) {
-  const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf");
-  for (const ParameterLayout layout : {ParameterLayout::full(), ParameterLayout::first_moments()}) {
-    const Eigen::VectorXd pi = layout.nominal(model);
-    for (int l = 0; l < model.num_links(); ++l) {
-      const Link& link = model.links[l];
-      if (!(link.mass > 0.0)) continue;
-      const LinkInertial e = link_inertial(model, layout, pi, l);
-      EXPECT_EQ(e.link, link.name);
-      EXPECT_NEAR(e.mass, link.mass, 1e-15);
-      EXPECT_LT((e.com - link.com).norm(), 1e-14);
-      EXPECT_LT((e.inertia - link.inertia).norm(), 1e-12 * (1.0 + link.inertia.norm()));
-    }
-  }
-  Eigen::VectorXd zero = Eigen::VectorXd::Zero(ParameterLayout::full().size(model));
-  EXPECT_THROW(link_inertial(model, ParameterLayout::full(), zero, 1), InputError);
-}
-
 // The published robots: every link rewritten, reloaded, nothing else changed.
 TEST(UrdfInertials, PublishedRobotsReloadWithTheNewInertials) {
   for (const char* name : {"ur5_robot", "panda", "robotiq_2f_85"}) {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "massid/model.hpp"
-#include "massid/parameters.hpp"
+#include "massid/physical.hpp"
 
 namespace massid {
 
@@ -25,20 +25,22 @@ struct LinkInertial {
   std::string note;  // written as an XML comment inside the element ("" for none)
 };
 
-// The inertial of link `link` from standard parameters in `layout` (the
-// link-origin convention of parameters.hpp): c = h / m and
-//   I_C = I_O - m (|c|^2 1 - c c^T)
-// (inertia_about_origin inverted). In the first-moment layout the inertia
-// about the centre of mass is the model's (the URDF's): rest data do not see it.
-// InputError for a mass that is not positive.
-LinkInertial link_inertial(const Model& model, const ParameterLayout& layout,
-                           const Eigen::VectorXd& standard, int link);
-
 // `urdf` (the file's text; `source` names it in messages) with the inertials of
 // `edits` written in. InputError when a link is not in the file, is named
 // twice, or the text is not XML the edit can follow (it has been read by
 // load_urdf first, so this means a construct the scanner does not know).
 std::string replace_inertials(const std::string& urdf, const std::string& source,
                               const std::vector<LinkInertial>& edits);
+
+// The identified URDF: the text of the model's URDF (Model::source) with the
+// physically consistent inertials of every measured link written in (mass,
+// centre of mass and inertia about it: physical.hpp; at rest the inertia about
+// the centre of mass is the URDF's). A link the URDF gives no mass gets the
+// fit's body too (fit_physical's tiny prior body, unless the data moved it),
+// so that the file reproduces the fit's wrench exactly. `note` goes into each
+// written element as a comment. InputError naming the file when it cannot be
+// read.
+std::string identified_urdf(const Model& model, const PhysicalSummary& physical,
+                            const std::string& note);
 
 }  // namespace massid
