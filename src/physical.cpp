@@ -95,6 +95,49 @@ struct PriorResidual {
   }
 };
 
+// Prior residuals of one link in motion: the log-det (Bregman) divergence of
+// its pseudo-inertia from the prior's (Lee, Wensing & Park 2020),
+//   d(J || J0) = -log det(J0^-1 J) + tr(J0^-1 J) - 4 >= 0,
+// as a sum of squares. With J0 = U0 U0^T and J = U U^T (both U upper
+// triangular), V = U0^-1 U is upper triangular and
+//   d = sum_i (V_ii^2 - 2 log V_ii - 1) + sum_{i<j} V_ij^2,
+// each diagonal term f(x) = e^{2x} - 2x - 1 of x = log V_ii (linear in theta).
+// The residuals weight sqrt(2) (sign(x) sqrt(f(x)), V_ij) give the cost
+// weight^2 d: relative to each link's own size (a gram on a gripper finger
+// weighs like a kilogram on an upper arm), and infinite for a degenerate body.
+struct DivergenceResidual {
+  Eigen::Matrix4d U0_inverse;  // upper triangular
+  double weight = 1.0;
+  template <class T>
+  bool operator()(const T* theta, T* r) const {
+    using std::log;
+    using std::sqrt;
+    T U[4][4];
+    cholesky_factor(theta, U);
+    int k = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i; j < 4; ++j) {
+        T v = T(0.0);  // V_ij = sum_{i <= m <= j} U0^-1_im U_mj
+        for (int m = i; m <= j; ++m) v += U0_inverse(i, m) * U[m][j];
+        if (i != j) {
+          r[k++] = std::sqrt(2.0) * weight * v;
+          continue;
+        }
+        const T x = log(v);
+        // sign(x) sqrt(e^{2x} - 2x - 1) = sqrt(2) x sqrt(1 + 2x/3 + x^2/3 + ...), smooth at 0.
+        const T f = abs_small(x) ? T(std::sqrt(2.0)) * x * (T(1.0) + x / T(3.0))
+                                 : (x < T(0.0) ? T(-1.0) : T(1.0)) *
+                                       sqrt(exp(T(2.0) * x) - T(2.0) * x - T(1.0));
+        r[k++] = std::sqrt(2.0) * weight * f;
+      }
+    return true;
+  }
+  template <class T>
+  static bool abs_small(const T& x) {
+    return x < T(1e-4) && x > T(-1e-4);
+  }
+};
+
 // Data residuals: A pi(theta) - b with A = L^-1 K and b = L^-1 pi_b (whitened
 // by the covariance of the base parameters), one parameter block of ten per
 // link. The Jacobian is A's link columns times d pi_l / d theta_l (forward
@@ -302,9 +345,23 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
                              : far;
       theta[l][k] = std::clamp(theta[l][k], bound[k][0], bound[k][1]);
     }
-    auto* prior = new ceres::AutoDiffCostFunction<PriorResidual, 10, 10>(
-        new PriorResidual{prior_target(m, c, I), weight});
-    problem.AddResidualBlock(prior, nullptr, theta[l].data());
+    if (out.static_layout) {  // at rest: each link keeps the URDF's inertia about its centre
+      auto* prior = new ceres::AutoDiffCostFunction<PriorResidual, 10, 10>(
+          new PriorResidual{prior_target(m, c, I), weight});
+      problem.AddResidualBlock(prior, nullptr, theta[l].data());
+    } else {  // in motion: the log-det divergence from the prior body
+      Eigen::Matrix4d U0 = Eigen::Matrix4d::Zero();
+      std::array<double, 10> t0 = theta[l];
+      double U0a[4][4];
+      cholesky_factor(t0.data(), U0a);
+      for (int i = 0; i < 4; ++i)
+        for (int j = i; j < 4; ++j) U0(i, j) = U0a[i][j];
+      auto* prior =
+          new ceres::AutoDiffCostFunction<DivergenceResidual, 10, 10>(new DivergenceResidual{
+              U0.triangularView<Eigen::Upper>().solve(Eigen::Matrix4d::Identity()),
+              options.divergence_weight});
+      problem.AddResidualBlock(prior, nullptr, theta[l].data());
+    }
     for (int k = 0; k < 10; ++k) {
       problem.SetParameterLowerBound(theta[l].data(), k, bound[k][0]);
       problem.SetParameterUpperBound(theta[l].data(), k, bound[k][1]);

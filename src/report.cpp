@@ -266,7 +266,9 @@ std::string physical_report(const BaseParameters& base, const PhysicalSummary& p
         "worst base-parameter mismatch (K pi_phys - identified) / std: {} {:+.3g} std ({})\n",
         base.params[p.worst].name, p.worst_mismatch,
         std::abs(p.worst_mismatch) <= 1.0 ? "within std"
-                                          : "beyond std: no real bodies reproduce the estimate");
+        : std::abs(p.worst_mismatch) <= 3.0
+            ? "within 3 std: the URDF's bodies pull there"
+            : "beyond 3 std: no real bodies reproduce the estimate");
   out += fmt::format("solver: {} iterations, {:.3g} ms, cost {:.4g}{}\n", p.iterations,
                      1e3 * p.solve_seconds, p.cost, p.converged ? "" : " (not converged)");
   return out;

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "cli_support.hpp"
+#include "massid/model.hpp"
 
 namespace massid_cli_test {
 namespace {
@@ -103,8 +104,27 @@ TEST_F(CliPhysical, DynamicIdentifyPrintsTheTableAndPredictUsesIt) {
   ASSERT_TRUE(p.contains("physical")) << p.dump(1);
   expect_consistent_links(p["physical"]["links"], 10);
   EXPECT_TRUE(p["physical"]["consistent"].get<bool>());
-  EXPECT_LE(std::abs(p["physical"]["worst_mismatch"]["std"].get<double>()), 1.0);
+  EXPECT_LE(std::abs(p["physical"]["worst_mismatch"]["std"].get<double>()), 2.0);
   expect_physical_prediction({"predict", kUr}, path("params.json"), path("log.csv"));
+  // No link turned into a needle: where the data see a link's products of
+  // inertia only to within its own inertia (the shoulder on a 10 s log), the
+  // prior keeps its principal moments near the URDF's (a weak prior on the
+  // arm's global scale let the smallest fall to 1e-8 kg m^2).
+  const massid::Model urdf = massid::load_urdf(kUr);
+  for (const massid::Link& link : urdf.links) {
+    if (!(link.mass > 0)) continue;
+    const json& q = p["physical"]["links"][link.name];
+    const double m = q["m"];
+    const Eigen::Vector3d c(q["mx"].get<double>() / m, q["my"].get<double>() / m,
+                            q["mz"].get<double>() / m);
+    Eigen::Matrix3d I;
+    I << q["ixx"], q["ixy"], q["ixz"], q["ixy"], q["iyy"], q["iyz"], q["ixz"], q["iyz"], q["izz"];
+    I -= m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+    const double smallest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues()[0];
+    const double urdf_smallest =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(link.inertia).eigenvalues()[0];
+    EXPECT_GT(smallest, 0.2 * urdf_smallest) << link.name;
+  }
   // Without --physical the file has no such section, and predict --physical says so.
   r = run({"identify", kUr, path("log.csv"), "--dynamic", "--offset", "-o", path("plain.json")});
   ASSERT_EQ(r.code, 0) << r;

@@ -24,13 +24,24 @@
 // body with J > 0 has exactly one theta. The cost, minimised by Ceres' Levenberg-
 // Marquardt over theta (the samples never enter: only pi_b and its covariance),
 //   sum |L^-1 (K pi(theta) - pi_b)|^2                     data: Sigma_b = L L^T
-// + w^2 sum_l sum_k ((q_lk(theta) - q_lk(URDF)) / s_k)^2   prior
+// + prior                                                 (below)
 // where Sigma_b is the marginal covariance of the mass base parameters (the
 // offsets left out), q_l = (m, h, I_C) the link's mass, first moment and
 // rotational inertia about its centre of mass (the URDF's own convention: a
 // link whose mass or centre of mass the data moves keeps the URDF's shape),
 // s_k = M, M L, M L^2 (total mass, reach: parameter_scales) and w small, so that
 // the prior only decides what the data does not.
+//
+// The prior in motion is each link's log-det (Bregman) divergence from the
+// URDF's body (Lee, Wensing & Park 2020), weighted by divergence_weight^2:
+//   d(J || J0) = -log det(J0^-1 J) + tr(J0^-1 J) - 4,
+// relative to each link's own size and infinite for a degenerate body. A
+// weight of 1 counts the URDF as one observation of each link: a product of
+// inertia the data sees only to within the link's own inertia stays near the
+// URDF's instead of turning the link into a needle (which the weak
+// quadratic prior, on the global scales, let happen). At rest the prior is
+// the quadratic one on (m, h, I_C) with prior_weight, so that each link keeps
+// the URDF's inertia about its centre of mass.
 //
 // Static identification (first-moment layout, 4 per link): the same solve;
 // the data sees only m and h, and the prior keeps each link's inertia about
@@ -61,8 +72,11 @@ namespace massid {
 struct IdentifySummary;
 
 struct PhysicalOptions {
-  // w above: the prior's weight against data whitened to unit std.
+  // w above: the prior's weight against data whitened to unit std (at rest).
   double prior_weight = 1e-3;
+  // In motion the prior is the log-det divergence of each link's pseudo-inertia
+  // from the prior body's, with this weight (its square multiplies d).
+  double divergence_weight = 1.0;
   // The prior body of a link without a mass (see above).
   double tiny_mass_fraction = 1e-4;
   double tiny_radius_fraction = 0.02;
