@@ -1117,7 +1117,8 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
             + ('<a href="#spectrum">spectrum</a>' if dynamic else "")
             + ('<a href="#delay">delay</a>' if dynamic and getattr(ident, "delay", None) else "")
             + '<a href="#parameters">parameters</a>'
-            '<a href="#correlation">correlation</a><a href="#coverage">coverage</a></nav>')
+            + ('<a href="#physical">bodies</a>' if getattr(ident, "physical", None) is not None else "")
+            + '<a href="#correlation">correlation</a><a href="#coverage">coverage</a></nav>')
 
     # a) key figures
     cond_cls, cond_text = condition_verdict(float(ident.condition_number), dynamic)
@@ -1234,6 +1235,9 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
             _drift_row(nm, float(dv[i]), float(ds[i]) if i < ds.size else math.nan, drift)
             for i, nm in enumerate(drift_names) if i < dv.size]))
     _parameter_section(doc, groups, dynamic)
+    physical = getattr(ident, "physical", None)
+    if physical is not None:
+        _physical_section(doc, physical, [p.name for p in ident.base_parameters])
 
     # e) correlation
     corr = np.asarray(ident.correlation, dtype=float)
@@ -1256,6 +1260,48 @@ def _motion_of(ident: Any) -> dict[str, Any]:
     except (AttributeError, ValueError):
         return {}
     return m if isinstance(m, dict) else {}
+
+
+def _physical_section(doc: _Doc, physical: Any, names: Sequence[str]) -> None:
+    """The physically consistent bodies (identify --physical): one row per link with its
+    consistency mark, and the base parameters the bodies reproduce only beyond their std."""
+    doc.add('<h2 id="physical">Physically consistent bodies</h2>')
+    rest = bool(getattr(physical, "static_layout", False))
+    doc.add("<p>Ten standard parameters per link that are a real body (mass &gt; 0, positive "
+            "semi-definite pseudo-inertia, hence the triangle inequalities), reproduce the base "
+            "parameters above and keep the URDF where the data cannot see"
+            + (" (at rest: each link's inertia about its centre of mass is the URDF's)" if rest
+               else "") + ". Centre of mass in the link frame; principal moments about it.</p>")
+    rows = []
+    for link in physical.links:
+        c = np.asarray(link.com, dtype=float).reshape(3)
+        pm = np.asarray(link.principal_moments, dtype=float).reshape(3)
+        mark = "✓ real body" if link.consistent else "✗ NOT a real body"
+        note = "; no mass in the URDF: tiny prior body" if link.prior_body else ""
+        rows.append(f'<tr class="{"" if link.consistent else "poor"}"><td class="l">{_e(link.name)}</td>'
+                    f'<td class="mono">{_fmt(link.mass, 5)}</td>'
+                    + "".join(f'<td class="mono">{_fmt(v, 4)}</td>' for v in c)
+                    + "".join(f'<td class="mono">{_fmt(v, 4)}</td>' for v in pm)
+                    + f'<td class="l">{mark} (min eig J {_fmt(link.min_eigenvalue, 2)}){_e(note)}</td></tr>')
+    doc.add('<table class="params"><tr><th>link</th><th>m [kg]</th><th>cx [m]</th><th>cy [m]</th>'
+            '<th>cz [m]</th><th>I1 [kg m²]</th><th>I2</th><th>I3</th><th>consistency</th></tr>'
+            + "".join(rows) + "</table>")
+    mismatch = np.asarray(physical.mismatch, dtype=float).reshape(-1)
+    beyond = [(names[i], float(mismatch[i])) for i in np.argsort(-np.abs(mismatch))
+              if i < len(names) and abs(mismatch[i]) > 1.0]
+    worst = int(physical.worst)
+    summary = (f"Worst base-parameter mismatch (K π_phys − identified) / std: "
+               f"{_e(names[worst]) if 0 <= worst < len(names) else '—'} "
+               f"{float(physical.worst_mismatch):+.3g} std. ")
+    if beyond:
+        summary += ("Beyond their std (the URDF's bodies pull there, or no real bodies reproduce "
+                    "the estimate): " + ", ".join(f"{_e(n)} {v:+.2g}" for n, v in beyond[:12])
+                    + (" …" if len(beyond) > 12 else "") + ".")
+    else:
+        summary += "Every base parameter is reproduced within its std."
+    doc.add(f"<p>{summary} Solver: {int(physical.iterations)} iterations, "
+            f"{float(physical.solve_seconds) * 1e3:.3g} ms"
+            f"{'' if physical.converged else ' (not converged)'}.</p>")
 
 
 def _parameter_section(doc: _Doc, groups: Sequence[tuple[str, Sequence[_ParamRow]]],

@@ -205,3 +205,24 @@ def _figure_titles(ident: Any, tmp_path: Path) -> str:
         figs.new = spy  # type: ignore[method-assign]
         figs.joint_coverage(np.asarray(ident.qd), _joint_infos(ident.model), derivative=1)
     return " ".join(ax.get_title() for fig in titles for ax in fig.axes)
+
+
+def test_report_shows_the_physical_bodies(massid: Any, tmp_path: Path) -> None:
+    """identify(physical=True): the report's bodies section has one row per link with its
+    mass, centre of mass, principal moments and consistency mark, and names the base
+    parameters reproduced beyond their std."""
+    traj = massid.fourier_trajectory(str(UR), duration=4.0, rate=200.0, period=4.0, seed=5)
+    data = massid.simulate(str(UR), traj, dynamic=True, noise_force=0.1, noise_moment=0.01, seed=2)
+    ident = massid.identify(str(UR), data, dynamic=True, physical=True)
+    out = tmp_path / "bodies.html"
+    massid.report.write_identify_report(out, ident)
+    text, page = read_page(out)
+    assert 'id="physical"' in text and 'href="#physical"' in text
+    for link in ident.physical.links:
+        cls, cells = page.row(link.name)
+        assert cells[1] == f"{link.mass:.5g}"
+        assert ("real body" in cells[-1]) and (("NOT" in cells[-1]) != link.consistent)
+    worst = ident.base_parameters[ident.physical.worst].name
+    assert f"{worst} {ident.physical.worst_mismatch:+.3g} std" in page.text
+    beyond = [p.name for p, m in zip(ident.base_parameters, ident.physical.mismatch) if abs(m) > 1]
+    assert ("Every base parameter is reproduced within its std" in page.text) == (not beyond)
