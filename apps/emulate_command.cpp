@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "massid/atomic_file.hpp"
+#include "atomic_file.hpp"
 #include "massid/csv.hpp"
 #include "massid/emulator/emulation.hpp"
 #include "massid/errors.hpp"

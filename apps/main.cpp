@@ -8,17 +8,18 @@
 #include <iostream>
 #include <optional>
 
+#include "atomic_file.hpp"
 #include "bench_command.hpp"
 #include "design_command.hpp"
 #include "emulate_command.hpp"
-#include "massid/atomic_file.hpp"
+#include "hints.hpp"
+#include "identify_file.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/identification.hpp"
-#include "massid/identify_file.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/motion_predictor.hpp"
 #include "massid/params_file.hpp"
@@ -28,6 +29,7 @@
 #include "massid/setup_checks.hpp"
 #include "massid/simulate.hpp"
 #include "massid/urdf_inertials.hpp"
+#include "massid/version.hpp"
 #include "options.hpp"
 #include "python_report.hpp"
 
@@ -300,7 +302,7 @@ int main(int argc, char** argv) {
       "massid: mass parameters of a mechanism on a force/torque sensor, from static wrenches "
       "and in motion"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "massid 0.1.0");
+  app.set_version_flag("--version", "massid " MASSID_VERSION);
 
   Common common;
   bool offset = false, as_json = false;
@@ -476,10 +478,10 @@ int main(int argc, char** argv) {
     if (*emulate.app) return run_emulate(emulate);
     if (*bench.app) return run_bench(bench);
   } catch (const InputError& e) {
-    std::cerr << "massid: error: " << e.what() << "\n";
+    std::cerr << "massid: error: " << cli::with_hints(e.what(), e.hints()) << "\n";
     return 2;
   } catch (const IdentifiabilityError& e) {
-    std::cerr << "massid: error: " << e.what() << "\n";
+    std::cerr << "massid: error: " << cli::with_hints(e.what(), e.hints()) << "\n";
     return 3;
   } catch (const std::exception& e) {
     std::cerr << "massid: internal error: " << e.what() << "\n";

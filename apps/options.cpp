@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "hints.hpp"
 #include "massid/errors.hpp"
 
 namespace massid::cli {
@@ -84,7 +85,8 @@ bool report_setup(const std::vector<SetupFinding>& findings) {
   const bool error = has_error(findings);
   for (const SetupFinding& f : findings)
     if (error == (f.severity == SetupFinding::Severity::Error))
-      std::cerr << (error ? "massid: error: " : "massid: warning: ") << f.message << "\n";
+      std::cerr << (error ? "massid: error: " : "massid: warning: ")
+                << cli::with_hints(f.message, f.hints) << "\n";
   return !error;
 }
 

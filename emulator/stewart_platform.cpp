@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "massid/atomic_file.hpp"
+#include "atomic_file.hpp"
+#include "json_text.hpp"
 #include "massid/errors.hpp"
-#include "massid/json_text.hpp"
 
 namespace massid::emulator {
 namespace {

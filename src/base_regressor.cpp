@@ -1,5 +1,6 @@
 #include "massid/base_regressor.hpp"
 
+#include "argument_checks.hpp"
 #include "massid/regressor.hpp"
 
 namespace massid {
@@ -24,6 +25,7 @@ RegressorData::RegressorData(const Model& model, const BaseParameters& base)
 
 void base_regressor(const Model& model, const BaseParameters& base, RegressorData& data,
                     const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Vector3d& g) {
+  detail::check_size("base_regressor", "q", q.size(), model.num_joints(), "the model's joints");
   if (base.motion()) {
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(q.size());
     base_regressor(model, base, data, q, zero, zero, g, FrameMotion{});
@@ -39,6 +41,10 @@ void base_regressor(const Model& model, const BaseParameters& base, RegressorDat
                     const Eigen::Ref<const Eigen::VectorXd>& qd,
                     const Eigen::Ref<const Eigen::VectorXd>& qdd, const Eigen::Vector3d& g,
                     const FrameMotion& sensor) {
+  const int n = model.num_joints();
+  detail::check_size("base_regressor", "q", q.size(), n, "the model's joints");
+  detail::check_size("base_regressor", "qd", qd.size(), n, "the model's joints");
+  detail::check_size("base_regressor", "qdd", qdd.size(), n, "the model's joints");
   forward_kinematics(model, data.kinematics, q, qd, qdd, g, sensor);
   motion_regressor(model, data.kinematics, data.standard);
   reduce(base, data);
@@ -56,6 +62,7 @@ FrameMotion sensor_motion(const Samples& s, int i) {
 
 void base_regressor(const Model& model, const BaseParameters& base, RegressorData& data,
                     const Samples& s, int i) {
+  detail::check_index("base_regressor", "sample", i, s.size());
   const Eigen::Vector3d g = s.gravity.row(i).transpose();
   if (!base.motion()) {
     base_regressor(model, base, data, s.q.row(i).transpose(), g);

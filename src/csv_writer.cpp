@@ -1,6 +1,6 @@
 #include <fmt/format.h>
 
-#include "massid/atomic_file.hpp"
+#include "atomic_file.hpp"
 #include "massid/csv.hpp"
 
 namespace massid {

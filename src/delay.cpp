@@ -24,7 +24,8 @@ double median_step(const Eigen::VectorXd& t) {
 
 void require_time(const Samples& raw) {
   if (raw.time.size() != raw.size() || raw.size() < 3)
-    throw InputError(fmt::format("{}: --delay needs the time column t", raw.source));
+    throw InputError(fmt::format("{}: the wrench's delay needs the time column t", raw.source),
+                     {{Hint::Setting::Delay, ""}});
 }
 
 // Rows [margin, N - margin) of a matrix (0 rows stay 0 rows).
@@ -91,7 +92,9 @@ DelayEstimate estimate_delay(const Model& model, const Samples& raw, bool offset
   require_time(raw);
   const double dt = median_step(raw.time);
   if (!(dt > 0) || !(max_delay > 0))
-    throw InputError(fmt::format("{}: --delay auto needs increasing times t", raw.source));
+    throw InputError(
+        fmt::format("{}: estimating the wrench's delay needs increasing times t", raw.source),
+        {{Hint::Setting::Delay, "auto"}});
   const int margin = static_cast<int>(std::ceil(max_delay / dt)) + 1;
   IdentifyOptions o = options;
   o.robust = false;         // the scan compares plain fits,
@@ -115,10 +118,11 @@ DelayEstimate estimate_delay(const Model& model, const Samples& raw, bool offset
   for (int k = -8; k <= 8; ++k)
     if (chi2(k * coarse) < chi2(best)) best = k * coarse;
   if (std::abs(best) > max_delay - 0.5 * coarse)
-    throw InputError(fmt::format(
-        "{}: the wrench's delay is beyond the +-{:.3g} ms scanned (the best fit is at {:.3g} ms): "
-        "check the clocks, or give the delay (--delay S)",
-        raw.source, 1e3 * max_delay, 1e3 * best));
+    throw InputError(fmt::format("{}: the wrench's delay is beyond the +-{:.3g} ms scanned (the "
+                                 "best fit is at {:.3g} ms): "
+                                 "check the clocks, or give the delay",
+                                 raw.source, 1e3 * max_delay, 1e3 * best),
+                     {{Hint::Setting::Delay, ""}});
   const double h = coarse / 4;
   double fine = best;
   for (int k = -4; k <= 4; ++k)

@@ -247,7 +247,9 @@ void clearance_figures(const Model& model, DesignSpace& space, DesignSummary& ou
 
 DesignSummary design(const Model& model, const BaseParameters& base, const DesignOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  if (o.poses < 1) throw InputError("--poses must be at least 1");
+  if (o.poses < 1)
+    throw InputError("design: the number of poses must be at least 1",
+                     {{Hint::Setting::Poses, ""}});
   DesignOptions opts = o;
   {
     DesignSpace probe(model, opts);

@@ -26,11 +26,16 @@ double tilt_angle(const Eigen::Vector3d& level, const Tilt& t) {
 
 DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
     : model_(model), level_(o.level_gravity), min_height_(o.min_height), kin_(model) {
-  if (!(level_.norm() > 0.0)) throw InputError("--gravity: the level gravity vector is zero");
+  if (!(level_.norm() > 0.0))
+    throw InputError("design: the level gravity vector is zero",
+                     {{Hint::Setting::LevelGravity, ""}});
   for (const auto& [name, range] : o.limits)
     if (model.find_joint(name) < 0)
       throw InputError(
-          fmt::format("--limits: '{}' is not a movable joint below the sensor link", name));
+          fmt::format("design: joint range for '{}', which is not a movable joint below the "
+                      "sensor link",
+                      name),
+          {{Hint::Setting::Limits, name + "=LO:HI"}});
   for (int j = 0; j < model.num_joints(); ++j) {
     const Joint& joint = model.joints[j];
     double lo = joint.generic_position(0.0), hi = joint.generic_position(1.0);
@@ -40,8 +45,11 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
       hi = std::min(hi, l->second.second);
       if (!(hi > lo))
         throw InputError(
-            fmt::format("--limits {}={}:{}: empty range within the URDF limits [{}, {}]",
-                        joint.name, l->second.first, l->second.second, joint.lower, joint.upper));
+            fmt::format("design: the range {}:{} of joint '{}' is empty within the URDF limits "
+                        "[{}, {}]",
+                        l->second.first, l->second.second, joint.name, joint.lower, joint.upper),
+            {{Hint::Setting::Limits,
+              fmt::format("{}={}:{}", joint.name, l->second.first, l->second.second)}});
     }
     free_.push_back({j, lo, hi});
   }
@@ -50,7 +58,8 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
     tilt_max_ = *o.tilt_max;
     groups_ = std::max(0, o.tilt_groups);
     if (!(tilt_max_ >= 0.0 && tilt_max_ < std::numbers::pi / 2))
-      throw InputError("--tilt-max: the tilt must be between 0 and 90 degrees");
+      throw InputError("design: the largest tilt must be between 0 and 90 degrees",
+                       {{Hint::Setting::TiltMax, ""}});
     tilts_ = cone_tilts(level_, tilt_max_, groups_);  // tilt groups start on the rim
   } else {
     tilts_ = o.tilts.empty() ? std::vector<Tilt>{Tilt{}} : o.tilts;
@@ -183,10 +192,12 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
     pose.gravity = tilted_gravity(level_, pose.tilt);
     return pose;
   }
-  throw InputError(fmt::format(
-      "design: no pose satisfies the constraints (--min-height {} m with the joint ranges "
-      "given): lower it, or --min-height none to allow links below the platform plane",
-      min_height_.value_or(0.0)));
+  throw InputError(
+      fmt::format(
+          "design: no pose satisfies the constraints (a clearance of {} m above the platform plane "
+          "with the joint ranges given): lower it, or turn it off to allow links below the plane",
+          min_height_.value_or(0.0)),
+      {{Hint::Setting::MinHeight, "lower"}, {Hint::Setting::MinHeight, "none"}});
 }
 
 Eigen::VectorXd DesignSpace::coordinates(const PlanPose& pose) const {

@@ -368,7 +368,9 @@ std::vector<Eigen::Vector3d> block_gravities(const ExcitationOptions& o) {
 ExcitationSummary design_excitation(const Model& model, const BaseParameters& base,
                                     const ExcitationOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  if (!(o.gravity.norm() > 0.0)) throw InputError("--gravity: the level gravity vector is zero");
+  if (!(o.gravity.norm() > 0.0))
+    throw InputError("design: the level gravity vector is zero",
+                     {{Hint::Setting::LevelGravity, ""}});
   const int K = std::max(1, o.harmonics);
   const std::vector<JointBounds> bounds = joint_bounds(model, o.limits);
   ExcitationSummary out;
@@ -440,12 +442,16 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   for (int round = 0;; ++round) {
     pattern_search(coords, crit, x, fx, round == 0 ? o.evaluations : o.evaluations / 4, margin);
     if (fx >= kInfeasible)
-      throw InputError(fmt::format(
-          "design --dynamic: no trajectory found keeps every moving link origin, centre of mass "
-          "and collision sphere {} m above the platform plane (--min-height; the best misses by "
-          "{:.3g} m): lower --min-height, narrow the joints with --limits JOINT=LO:HI, or "
-          "--min-height none",
-          *opts.min_height, (fx - kInfeasible) / 1e3));
+      throw InputError(fmt::format("design in motion: no trajectory found keeps every moving link "
+                                   "origin, centre of mass "
+                                   "and collision sphere {} m above the platform plane (the "
+                                   "clearance; the best misses by "
+                                   "{:.3g} m): lower the clearance, narrow the joints' ranges, or "
+                                   "turn the clearance off",
+                                   *opts.min_height, (fx - kInfeasible) / 1e3),
+                       {{Hint::Setting::MinHeight, "lower"},
+                        {Hint::Setting::Limits, ""},
+                        {Hint::Setting::MinHeight, "none"}});
     best = crit.scaled(coords, x);
     const Samples one = sample_trajectory(best, o.duration, o.rate, o.gravity);
     const Eigen::VectorXd s = limit_scale(best, bounds, one.time);
@@ -459,11 +465,13 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
                                          sample_trajectory(best, o.duration, o.rate, o.gravity));
     if (c.height >= *opts.min_height) break;
     if (round == 3)
-      throw InputError(fmt::format(
-          "design --dynamic: the trajectory takes link '{}' to {:.3g} m above the platform plane "
-          "at t = {:.4g} s, below --min-height {} m, after 4 searches with growing margins: "
-          "lower --min-height or narrow the joints with --limits JOINT=LO:HI",
-          c.link, c.height, c.row / o.rate, *opts.min_height));
+      throw InputError(fmt::format("design in motion: the trajectory takes link '{}' to {:.3g} m "
+                                   "above the platform plane "
+                                   "at t = {:.4g} s, below the clearance of {} m, after 4 searches "
+                                   "with growing margins: "
+                                   "lower the clearance or narrow the joints' ranges",
+                                   c.link, c.height, c.row / o.rate, *opts.min_height),
+                       {{Hint::Setting::MinHeight, "lower"}, {Hint::Setting::Limits, ""}});
     margin += *opts.min_height - c.height + 1e-3;
     fx = crit.score(crit.scaled(coords, x), margin);
   }

@@ -185,12 +185,12 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
     report.tilt_would_help = tilts;
     report.message = fmt::format(
         "{}: {} {} give at most {} independent equations for {} unknowns: record at least {} "
-        "{}{}{} (massid design{} plans them); these determine only {} of the {} unknowns "
+        "{}{}{} (massid design plans them{}); these determine only {} of the {} unknowns "
         "(undetermined: {})",
         samples.source, N, poses, report.equations, p, hi, poses,
         base.motion() ? ", moving every joint" : " with every joint moved",
         tilts ? " and the platform tilted to several gravity directions" : "",
-        base.motion() ? " --dynamic" : "", report.rank, p, undetermined);
+        base.motion() ? ", trajectories too" : "", report.rank, p, undetermined);
     return report;
   }
 
@@ -211,24 +211,26 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
                                    : "move joint{} {} over a wider range of positions"),
         report.joints_to_move.size() > 1 ? "s" : "", joint_list(report.joints_to_move));
     // A joint that never moves may have been held on purpose (the paper held the wrist).
-    std::vector<std::string> still, held;
+    std::vector<std::string> still;
+    std::string held;  // the hint's value: "JOINT=VALUE ..."
     for (const std::string& name : report.joints_to_move) {
       const auto col = samples.q.col(model.find_joint(name));
       if (samples.size() > 0 && col.maxCoeff() == col.minCoeff()) {
         still.push_back(name);
-        held.push_back(fmt::format("--fixed {}={}", name, col[0]));
+        held += fmt::format("{}{}={}", held.empty() ? "" : " ", name, col[0]);
       }
     }
     if (still.size() == 1)
       fix += fmt::format(
-          " ({} never moves in the data: if it was held still on purpose, pass "
-          "{} to identify what such data can)",
-          still[0], held[0]);
+          " ({} never moves in the data: if it was held still on purpose, hold it at its "
+          "value to identify what such data can)",
+          still[0]);
     else if (!still.empty())
       fix += fmt::format(
-          " ({} never move in the data: if they were held still on purpose, pass {} to "
-          "identify what such data can)",
-          joint_list(still, " and "), joint_list(held, " "));
+          " ({} never move in the data: if they were held still on purpose, hold them at their "
+          "values to identify what such data can)",
+          joint_list(still, " and "));
+    if (!still.empty()) report.hints.push_back({Hint::Setting::HoldJoints, held});
   } else if (all_joints_help) {
     fix = "move several joints together over wider ranges";
   }

@@ -11,11 +11,11 @@
 #include <nlohmann/json.hpp>
 #include <utility>
 
-#include "massid/atomic_file.hpp"
+#include "atomic_file.hpp"
+#include "identify_file.hpp"
 #include "massid/csv.hpp"
 #include "massid/delay.hpp"
 #include "massid/errors.hpp"
-#include "massid/identify_file.hpp"
 #include "massid/report.hpp"
 
 namespace massid {
@@ -28,8 +28,8 @@ Identification identify_log(Model model, const std::string& path, bool offset,
   out.model = std::move(model);
   const bool with_offset = offset || options.drift != Drift::None;  // a drifting offset is one
   if (!dynamic && (options.delay || options.delay_auto))
-    throw InputError(
-        "a wrench delay goes with motion logs (--dynamic): at rest it does not matter");
+    throw InputError("a wrench delay goes with motion logs: at rest it does not matter",
+                     {{Hint::Setting::Dynamic, "on"}});
   if (dynamic && (options.delay || options.delay_auto)) {
     // In memory: the wrench moved by the delay (estimated by a scan of fits), then the fit.
     out.motion_options = motion_options;

@@ -1,4 +1,4 @@
-#include "massid/identify_file.hpp"
+#include "identify_file.hpp"
 
 #include <climits>
 #include <filesystem>

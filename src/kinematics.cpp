@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "argument_checks.hpp"
+
 namespace massid {
 namespace {
 
@@ -86,6 +88,9 @@ KinematicsData::KinematicsData(const Model& model)
 
 void forward_kinematics(const Model& model, KinematicsData& data,
                         const Eigen::Ref<const Eigen::VectorXd>& q) {
+  detail::check_size("forward_kinematics", "q", q.size(), model.num_joints(), "the model's joints");
+  detail::check_size("forward_kinematics", "data", static_cast<Eigen::Index>(data.rotation.size()),
+                     model.num_links(), "a workspace for the model's links");
   recursion<false>(model, data, q, nullptr, nullptr);
 }
 
@@ -94,6 +99,12 @@ void forward_kinematics(const Model& model, KinematicsData& data,
                         const Eigen::Ref<const Eigen::VectorXd>& qd,
                         const Eigen::Ref<const Eigen::VectorXd>& qdd,
                         const Eigen::Vector3d& gravity, const FrameMotion& sensor) {
+  const int n = model.num_joints();
+  detail::check_size("forward_kinematics", "q", q.size(), n, "the model's joints");
+  detail::check_size("forward_kinematics", "qd", qd.size(), n, "the model's joints");
+  detail::check_size("forward_kinematics", "qdd", qdd.size(), n, "the model's joints");
+  detail::check_size("forward_kinematics", "data", static_cast<Eigen::Index>(data.rotation.size()),
+                     model.num_links(), "a workspace for the model's links");
   data.omega[0] = sensor.omega;
   data.omega_dot[0] = sensor.omega_dot;
   data.accel[0] = sensor.accel - gravity;
@@ -103,6 +114,13 @@ void forward_kinematics(const Model& model, KinematicsData& data,
 SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,
                                const Eigen::Ref<const Eigen::VectorXd>& qdu,
                                const Eigen::Ref<const Eigen::VectorXd>& qddu) {
+  const int nu = model.num_upstream_joints();
+  detail::check_size("upstream_kinematics", "qu", qu.size(), nu, "the joints above the sensor");
+  if (qdu.size() > 0 || qddu.size() > 0) {
+    detail::check_size("upstream_kinematics", "qdu", qdu.size(), nu, "the joints above the sensor");
+    detail::check_size("upstream_kinematics", "qddu", qddu.size(), nu,
+                       "the joints above the sensor");
+  }
   SensorPose out;
   const bool moving = qdu.size() > 0;
   Eigen::Vector3d w = Eigen::Vector3d::Zero(), dw = w, a = w;

@@ -277,13 +277,15 @@ std::string where(const std::string& source, int line) {
                                   int first_line, int last_line, double block) {
   const double dt = f.dt, rate = 1.0 / dt;
   const int L = f.length(), H = f.kernels.half_width;
-  throw InputError(fmt::format(
-      "{}: only {} samples (lines {}-{}{}, {:.4g} s at {:.6g} Hz) but the filter at cutoff "
-      "{:.6g} Hz needs at least {} ({} on each side of a filtered sample, {:.4g} s); "
-      "use a higher --cutoff or a longer log",
-      where(plan.cols.source, first_line), m, first_line, last_line,
-      plan.cols.block >= 0 ? fmt::format(", block {}", static_cast<int>(block)) : std::string(),
-      static_cast<double>(m - 1) * dt, rate, f.kernels.cutoff, L, H, (L - 1) * dt));
+  throw InputError(
+      fmt::format(
+          "{}: only {} samples (lines {}-{}{}, {:.4g} s at {:.6g} Hz) but the filter at cutoff "
+          "{:.6g} Hz needs at least {} ({} on each side of a filtered sample, {:.4g} s); "
+          "use a higher cutoff or a longer log",
+          where(plan.cols.source, first_line), m, first_line, last_line,
+          plan.cols.block >= 0 ? fmt::format(", block {}", static_cast<int>(block)) : std::string(),
+          static_cast<double>(m - 1) * dt, rate, f.kernels.cutoff, L, H, (L - 1) * dt),
+      {{Hint::Setting::Cutoff, "higher"}});
 }
 
 // The sequential stage of block b: absolute lines; with the filter, the runs

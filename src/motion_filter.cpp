@@ -368,13 +368,15 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   for (const auto& [b, e] : runs) {
     const int m = e - b;
     if (m < L)
-      throw InputError(fmt::format(
-          "{}: only {} samples (lines {}-{}{}, {:.4g} s at {:.6g} Hz) but the filter at cutoff "
-          "{:.6g} Hz needs at least {} ({} on each side of a filtered sample, {:.4g} s); "
-          "use a higher --cutoff or a longer log",
-          where(source, line_of(b)), m, line_of(b), line_of(e - 1),
-          blocks ? fmt::format(", block {}", samples.block[b]) : std::string(), (m - 1) * dt, rate,
-          K.cutoff, L, H, (L - 1) * dt));
+      throw InputError(
+          fmt::format(
+              "{}: only {} samples (lines {}-{}{}, {:.4g} s at {:.6g} Hz) but the filter at cutoff "
+              "{:.6g} Hz needs at least {} ({} on each side of a filtered sample, {:.4g} s); "
+              "use a higher cutoff or a longer log",
+              where(source, line_of(b)), m, line_of(b), line_of(e - 1),
+              blocks ? fmt::format(", block {}", samples.block[b]) : std::string(), (m - 1) * dt,
+              rate, K.cutoff, L, H, (L - 1) * dt),
+          {{Hint::Setting::Cutoff, "higher"}});
     kept += (m - L) / D + 1;
   }
 

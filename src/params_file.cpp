@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "json_text.hpp"
 #include "massid/errors.hpp"
-#include "massid/json_text.hpp"
 #include "massid/regressor.hpp"
 #include "massid/report.hpp"
 
@@ -309,10 +309,12 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
 Eigen::VectorXd physical_values_in_basis(const ParamsFile& params, const Model& model,
                                          const BaseParameters& base) {
   if (params.physical.empty())
-    throw InputError(fmt::format(
-        "{}: has no \"physical\" section: identify with --physical to predict from physically "
-        "consistent parameters",
-        params.source));
+    throw InputError(
+        fmt::format(
+            "{}: has no \"physical\" section: identify with physically consistent parameters to "
+            "predict from them",
+            params.source),
+        {{Hint::Setting::Physical, "on"}});
   Eigen::VectorXd pi =
       Eigen::VectorXd::Constant(10 * model.num_links(), std::numeric_limits<double>::quiet_NaN());
   for (const ParamsFile::PhysicalEntry& e : params.physical) {

@@ -1,5 +1,7 @@
 #include "massid/regressor.hpp"
 
+#include "argument_checks.hpp"
+
 namespace massid {
 namespace {
 Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
@@ -27,6 +29,11 @@ Eigen::VectorXd nominal_standard_parameters(const Model& model) {
 
 void standard_regressor(const Model& model, const KinematicsData& data, const Eigen::Vector3d& g,
                         Eigen::Ref<Eigen::MatrixXd> Y) {
+  detail::check_size("standard_regressor", "Y rows", Y.rows(), 6, "a wrench");
+  detail::check_size("standard_regressor", "Y columns", Y.cols(),
+                     kParamsPerLink * model.num_links(), "4 parameters per link");
+  detail::check_size("standard_regressor", "data", static_cast<Eigen::Index>(data.rotation.size()),
+                     model.num_links(), "a workspace for the model's links");
   Y.setZero();
   for (int l = 0; l < model.num_links(); ++l) {
     const int c = kParamsPerLink * l;
@@ -52,6 +59,11 @@ Eigen::Matrix<double, 6, 10> body_regressor(const Eigen::Vector3d& w, const Eige
 void motion_regressor(const Model& model, const KinematicsData& data,
                       Eigen::Ref<Eigen::MatrixXd> Y) {
   constexpr int P = 10;
+  detail::check_size("motion_regressor", "Y rows", Y.rows(), 6, "a wrench");
+  detail::check_size("motion_regressor", "Y columns", Y.cols(), P * model.num_links(),
+                     "10 parameters per link");
+  detail::check_size("motion_regressor", "data", static_cast<Eigen::Index>(data.rotation.size()),
+                     model.num_links(), "a workspace for the model's links");
   for (int l = 0; l < model.num_links(); ++l) {
     const Eigen::Matrix<double, 6, 10> B =
         body_regressor(data.omega[l], data.omega_dot[l], data.accel[l]);

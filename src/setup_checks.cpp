@@ -125,9 +125,9 @@ struct Context {
   Eigen::MatrixXd nom;   // [sub x 6] URDF wrench at the subset, gravity scaled to g0
   double reach = 0.0;    // largest distance of a link origin or com from the sensor origin
 
-  void add(Severity sev, const char* code, std::string message) {
-    if (sev == Severity::Error) message += " (--no-checks skips the set-up checks)";
-    out.push_back({sev, code, std::move(message)});
+  void add(Severity sev, const char* code, std::string message, std::vector<Hint> hints = {}) {
+    if (sev == Severity::Error) hints.push_back({Hint::Setting::Checks, "off"});
+    out.push_back({sev, code, std::move(message), std::move(hints)});
   }
 };
 
@@ -761,13 +761,14 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
     joint_constant[j] = constant(c.s.q.col(j));
     const std::string col = joint_column(c.model.joints[j], c.header);
     if (joint_constant[j] && options.constant_joints)
-      c.add(Severity::Warning, "constant-joint",
-            fmt::format("{}: column '{}' is {} in all {} rows (lines {}-{}): joint '{}' never "
-                        "moves, so the parameters only its motion separates cannot be identified; "
-                        "move it in the plan, or if it was held still pass --fixed {}={}",
-                        c.s.source, col, format_number(c.s.q(0, j)), c.N, c.s.line.front(),
-                        c.s.line.back(), c.model.joints[j].name, c.model.joints[j].name,
-                        format_number(c.s.q(0, j))));
+      c.add(
+          Severity::Warning, "constant-joint",
+          fmt::format("{}: column '{}' is {} in all {} rows (lines {}-{}): joint '{}' never "
+                      "moves, so the parameters only its motion separates cannot be identified; "
+                      "move it in the plan, or if it was held still, hold it at its value",
+                      c.s.source, col, format_number(c.s.q(0, j)), c.N, c.s.line.front(),
+                      c.s.line.back(), c.model.joints[j].name),
+          {{Hint::Setting::HoldJoints, c.model.joints[j].name + "=" + format_number(c.s.q(0, j))}});
   }
   for (int a = 0; a < nj; ++a)
     for (int b = a + 1; b < nj; ++b) {

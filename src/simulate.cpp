@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <random>
 
+#include "argument_checks.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/regressor.hpp"
@@ -11,6 +12,10 @@ namespace massid {
 
 Eigen::MatrixXd simulate_wrenches(const Model& model, const Samples& plan,
                                   const SimulateOptions& options) {
+  detail::check_size("simulate_wrenches", "plan.q columns", plan.q.cols(), model.num_joints(),
+                     "the model's joints");
+  detail::check_size("simulate_wrenches", "plan.gravity rows", plan.gravity.rows(), plan.q.rows(),
+                     "one gravity vector per sample");
   const ParameterLayout layout =
       options.dynamic ? ParameterLayout::full() : ParameterLayout::first_moments();
   const Eigen::VectorXd pi = layout.nominal(model);

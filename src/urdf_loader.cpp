@@ -206,11 +206,13 @@ JointType joint_type(const urdf::JointConstSharedPtr& j, const std::string& sour
       return JointType::Prismatic;
     case urdf::Joint::FLOATING:
       // A mobile base or a legged robot: the sensor is below the floating joint.
-      throw InputError(fmt::format(
-          "{}:{}: joint '{}' is floating: massid measures the links below a sensor, and a "
-          "floating joint cannot be among them; take the sensor link below it (sensor link '{}', "
-          "--sensor {})",
-          source, line, j->name, j->child_link_name, j->child_link_name));
+      throw InputError(
+          fmt::format(
+              "{}:{}: joint '{}' is floating: massid measures the links below a sensor, and a "
+              "floating joint cannot be among them; take the sensor link below it (sensor link "
+              "'{}')",
+              source, line, j->name, j->child_link_name),
+          {{Hint::Setting::SensorLink, j->child_link_name}});
     default:
       throw InputError(
           fmt::format("{}:{}: joint '{}' is of an unsupported type (planar or unknown); massid "

@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include "massid/atomic_file.hpp"
+#include "atomic_file.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"

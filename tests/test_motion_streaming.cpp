@@ -16,12 +16,12 @@
 #include <filesystem>
 #include <random>
 
+#include "identify_file.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/excitation.hpp"
-#include "massid/identify_file.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"

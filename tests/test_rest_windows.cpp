@@ -12,9 +12,9 @@
 #include <numbers>
 #include <random>
 
+#include "identify_file.hpp"
 #include "massid/csv.hpp"
 #include "massid/estimation.hpp"
-#include "massid/identify_file.hpp"
 #include "massid/rest_windows.hpp"
 #include "massid/simulate.hpp"
 #include "test_support.hpp"

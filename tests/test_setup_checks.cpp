@@ -144,6 +144,10 @@ TEST(SetupChecks, NegatedWrenchIsAnError) {
     EXPECT_EQ(s->severity, Severity::Error);
     EXPECT_TRUE(contains(s, "negate fx,fy,fz,mx,my,mz")) << s->message;
     EXPECT_TRUE(contains(s, ex.name + ".csv")) << s->message;
+    // An error's hints say the checks can be skipped; its text names no option.
+    ASSERT_FALSE(s->hints.empty());
+    EXPECT_EQ(s->hints.back().setting, Hint::Setting::Checks);
+    EXPECT_FALSE(contains(s, "--no-checks")) << s->message;
     // Not also diagnosed as a rotated frame.
     EXPECT_EQ(std::count_if(f.begin(), f.end(), [](auto& x) { return x.code == "frame-rotation"; }),
               0)
@@ -417,7 +421,12 @@ TEST(SetupChecks, ConstantJointIsAWarningUnlessTurnedOff) {
   const auto k = only(check(d), "constant-joint");
   ASSERT_TRUE(k);
   EXPECT_EQ(k->severity, Severity::Warning);
-  EXPECT_TRUE(contains(k, "--fixed joint3=0.5")) << k->message;
+  // The message names no CLI option; the hint holds the joint at its value.
+  EXPECT_TRUE(contains(k, "hold it at its value")) << k->message;
+  EXPECT_FALSE(contains(k, "--")) << k->message;
+  ASSERT_EQ(k->hints.size(), 1u);
+  EXPECT_EQ(k->hints[0].setting, Hint::Setting::HoldJoints);
+  EXPECT_EQ(k->hints[0].value, "joint3=0.5");
   SetupCheckOptions o;
   o.constant_joints = false;
   EXPECT_TRUE(check(d, {}, o).empty());

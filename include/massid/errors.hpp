@@ -1,24 +1,78 @@
-// Error types. Each carries the CLI exit code that the spec assigns to it.
+// Error types. Each carries the CLI exit code that the spec assigns to it, and
+// the hints: what the caller can change, in the library's own terms.
 #pragma once
 
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace massid {
+
+// A setting the caller can change to get past an error or a warning, or the
+// setting at fault. Library messages name no command-line option: each front
+// end spells the hint its own way, the CLI as an option ("--fixed
+// elbow=0.3"), Python as a keyword ("fixed={'elbow': 0.3}"); the message says
+// in words what the hint does.
+struct Hint {
+  enum class Setting {
+    HoldJoints,    // hold joints at values: value "JOINT=VALUE[ JOINT=VALUE...]"
+    Offset,        // estimate the sensor offsets: value "on" / "off"
+    Checks,        // the set-up checks: value "off"
+    Robust,        // the robust fit: value "on"
+    Drift,         // a drifting offset: "linear", "per-block" or "off"
+    Dynamic,       // the log is in motion (ten parameters per link): "on" / "off"
+    Cutoff,        // the low-pass cut-off for derivatives, Hz: a value or "higher"
+    Delay,         // the wrench's delay behind the joints: seconds, "auto" or "off"
+    MinHeight,     // the clearance above the platform plane, m: a value, "lower" or "none"
+    Limits,        // joint ranges for the design: "JOINT=LO:HI"
+    LevelGravity,  // the level gravity vector of the design
+    TiltMax,       // the largest platform tilt of the design, degrees
+    Physical,      // physically consistent parameters: "on"
+    SensorLink,    // the sensor link: a link name
+    Poses,         // the number of poses of the design
+    SigmaForce,    // the force noise, N
+    SigmaMoment,   // the moment noise, N m
+    LevelPoses,    // the share of level poses of a tilted design
+  };
+  Setting setting;
+  std::string value;  // empty: the setting itself
+};
+
+// Base of massid's errors: a message and its hints.
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message, std::vector<Hint> hints = {})
+      : std::runtime_error(message), hints_(std::move(hints)) {}
+  const std::vector<Hint>& hints() const noexcept { return hints_; }
+
+ private:
+  std::vector<Hint> hints_;
+};
 
 // Bad usage or bad input: a file that cannot be read, a malformed cell, an
 // unsupported joint. The message names the file, line and column (or joint) at
 // fault. CLI exit code 2.
-class InputError : public std::runtime_error {
+class InputError : public Error {
  public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
 };
 
 // The data cannot determine every base parameter. The message names the
 // undetermined parameters and the poses that would determine them. Exit code 3.
-class IdentifiabilityError : public std::runtime_error {
+class IdentifiabilityError : public Error {
  public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
+};
+
+// A caller passed arrays of the wrong size to a library function (q of the
+// wrong length, a workspace built for another model): a programming error,
+// not bad data. The message names the function, the argument and both sizes.
+// Checked by every public function, one comparison each (the real-time paths
+// included). Not a CLI exit code of its own (1, as any internal error).
+class ArgumentError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
 };
 
 }  // namespace massid

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "massid/base_parameters.hpp"
+#include "massid/errors.hpp"
 #include "massid/model.hpp"
 #include "massid/samples.hpp"
 
@@ -24,7 +25,8 @@ struct IdentifiabilityReport {
   // fewest that can determine every unknown.
   int equations = 0;
   int samples_needed = 0;
-  std::string message;  // the user-facing explanation with its fix, one short line
+  std::string message;      // the user-facing explanation with its fix, one short line
+  std::vector<Hint> hints;  // the settings the fix names (joints to hold at their values)
   bool ok() const { return rank == unknowns; }
 };
 

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "massid/errors.hpp"
 #include "massid/model.hpp"
 #include "massid/samples.hpp"
 
@@ -36,6 +37,9 @@ struct SetupFinding {
   Severity severity = Severity::Warning;
   std::string code;     // stable short name, e.g. "wrench-sign"
   std::string message;  // one line: names the file, columns and lines, and says the fix
+  // The settings the fix names (errors.hpp): an error's hints include
+  // skipping the set-up checks.
+  std::vector<Hint> hints;
 };
 
 struct SetupCheckOptions {

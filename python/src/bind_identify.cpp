@@ -7,12 +7,13 @@
 #include <climits>
 #include <limits>
 
+#include "atomic_file.hpp"
 #include "bindings.hpp"
 #include "convert.hpp"
-#include "massid/atomic_file.hpp"
+#include "hints.hpp"
+#include "identify_file.hpp"
 #include "massid/delay.hpp"
 #include "massid/errors.hpp"
-#include "massid/identify_file.hpp"
 #include "massid/params_file.hpp"
 #include "massid/physical.hpp"
 #include "massid/report.hpp"
@@ -34,7 +35,8 @@ std::vector<std::string> run_checks(const Model& model, const py::handle& data,
       samples ? check_setup(model, *samples, header, o) : check_setup_file(model, path_of(data), o);
   std::vector<std::string> errors, warnings;
   for (const SetupFinding& f : findings)
-    (f.severity == SetupFinding::Severity::Error ? errors : warnings).push_back(f.message);
+    (f.severity == SetupFinding::Severity::Error ? errors : warnings)
+        .push_back(with_hints(f.message, f.hints));
   if (!errors.empty()) throw InputError(fmt::format("{}", fmt::join(errors, "\n")));
   return warnings;
 }

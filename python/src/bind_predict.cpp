@@ -7,9 +7,9 @@
 #include <limits>
 #include <memory>
 
+#include "atomic_file.hpp"
 #include "bindings.hpp"
 #include "convert.hpp"
-#include "massid/atomic_file.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
 #include "massid/motion_data.hpp"

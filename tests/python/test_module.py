@@ -288,7 +288,12 @@ def test_errors_carry_the_clis_messages(tmp_path, puma_data):
     assert r.returncode == 3
     with pytest.raises(massid.IdentifiabilityError) as e:
         massid.identify(PUMA, stuck)
-    assert r.stderr.strip() == f"massid: error: {e.value}"
+    # One message from the library; its hint spelled by each front end: the
+    # CLI's option, Python's keyword (the text itself names neither).
+    assert e.value.hints == [("fixed", "joint3=0")]
+    assert "--" not in e.value.message and "fixed=" not in e.value.message
+    assert str(e.value) == e.value.message + " (fixed={'joint3': 0})"
+    assert r.stderr.strip() == f"massid: error: {e.value.message} (--fixed joint3=0)"
     with pytest.raises(massid.IdentifiabilityError):
         massid.identify(PUMA, cols)
 
