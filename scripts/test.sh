@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds massid with warnings as errors and runs every
 # test; then builds everything again with clang under AddressSanitizer and
-# UndefinedBehaviorSanitizer, runs the whole suite there, and runs each libFuzzer
-# target for a bounded time. Any test failure, sanitizer report or fuzzer
+# UndefinedBehaviorSanitizer, runs the library's suites there (stage 5 says
+# which), and runs each libFuzzer target for a bounded time. Any test failure, sanitizer report or fuzzer
 # finding fails the script.
 #
 #   BUILD_DIR      the normal build tree             (default build/test)
@@ -59,16 +59,23 @@ cmake -S . -B "$SANITIZE" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug 
   -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" -DMASSID_FUZZ=ON -DMASSID_BENCH=OFF >/dev/null
 cmake --build "$SANITIZE" -j "$JOBS"
 
-# 5. The whole suite under the sanitizers (leaks included: LeakSanitizer), but
-#    for volume tests that take minutes each there (a 10^5-row CSV round trip,
-#    an exhaustive D-optimal design search, three 30 s / 1 kHz motion logs per
-#    robot, 100 noise seeds of motion identification, two delay scans of 50
-#    fits each): smaller tests run
-#    the same code. SANITIZE_CTEST_EXCLUDE="" runs them too.
+# 5. The library's suites under the sanitizers (leaks included: LeakSanitizer),
+#    and the CLI's basic suites (Cli, CliChecks, CliRobust, CliCompensate): the
+#    CLI is a thin printer of the library, and its end-to-end suites (design,
+#    emulate, motion, physical, report, set-up mistakes: each test runs whole
+#    identifications in several processes) were most of this stage's 16
+#    minutes (CI: 2 cores, 40 minutes for the script); they run in the normal
+#    build above. Also left to the normal build: volume tests that
+#    take minutes under ASan (a 10^5-row CSV round trip, an exhaustive
+#    D-optimal design search, three 30 s / 1 kHz motion logs per robot, 100
+#    noise seeds of motion identification, two delay scans of 50 fits each):
+#    smaller tests run the same code. SANITIZE_CTEST_EXCLUDE="" runs them all.
 stage "tests under ASan+UBSan ($SANITIZE)"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:check_initialization_order=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-exclude=${SANITIZE_CTEST_EXCLUDE-^(StreamingTest.HundredThousandRowCsvRoundTrip|Design.DOptimalityMaximisesTheLogDeterminant|MotionIdentify.BaseParametersWithinFourStdAndPredictionWithinOnePercent|MotionIdentify.ReportedStdMatchTheSpreadOverSeeds|MotionIdentify.DerivativesFromPositionsStayWithinFourStd|Delay.OneMillisecondLagIsFoundAndTheFitIsAsGoodAsWithoutLag|Excitation.PredictedStdMatchTheSpreadOverHundredNoiseSeeds|Excitation.OptimisedConditionNumberThreeTimesBetterThanRandom)$}
+volume='StreamingTest.HundredThousandRowCsvRoundTrip|Design.DOptimalityMaximisesTheLogDeterminant|MotionIdentify.BaseParametersWithinFourStdAndPredictionWithinOnePercent|MotionIdentify.ReportedStdMatchTheSpreadOverSeeds|MotionIdentify.DerivativesFromPositionsStayWithinFourStd|Delay.OneMillisecondLagIsFoundAndTheFitIsAsGoodAsWithoutLag|Excitation.PredictedStdMatchTheSpreadOverHundredNoiseSeeds|Excitation.OptimisedConditionNumberThreeTimesBetterThanRandom'
+cli_end_to_end='(CliDesign|CliDeterminism|CliEmulate|CliEmulateAsBuilt|CliMotion|CliPhysical|CliUrdfOut|CliReport|SetupMistakes)\..*'
+exclude=${SANITIZE_CTEST_EXCLUDE-^(${volume}|${cli_end_to_end})$}
 ctest --test-dir "$SANITIZE" --output-on-failure -j "$JOBS" ${exclude:+-E "$exclude"}
 
 # 6. Each fuzz target on its seed corpus (fuzz/corpus/NAME) for FUZZ_SECONDS,
