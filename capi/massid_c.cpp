@@ -81,6 +81,9 @@ struct LoadError {
 
 struct massid_predictor {
   std::vector<std::string> joint_names;  // [num_joints] Model::joints, the order of q
+  // The model at the sensor link: its chain from the URDF root (Model::upstream,
+  // upstream_joints) turns root gravity into the sensor frame (upstream_kinematics).
+  massid::Model model;
   std::string sensor_link;
   Wrench offset = Wrench::Zero();  // the identified offsets, zero without
   bool has_offset = false;
@@ -139,6 +142,7 @@ std::unique_ptr<massid_predictor> load(const char* urdf_path, const char* params
   }
   for (const massid::Joint& j : model.joints) p->joint_names.push_back(j.name);
   p->sensor_link = model.sensor_link();
+  p->model = std::move(model);
   return p;
 }
 
@@ -182,6 +186,32 @@ int predict_motion(const massid_predictor* p, const double* q, const double* qd,
     fill_nan(wrench);
     return MASSID_ERROR_INTERNAL;
   }
+}
+
+// Gravity [3] in the sensor frame and, when sensor_motion is given, the sensor
+// frame's motion [9] (wx..wz, dwx..dwz, ax..az) from the joints above the
+// sensor link (Model::upstream) and gravity in the root frame.
+int sensor_frame(const massid_predictor* p, const double* qu, const double* qdu, const double* qddu,
+                 const double* root_gravity, double* gravity, double* sensor_motion) {
+  if (!p || !root_gravity) return MASSID_ERROR_INVALID_ARGUMENT;
+  const int nu = p->model.num_upstream_joints();
+  const bool moving = sensor_motion != nullptr;
+  if (nu > 0 && (!qu || (moving && (!qdu || !qddu)))) return MASSID_ERROR_INVALID_ARGUMENT;
+  if (!finite(root_gravity, 3) || !finite(qu, nu) ||
+      (moving && (!finite(qdu, nu) || !finite(qddu, nu))))
+    return MASSID_ERROR_NOT_FINITE;
+  using Vector = Eigen::Map<const Eigen::VectorXd>;
+  const Vector none(kNoJoints, 0);
+  const massid::SensorPose pose = massid::upstream_kinematics(
+      p->model, Vector(joint_array(qu, nu), nu), moving ? Vector(joint_array(qdu, nu), nu) : none,
+      moving ? Vector(joint_array(qddu, nu), nu) : none);
+  Eigen::Map<Eigen::Vector3d>{gravity} = pose.rotation.transpose() * Eigen::Vector3d(root_gravity);
+  if (moving) {
+    Eigen::Map<Eigen::Vector3d>{sensor_motion} = pose.motion.omega;
+    Eigen::Map<Eigen::Vector3d>{sensor_motion + 3} = pose.motion.omega_dot;
+    Eigen::Map<Eigen::Vector3d>{sensor_motion + 6} = pose.motion.accel;
+  }
+  return MASSID_OK;
 }
 
 }  // namespace
@@ -325,6 +355,49 @@ int massid_predict_motion_sensor(const massid_predictor* p, const double* q, con
                                  const double* qdd, const double gravity[3],
                                  const double sensor_motion[9], double wrench[6]) {
   return predict_motion(p, q, qd, qdd, gravity, sensor_motion, wrench);
+}
+
+int massid_predictor_num_upstream_joints(const massid_predictor* p) {
+  return p ? p->model.num_upstream_joints() : MASSID_ERROR_INVALID_ARGUMENT;
+}
+
+const char* massid_predictor_upstream_joint_name(const massid_predictor* p, int i) {
+  if (!p || i < 0 || i >= p->model.num_upstream_joints()) return nullptr;
+  return p->model.upstream_joints[static_cast<size_t>(i)].name.c_str();
+}
+
+int massid_predict_upstream(const massid_predictor* p, const double* qu,
+                            const double root_gravity[3], const double* q, double wrench[6]) {
+  try {
+    double gravity[3];
+    const int code = sensor_frame(p, qu, nullptr, nullptr, root_gravity, gravity, nullptr);
+    if (code != MASSID_OK) {
+      fill_nan(wrench);
+      return code;
+    }
+    return massid_predict(p, q, gravity, wrench);
+  } catch (...) {
+    fill_nan(wrench);
+    return MASSID_ERROR_INTERNAL;
+  }
+}
+
+int massid_predict_motion_upstream(const massid_predictor* p, const double* qu, const double* qdu,
+                                   const double* qddu, const double root_gravity[3],
+                                   const double* q, const double* qd, const double* qdd,
+                                   double wrench[6]) {
+  try {
+    double gravity[3], sensor_motion[9];
+    const int code = sensor_frame(p, qu, qdu, qddu, root_gravity, gravity, sensor_motion);
+    if (code != MASSID_OK) {
+      fill_nan(wrench);
+      return code;
+    }
+    return predict_motion(p, q, qd, qdd, gravity, sensor_motion, wrench);
+  } catch (...) {
+    fill_nan(wrench);
+    return MASSID_ERROR_INTERNAL;
+  }
 }
 
 }  // extern "C"

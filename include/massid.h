@@ -178,6 +178,41 @@ MASSID_C_API int massid_predict_motion_sensor(const massid_predictor* p, const d
                                               const double gravity[3],
                                               const double sensor_motion[9], double wrench[6]);
 
+/* A sensor below movable joints (a wrist sensor), as `massid predict` with the
+ * columns of the joints above the sensor link: gravity in the sensor frame is
+ * root_gravity turned by them, and in motion their rates give the sensor
+ * frame's motion. */
+
+/* Number of movable joints above the sensor link, the length of qu, qdu and
+ * qddu (0 when the sensor link is the URDF root);
+ * MASSID_ERROR_INVALID_ARGUMENT when p is NULL. */
+MASSID_C_API int massid_predictor_num_upstream_joints(const massid_predictor* p);
+
+/* The URDF name of upstream joint i (0 <= i < num_upstream_joints), root
+ * first; NULL when p is NULL or i is out of range. */
+MASSID_C_API const char* massid_predictor_upstream_joint_name(const massid_predictor* p, int i);
+
+/* massid_predict with gravity from the joints above the sensor:
+ *   qu: [num_upstream_joints] their positions; root_gravity: [3] gravity in
+ *   the URDF root link's frame (0, 0, -9.80665 for a level root, z up);
+ *   q: [num_joints]; wrench: [6] out, without the offset.
+ * Same return codes as massid_predict. No allocation. */
+MASSID_C_API int massid_predict_upstream(const massid_predictor* p, const double* qu,
+                                         const double root_gravity[3], const double* q,
+                                         double wrench[6]);
+
+/* massid_predict_motion with the joints above the sensor moving too:
+ *   qu, qdu, qddu: [num_upstream_joints] their positions, velocities and
+ *   accelerations (the URDF root at rest); root_gravity: [3], root frame;
+ *   q, qd, qdd: [num_joints]; wrench: [6] out, without the offset.
+ * Same return codes as massid_predict_motion_sensor (the upstream joints
+ * moving move the sensor frame). No allocation. */
+MASSID_C_API int massid_predict_motion_upstream(const massid_predictor* p, const double* qu,
+                                                const double* qdu, const double* qddu,
+                                                const double root_gravity[3], const double* q,
+                                                const double* qd, const double* qdd,
+                                                double wrench[6]);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

@@ -745,6 +745,61 @@ static void test_held_joint(void) {
   massid_predictor_free(p);
 }
 
+/* The sensor on the arm (identify --sensor arm): the swing joint is above it;
+ * gravity in the sensor frame follows from it and the root gravity. */
+static void test_upstream(void) {
+  char plan[4096] = "swing\n";
+  double w[6], f[3];
+  const double root_gravity[3] = {0.4, -0.3, -9.7};
+  massid_predictor* p;
+  int k;
+  for (k = 0; k < 12; ++k) {
+    char row[64];
+    snprintf(row, sizeof row, "%.17g\n", -2.4 + 0.41 * k);
+    strcat(plan, row);
+  }
+  CHECK(write_text("wrist_plan.csv", plan));
+  CHECK(run_cli("simulate pendulum.urdf wrist_plan.csv --sensor arm -o wrist_data.csv"));
+  CHECK(run_cli("identify pendulum.urdf wrist_data.csv --sensor arm -o wrist.json"));
+  p = load("pendulum.urdf", "wrist.json");
+  CHECK(p != NULL);
+  if (!p) return;
+  CHECK(massid_predictor_num_joints(p) == 0);
+  CHECK(massid_predictor_num_upstream_joints(p) == 1);
+  CHECK(strcmp(massid_predictor_upstream_joint_name(p, 0), "swing") == 0);
+  CHECK(massid_predictor_upstream_joint_name(p, 1) == NULL);
+  CHECK(massid_predictor_num_upstream_joints(NULL) == MASSID_ERROR_INVALID_ARGUMENT);
+  for (k = 0; k < 5; ++k) {
+    /* By hand: gravity in the arm frame is Ry(qu)^T g_root; F = m g_arm, M = c x F. */
+    const double qu = -1.5 + 0.7 * k, c = cos(qu), s = sin(qu);
+    const double g_arm[3] = {c * root_gravity[0] - s * root_gravity[2], root_gravity[1],
+                             s * root_gravity[0] + c * root_gravity[2]};
+    double want[6];
+    int i;
+    for (i = 0; i < 3; ++i) f[i] = kArmMass * g_arm[i];
+    for (i = 0; i < 3; ++i) want[i] = f[i];
+    cross(kArmCom, f, want + 3);
+    CHECK_CODE(massid_predict_upstream(p, &qu, root_gravity, NULL, w), MASSID_OK);
+    check_wrench(w, want, 1e-9, "massid_predict_upstream", __LINE__);
+    CHECK_CODE(massid_predict(p, NULL, g_arm, want), MASSID_OK);
+    check_wrench(w, want, 1e-12, "massid_predict_upstream against massid_predict", __LINE__);
+  }
+  {
+    const long before = g_allocations;
+    const double qu = 0.3, zero = 0.0;
+    CHECK_CODE(massid_predict_upstream(p, &qu, root_gravity, NULL, w), MASSID_OK);
+    CHECK_CODE(
+        massid_predict_motion_upstream(p, &qu, &zero, &zero, root_gravity, NULL, NULL, NULL, w),
+        MASSID_ERROR_STATIC_PARAMS);
+    CHECK(g_allocations == before); /* 0 == 0 without MASSID_TEST_COUNT_ALLOCATIONS */
+  }
+  CHECK_CODE(massid_predict_upstream(p, NULL, root_gravity, NULL, w),
+             MASSID_ERROR_INVALID_ARGUMENT);
+  CHECK(all_nan(w));
+  CHECK_CODE(massid_predict_upstream(p, &kG0, NULL, NULL, w), MASSID_ERROR_INVALID_ARGUMENT);
+  massid_predictor_free(p);
+}
+
 int main(int argc, char** argv) {
   massid_predictor *rest, *moving, *platform;
   if (argc != 3) {
@@ -777,6 +832,7 @@ int main(int argc, char** argv) {
   test_load_errors();
   test_no_joints();
   test_held_joint();
+  test_upstream();
   massid_predictor_free(rest);
   massid_predictor_free(moving);
   massid_predictor_free(platform);

@@ -69,6 +69,12 @@ def lib() -> ctypes.CDLL:
     lib.massid_predict_motion.restype = ctypes.c_int
     lib.massid_predict_motion.argtypes = [Handle, c_double_p, c_double_p, c_double_p, c_double_p,
                                           c_double_p]
+    lib.massid_predictor_num_upstream_joints.restype = ctypes.c_int
+    lib.massid_predictor_num_upstream_joints.argtypes = [Handle]
+    lib.massid_predictor_upstream_joint_name.restype = ctypes.c_char_p
+    lib.massid_predictor_upstream_joint_name.argtypes = [Handle, ctypes.c_int]
+    lib.massid_predict_motion_upstream.restype = ctypes.c_int
+    lib.massid_predict_motion_upstream.argtypes = [Handle] + [c_double_p] * 8
     lib.massid_predict_motion_sensor.restype = ctypes.c_int
     lib.massid_predict_motion_sensor.argtypes = [Handle, c_double_p, c_double_p, c_double_p,
                                                  c_double_p, c_double_p, c_double_p]
@@ -133,7 +139,7 @@ class CPredictor:
 
 def columns(data: dict[str, np.ndarray], names: list[str], suffix: str = "") -> np.ndarray:
     """[N x len(names)] the columns NAME+suffix (float64, C order)."""
-    n = len(data["gx"])
+    n = len(next(iter(data.values())))
     return np.ascontiguousarray(np.column_stack([data[k + suffix] for k in names])
                                 if names else np.zeros((n, 0)), dtype=np.float64)
 
@@ -265,6 +271,44 @@ def test_dynamic_params_predict_the_urdfs_wrench_in_motion(lib: ctypes.CDLL, mas
         Z = np.zeros_like(Q)
         np.testing.assert_allclose(p.predict(Q, G) + p.offset(), py.predict(Q, G, Z, Z), rtol=0,
                                    atol=1e-12)
+    finally:
+        p.close()
+
+
+def test_wrist_sensor_below_moving_joints(lib: ctypes.CDLL, massid: Any, tmp_path: Path) -> None:
+    """The UR-like arm's wrist_3_link as the sensor: the six joints above it give gravity (from
+    the root's) and the sensor's motion, as massid predict computes them from their columns."""
+    wrist = massid.load_model(str(UR), sensor="wrist_3_link")
+    traj = massid.fourier_trajectory(massid.load_model(str(UR)), duration=6.0, rate=100.0,
+                                     period=6.0, seed=4)
+    for k in ("gx", "gy", "gz"):
+        del traj[k]
+    root_gravity = np.array([0.5, -1.0, -9.7])
+    data = massid.simulate(wrist, traj, dynamic=True, root_gravity=root_gravity)
+    params = tmp_path / "wrist.json"
+    massid.identify(wrist, data, dynamic=True, root_gravity=root_gravity).save(str(params))
+    p = CPredictor(lib, UR, params)
+    try:
+        assert p.n == 0
+        nu = lib.massid_predictor_num_upstream_joints(p.handle)
+        names = [lib.massid_predictor_upstream_joint_name(p.handle, i).decode() for i in range(nu)]
+        assert nu == 6 and names == massid.load_model(str(UR)).joint_names
+        rows = range(0, len(traj["t"]), 11)
+        Q, QD, QDD = (columns(data, names, s) for s in ("", "_vel", "_acc"))
+        none = np.zeros(1)
+        W = np.empty((len(rows), 6))
+        for r, i in enumerate(rows):
+            qu, qdu, qddu = (np.ascontiguousarray(X[i]) for X in (Q, QD, QDD))
+            w = np.empty(6)
+            code = lib.massid_predict_motion_upstream(p.handle, ptr(qu), ptr(qdu), ptr(qddu),
+                                                      ptr(root_gravity), ptr(none), ptr(none),
+                                                      ptr(none), ptr(w))
+            assert code == OK, lib.massid_error_string(code).decode()
+            W[r] = w
+        # the URDF's inertials, and massid.predict with the joints' columns and the root gravity
+        np.testing.assert_allclose(W, wrench(data)[list(rows)], rtol=0, atol=1e-7)
+        P = massid.predict(str(UR), str(params), data, root_gravity=list(root_gravity))
+        np.testing.assert_allclose(W, P[list(rows)], rtol=0, atol=1e-12)
     finally:
         p.close()
 
