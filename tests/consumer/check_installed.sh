@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs a built massid tree into a staging directory (DESTDIR) and builds
-# tests/consumer against it twice: with CMake (find_package(massid)) and with
-# pkg-config; both programs must predict a noise-free PUMA 260 log that the
+# tests/consumer against it: in C++ and in C, with CMake (find_package(massid))
+# and with pkg-config; every program must predict a noise-free PUMA 260 log that the
 # installed CLI simulated and identified. Run by ctest (consumer_installed).
 #
 #   check_installed.sh BUILD_DIR SOURCE_DIR
@@ -31,6 +31,7 @@ cmake -S "$src/tests/consumer" -B "$stage/cmake-build" -DCMAKE_PREFIX_PATH="$roo
   -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$stage/cmake-build" -j 2 >/dev/null
 "$stage/cmake-build/consumer" "$ex/puma260.urdf" "$stage/params.json" "$stage/data.csv"
+"$stage/cmake-build/consumer_c" "$ex/puma260.urdf" "$stage/params.json" "$stage/data.csv"
 
 echo "== pkg-config massid"
 pcdir=$(dirname "$(find "$root" -name massid.pc | head -1)")
@@ -41,3 +42,11 @@ version=$(sed -n 's/^#define MASSID_VERSION "\(.*\)"/\1/p' "$root/include/massid
 g++ -O1 -o "$stage/consumer_pc" "$src/tests/consumer/consumer.cpp" \
   $(pkg-config --cflags massid) $(pkg-config --static --libs massid)
 "$stage/consumer_pc" "$ex/puma260.urdf" "$stage/params.json" "$stage/data.csv"
+
+echo "== pkg-config massid-c"
+[ "$(pkg-config --modversion massid-c)" = "$version" ] || { echo "massid-c version differs"; exit 1; }
+# shellcheck disable=SC2046
+gcc -std=c99 -O1 -o "$stage/consumer_c_pc" "$src/tests/consumer/consumer.c" \
+  $(pkg-config --cflags massid-c) $(pkg-config --libs massid-c) -lm
+LD_LIBRARY_PATH="$(pkg-config --variable=libdir massid-c)" \
+  "$stage/consumer_c_pc" "$ex/puma260.urdf" "$stage/params.json" "$stage/data.csv"
