@@ -178,6 +178,7 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   SetupCheckOptions sopts;
   sopts.constant_joints = false;
   sopts.motion = motion.dynamic;
+  sopts.read = motion.data().samples;  // the root gravity
   if (checks && !report_setup(check_setup_file(model, data_path, sopts))) return 2;
   // With --report the samples and fitted wrenches are kept for the report,
   // which draws this fit (identification.hpp); without, any log in constant memory.

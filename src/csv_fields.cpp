@@ -1,6 +1,9 @@
 #include "csv_fields.hpp"
 
+#include <fast_float/fast_float.h>
 #include <fmt/format.h>
+
+#include <cmath>
 
 #include "massid/errors.hpp"
 
@@ -55,6 +58,44 @@ void split(std::string_view line, const std::string& source, int line_no,
     if (end == std::string_view::npos) break;
     i = end + 1;
   }
+}
+
+void check_header(const std::vector<std::string>& fields, const std::vector<int>& offsets,
+                  const std::string& source, int line_no) {
+  for (size_t c = 0; c < fields.size(); ++c) {
+    if (fields[c].empty())
+      throw InputError(
+          fmt::format("{}:{}:{}: empty column name in the header", source, line_no, offsets[c]));
+    for (size_t d = 0; d < c; ++d)
+      if (fields[d] == fields[c])
+        throw InputError(fmt::format("{}:{}:{}: column '{}' appears twice in the header", source,
+                                     line_no, offsets[c], fields[c]));
+  }
+}
+
+void check_row_width(std::string_view line, const std::vector<int>& offsets, size_t header_size,
+                     const std::string& source, int line_no) {
+  if (offsets.size() != header_size)
+    throw InputError(
+        fmt::format("{}:{}:{}: row has {} fields, the header has {}", source, line_no,
+                    offsets.size() < header_size ? line.size() + 1 : offsets[header_size],
+                    offsets.size(), header_size));
+}
+
+double cell_number(std::string_view cell, const std::string& source, int line_no, int column,
+                   const std::string& name) {
+  double value = 0.0;
+  const char* first = cell.data();
+  const char* last = first + cell.size();
+  if (!cell.empty() && *first == '+') ++first;
+  auto result = fast_float::from_chars(first, last, value);
+  auto where = [&] { return fmt::format("{}:{}:{}: column '{}'", source, line_no, column, name); };
+  if (cell.empty()) throw InputError(where() + ": empty cell, a number is expected");
+  if (result.ec != std::errc() || result.ptr != last)
+    throw InputError(fmt::format("{}: '{}' is not a number", where(), cell));
+  if (!std::isfinite(value))
+    throw InputError(fmt::format("{}: '{}' is not a finite number", where(), cell));
+  return value;
 }
 
 }  // namespace massid::detail

@@ -1,7 +1,5 @@
-#include <fast_float/fast_float.h>
 #include <fmt/format.h>
 
-#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -24,22 +22,8 @@ int CsvTable::find(const std::string& name) const {
 }
 
 double CsvTable::number(int row, int column) const {
-  const std::string& cell = rows[row][column];
-  double value = 0.0;
-  const char* first = cell.data();
-  const char* last = first + cell.size();
-  if (!cell.empty() && *first == '+') ++first;
-  auto result = fast_float::from_chars(first, last, value);
-  auto where = [&] {
-    return fmt::format("{}:{}:{}: column '{}'", source, line[row], column_offset[row][column],
-                       header[column]);
-  };
-  if (cell.empty()) throw InputError(where() + ": empty cell, a number is expected");
-  if (result.ec != std::errc() || result.ptr != last)
-    throw InputError(fmt::format("{}: '{}' is not a number", where(), cell));
-  if (!std::isfinite(value))
-    throw InputError(fmt::format("{}: '{}' is not a finite number", where(), cell));
-  return value;
+  return detail::cell_number(rows[row][column], source, line[row], column_offset[row][column],
+                             header[column]);
 }
 
 CsvTable parse_csv(const std::string& text, const std::string& source) {
@@ -61,23 +45,11 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
     split(line, source, line_no, fields, offsets);
     if (table.header.empty()) {
       table.header_line = line_no;
-      for (size_t c = 0; c < fields.size(); ++c) {
-        if (fields[c].empty())
-          throw InputError(fmt::format("{}:{}:{}: empty column name in the header", source, line_no,
-                                       offsets[c]));
-        for (size_t d = 0; d < c; ++d)
-          if (fields[d] == fields[c])
-            throw InputError(fmt::format("{}:{}:{}: column '{}' appears twice in the header",
-                                         source, line_no, offsets[c], fields[c]));
-      }
+      detail::check_header(fields, offsets, source, line_no);
       table.header = fields;
       continue;
     }
-    if (fields.size() != table.header.size())
-      throw InputError(fmt::format(
-          "{}:{}:{}: row has {} fields, the header has {}", source, line_no,
-          fields.size() < table.header.size() ? line.size() + 1 : offsets[table.header.size()],
-          fields.size(), table.header.size()));
+    detail::check_row_width(line, offsets, table.header.size(), source, line_no);
     table.rows.push_back(fields);
     table.column_offset.push_back(offsets);
     table.line.push_back(line_no);

@@ -2,14 +2,13 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <numbers>
 
+#include "column_map.hpp"
 #include "csv_fields.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
@@ -17,46 +16,6 @@
 
 namespace massid::detail {
 namespace {
-
-// CsvTable::number for one cell.
-double cell_number(const std::string& cell, const std::string& source, int line, int column,
-                   const std::string& name) {
-  double value = 0.0;
-  const char* first = cell.data();
-  const char* last = first + cell.size();
-  if (!cell.empty() && *first == '+') ++first;
-  auto result = fast_float::from_chars(first, last, value);
-  auto where = [&] { return fmt::format("{}:{}:{}: column '{}'", source, line, column, name); };
-  if (cell.empty()) throw InputError(where() + ": empty cell, a number is expected");
-  if (result.ec != std::errc() || result.ptr != last)
-    throw InputError(fmt::format("{}: '{}' is not a number", where(), cell));
-  if (!std::isfinite(value))
-    throw InputError(fmt::format("{}: '{}' is not a finite number", where(), cell));
-  return value;
-}
-
-int find(const std::vector<std::string>& header, const std::string& name) {
-  for (size_t i = 0; i < header.size(); ++i)
-    if (header[i] == name) return static_cast<int>(i);
-  return -1;
-}
-
-// column_group of samples.cpp.
-std::vector<int> column_group(const SampleColumns& c, std::initializer_list<const char*> names) {
-  std::vector<int> idx;
-  std::vector<std::string> missing;
-  for (const char* n : names) {
-    idx.push_back(find(c.header, n));
-    if (idx.back() < 0) missing.push_back(n);
-  }
-  const size_t found = std::count_if(idx.begin(), idx.end(), [](int i) { return i >= 0; });
-  if (found == 0) return {};
-  if (found < idx.size())
-    throw InputError(fmt::format(
-        "{}:{}: column(s) {} missing (the header has some of {} but not all)", c.source,
-        c.header_line, fmt::join(missing, ","), fmt::join(names.begin(), names.end(), ",")));
-  return idx;
-}
 
 // Next line [begin, line_end) from pos; returns the position after it.
 size_t next_line(std::string_view text, size_t pos, std::string_view& line) {
@@ -106,10 +65,11 @@ int line_number(std::string_view text, size_t pos) {
 }
 
 SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
-                           double g0, bool motion) {
+                           const SampleOptions& options, bool motion) {
   SampleColumns c;
   c.source = source;
-  c.g0 = g0;
+  c.g0 = options.g0;
+  c.root_gravity = options.root_gravity;
   size_t pos = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // UTF-8 BOM
   int line_no = 0;
   std::vector<std::string> fields;
@@ -121,15 +81,7 @@ SampleColumns bind_columns(const Model& model, std::string_view text, const std:
     const std::string_view content = trim(line);
     if (content.empty() || content.front() == '#') continue;
     split(line, source, line_no, fields, offsets);
-    for (size_t i = 0; i < fields.size(); ++i) {
-      if (fields[i].empty())
-        throw InputError(
-            fmt::format("{}:{}:{}: empty column name in the header", source, line_no, offsets[i]));
-      for (size_t d = 0; d < i; ++d)
-        if (fields[d] == fields[i])
-          throw InputError(fmt::format("{}:{}:{}: column '{}' appears twice in the header", source,
-                                       line_no, offsets[i], fields[i]));
-    }
+    check_header(fields, offsets, source, line_no);
     c.header = fields;
     c.header_line = line_no;
     c.data_begin = pos;
@@ -147,125 +99,51 @@ SampleColumns bind_columns(const Model& model, std::string_view text, const std:
   if (!any)
     throw InputError(fmt::format("{}:{}:1: header but no data rows", source, c.header_line));
 
-  // The groups of read_samples (samples.cpp), in its order, with its rules and messages.
-  const int nj = model.num_joints(), nu = model.num_upstream_joints();
-  c.num_joints = nj;
-  c.num_upstream = nu;
+  // The one binding (column_map.hpp): every header error, read_samples' messages.
+  const ColumnMap map = map_columns(model, c.header, fmt::format("{}:{}", source, c.header_line),
+                                    WrenchColumns::Required);
+  c.num_joints = model.num_joints();
+  c.num_upstream = model.num_upstream_joints();
   c.motion = motion;
-  const std::string where = fmt::format("{}:{}", source, c.header_line);
-  // Joint positions (read_joint_columns): by name, or JOINT_deg in degrees.
-  struct Bound {
-    int column;
-    double scale;
-  };
-  const auto positions = [&](const std::vector<Joint>& joints) {
-    std::vector<Bound> out;
-    for (const Joint& joint : joints) {
-      int col = find(c.header, joint.name);
-      double scale = 1.0;
-      if (col < 0 && joint.type == JointType::Revolute) {
-        col = find(c.header, joint.name + "_deg");
-        scale = std::numbers::pi / 180.0;
-      }
-      if (col < 0)
-        throw InputError(fmt::format(
-            "{}: no column for joint '{}' (expected '{}'{})", where, joint.name, joint.name,
-            joint.type == JointType::Revolute ? fmt::format(" or '{}_deg'", joint.name) : ""));
-      out.push_back({col, scale});
-    }
-    return out;
-  };
-  // NAME + suffix for every joint, or none (optional_joint_columns).
-  const auto suffixed = [&](const std::vector<Joint>& joints, const char* suffix) {
-    std::vector<Bound> out;
-    std::vector<std::string> missing;
-    for (const Joint& j : joints) {
-      const int col = find(c.header, j.name + suffix);
-      if (col < 0) missing.push_back(j.name + suffix);
-      out.push_back({col, 1.0});
-    }
-    if (missing.size() == joints.size()) return std::vector<Bound>{};
-    if (!missing.empty())
-      throw InputError(
-          fmt::format("{}: column(s) {} missing (the header has {} columns for some "
-                      "joints but not all)",
-                      where, fmt::join(missing, ","), suffix));
-    return out;
-  };
-  const std::vector<Bound> q = positions(model.joints);
-  std::vector<Bound> qd = suffixed(model.joints, "_vel"), qdd = suffixed(model.joints, "_acc");
-  if (qd.size() != qdd.size())
-    throw InputError(
-        fmt::format("{}: the header has joint {} columns but no {} columns: give "
-                    "both, or neither (derived from t and the positions)",
-                    where, qd.size() ? "_vel" : "_acc", qd.size() ? "_acc" : "_vel"));
-  const std::vector<int> sm =
-      column_group(c, {"wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az"});
-  // Joints above the sensor link: all or none (optional_positions), with their _vel/_acc.
-  std::vector<Bound> qu, qdu, qddu;
-  {
-    size_t found = 0;
-    for (const Joint& j : model.upstream_joints)
-      if (find(c.header, j.name) >= 0 || find(c.header, j.name + "_deg") >= 0) ++found;
-    if (found > 0) {
-      qu = positions(model.upstream_joints);
-      qdu = suffixed(model.upstream_joints, "_vel");
-      qddu = suffixed(model.upstream_joints, "_acc");
-      if (qdu.size() != qddu.size())
-        throw InputError(
-            fmt::format("{}: the upstream joints have _vel or _acc columns but not both", where));
-    }
-  }
-  const std::vector<int> w = column_group(c, {"fx", "fy", "fz", "mx", "my", "mz"});
-  if (w.empty())
-    throw InputError(
-        fmt::format("{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed", where));
-  const int t = find(c.header, "t"), block = find(c.header, "block");
-  const std::vector<int> g = column_group(c, {"gx", "gy", "gz"});
-  c.gravity_from_upstream = g.empty() && !qu.empty();
-  c.gravity_from_force = g.empty() && qu.empty();
+  c.gravity_from_upstream = map.gravity_from == GravityFrom::UpstreamJoints;
+  c.gravity_from_force = map.gravity_from == GravityFrom::Force;
 
   // Values, in read_samples' order of groups.
   c.target.assign(c.header.size(), -1);
   c.scale.assign(c.header.size(), 1.0);
   int next = 0;
-  std::vector<std::pair<int, double>> column_at;  // per value: column, scale
-  const auto group = [&](const std::vector<Bound>& cols) {
+  std::vector<BoundColumn> column_at;  // per value: its column (-1: computed) and scale
+  const auto group = [&](const ColumnGroup& cols) {
     if (cols.empty()) return -1;
     const int first = next;
-    for (const Bound& b : cols) {
-      column_at.push_back({b.column, b.scale});
-      ++next;
-    }
+    column_at.insert(column_at.end(), cols.begin(), cols.end());
+    next += static_cast<int>(cols.size());
     return first;
   };
-  const auto plain = [](const std::vector<int>& cols) {
-    std::vector<Bound> out;
-    for (int col : cols) out.push_back({col, 1.0});
-    return out;
+  const auto single = [](int column) {
+    return column >= 0 ? ColumnGroup{{column, 1.0}} : ColumnGroup{};
   };
-  group(q);
+  group(map.q);
   if (motion) {
-    c.qd = group(qd);
-    c.qdd = group(qdd);
-    c.sensor = group(plain(sm));
+    c.qd = group(map.qd);
+    c.qdd = group(map.qdd);
+    c.sensor = group(map.sensor_motion);
   }
-  if (motion || c.gravity_from_upstream) c.q_up = group(qu);
+  if (motion || c.gravity_from_upstream) c.q_up = group(map.q_upstream);
   if (motion) {
-    c.qd_up = group(qdu);
-    c.qdd_up = group(qddu);
+    c.qd_up = group(map.qd_upstream);
+    c.qdd_up = group(map.qdd_upstream);
   }
-  c.wrench = group(plain(w));
+  c.wrench = group(map.wrench);
   if (motion) {
-    c.time = group(t >= 0 ? std::vector<Bound>{{t, 1.0}} : std::vector<Bound>{});
-    c.block = group(block >= 0 ? std::vector<Bound>{{block, 1.0}} : std::vector<Bound>{});
+    c.time = group(single(map.time));
+    c.block = group(single(map.block));
   }
   c.gravity = next;
-  if (!g.empty()) {
-    group(plain(g));
+  if (!map.gravity.empty()) {
+    group(map.gravity);
   } else {
-    for (int k = 0; k < 3; ++k) column_at.push_back({-1, 1.0});  // computed
-    next += 3;
+    group(ColumnGroup(3));  // computed
   }
   c.num_values = next;
   c.column_of.assign(c.num_values, -1);
@@ -306,11 +184,7 @@ bool parse_line_slow(std::string_view text, size_t line_begin, size_t line_end,
   std::vector<std::string> fields;
   std::vector<int> offsets;
   split(line, c.source, line_no, fields, offsets);
-  if (fields.size() != c.header.size())
-    throw InputError(
-        fmt::format("{}:{}:{}: row has {} fields, the header has {}", c.source, line_no,
-                    fields.size() < c.header.size() ? line.size() + 1 : offsets[c.header.size()],
-                    fields.size(), c.header.size()));
+  check_row_width(line, offsets, c.header.size(), c.source, line_no);
   // Values in read_samples' order: joints, wrench, gravity.
   for (int t = 0; t < c.num_values; ++t) {
     const int col = c.column_of[t];

@@ -1,10 +1,8 @@
 // Private: a data CSV read in place from a memory-mapped file, for streaming
 // identification. The same rules and messages as read_csv + read_samples
 // (csv.hpp, samples.hpp): a UTF-8 BOM, CRLF, blank and `#` lines, quoted
-// fields, joints by name or JOINT_deg, gx,gy,gz optional (else gravity from
-// the joints above the sensor link, or along the force, eq. 37), the motion
-// columns (JOINT_vel, JOINT_acc, wx..az, upstream joints, t, block), errors as
-// file:line:column.
+// fields (csv_fields.hpp), the header bound by the one binding of
+// column_map.hpp, errors as file:line:column.
 //
 // Rows are parsed straight into doubles with fast_float; a line the fast path
 // does not understand (quotes, stray characters, a bad cell, a wrong field
@@ -14,6 +12,7 @@
 
 #include <fast_float/fast_float.h>
 
+#include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -24,6 +23,7 @@
 #include <vector>
 
 #include "massid/model.hpp"
+#include "massid/samples.hpp"
 
 namespace massid::detail {
 
@@ -66,9 +66,10 @@ struct SampleColumns {
   int num_values = 0;
   bool motion = false;  // bound for a motion log (bind_columns' `motion`)
   bool gravity_from_force = false;
-  bool gravity_from_upstream = false;  // no gx,gy,gz, upstream joint columns: gravity from them
-  double g0 = 0.0;
-  std::size_t data_begin = 0;  // byte offset of the line after the header
+  bool gravity_from_upstream = false;     // no gx,gy,gz, upstream joint columns: gravity from them
+  double g0 = 0.0;                        // |g| for gravity from the force (SampleOptions)
+  Eigen::Vector3d root_gravity{0, 0, 0};  // for gravity from the upstream joints (SampleOptions)
+  std::size_t data_begin = 0;             // byte offset of the line after the header
   // Value offsets; -1 when the group is absent (or not bound: static binding
   // binds only joints, wrench, gravity and, for gravity, the upstream joints).
   int wrench = 0, gravity = 0;
@@ -80,12 +81,12 @@ struct SampleColumns {
   int gravity_value() const { return gravity; }
 };
 
-// Reads the header and binds it (InputError as read_csv/read_samples with
-// WrenchColumns::Required, incl. "header but no data rows"). Every optional
-// group is checked with read_samples' rules and messages (all or none of
-// JOINT_vel, of wx..az, ...); with `motion` they are bound too.
+// Reads the header and binds it with map_columns (column_map.hpp; InputError
+// as read_csv/read_samples with WrenchColumns::Required, incl. "header but no
+// data rows"): every optional group is checked; with `motion` they are laid
+// out too.
 SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
-                           double g0, bool motion = false);
+                           const SampleOptions& options, bool motion = false);
 
 // Throws read_samples' error for a block cell that is not an integer, for
 // the line at `line_begin`.

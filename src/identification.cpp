@@ -52,7 +52,8 @@ Identification identify_log(Model model, const std::string& path, bool offset,
     BaseParameterOptions bo;
     bo.offset = with_offset;
     out.base = find_base_parameters(out.model, bo);
-    out.summary = identify_file(out.model, out.base, path, options, samples);
+    out.summary = identify_file(out.model, out.base, path, options, samples,
+                                motion_options.samples);  // the root gravity too
   }
   if (keep_samples) out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
   if (options.physical)

@@ -25,18 +25,20 @@ bool small_enough_to_name_samples(const std::string& path) {
 // A log recorded while the robot moved from pose to pose: its head (the
 // first kContinuousHeadRows rows) has moving rows (rest_windows.hpp).
 constexpr int kContinuousHeadRows = 20000;
-bool continuous_log(const Model& model, const std::string& path, const RestWindowOptions& o) {
+bool continuous_log(const Model& model, const std::string& path, const RestWindowOptions& o,
+                    const SampleOptions& read) {
   if (o.detection == RestDetection::Off) return false;
-  return find_rest_windows(read_samples_head(model, path, kContinuousHeadRows), o).continuous;
+  return find_rest_windows(read_samples_head(model, path, kContinuousHeadRows, nullptr, read), o)
+      .continuous;
 }
 
 }  // namespace
 
 IdentifySummary identify_file(const Model& model, const BaseParameters& base,
                               const std::string& path, const IdentifyOptions& options,
-                              Samples* samples) {
+                              Samples* samples, const SampleOptions& read) {
   const auto in_memory = [&] {
-    Samples all = read_samples(model, read_csv(path), WrenchColumns::Required);
+    Samples all = read_samples(model, read_csv(path), WrenchColumns::Required, read);
     const RestWindows windows = find_rest_windows(all, options.rest);
     Samples s = windows.continuous ? rest_samples(all, windows) : std::move(all);
     IdentifySummary summary = identify(model, base, s, options);
@@ -44,19 +46,19 @@ IdentifySummary identify_file(const Model& model, const BaseParameters& base,
     if (samples) *samples = std::move(s);
     return summary;
   };
-  if (options.robust || options.drift != Drift::None) return in_memory();  // iterated fits
-  if (continuous_log(model, path, options.rest)) return in_memory();       // rest windows
+  if (options.robust || options.drift != Drift::None) return in_memory();   // iterated fits
+  if (continuous_log(model, path, options.rest, read)) return in_memory();  // rest windows
   // Streamed from the memory-mapped file in constant memory: the same results
   // as identify() on read_samples of the whole file.
   const StreamOptions stream;
-  const IdentifyAccumulator acc = accumulate_csv(model, base, path, stream);
+  const IdentifyAccumulator acc = accumulate_csv(model, base, path, stream, read);
   IdentifySummary summary = acc.finish(options);
   if (summary.residual_max.hasNaN())  // not proven in the first pass: a second one
-    summary.residual_max = residual_max_csv(model, base, path, summary.value, stream);
+    summary.residual_max = residual_max_csv(model, base, path, summary.value, stream, read);
   // Implausible residuals: the in-memory fit (the same estimate) names the samples.
   if (largest_residuals_implausible(summary) && small_enough_to_name_samples(path))
     return in_memory();
-  if (samples) *samples = read_samples_head(model, path, INT_MAX);
+  if (samples) *samples = read_samples_head(model, path, INT_MAX, nullptr, read);
   return summary;
 }
 

@@ -17,12 +17,12 @@
 
 namespace massid {
 
-// The same summary as identify(model, base, read_samples(...)). With
+// The same summary as identify(model, base, read_samples(..., read)). With
 // `samples` given, the file's samples are returned there too (read in
 // pieces: memory for the samples alone).
 IdentifySummary identify_file(const Model& model, const BaseParameters& base,
                               const std::string& path, const IdentifyOptions& options = {},
-                              Samples* samples = nullptr);
+                              Samples* samples = nullptr, const SampleOptions& read = {});
 
 // A motion log: the summary of the in-memory path
 //   samples = read_motion_samples(model, path, WrenchColumns::Required, data, report)

@@ -79,7 +79,6 @@ void resolve_upstream_row(const Model& model, const double* qu, const double* qd
 struct MotionPlan {
   const Model* model = nullptr;
   SampleColumns cols;
-  Eigen::Vector3d root_gravity = Eigen::Vector3d::Zero();
   int nj = 0, nu = 0;
   bool has_qd = false, has_qdu = false, has_sm_columns = false, up = false;
   // read_samples
@@ -97,8 +96,7 @@ struct MotionPlan {
   bool post_moving = false, post_resolve = false;  // after the filter
   bool final_sensor = false;                       // the prepared samples have sensor motion
 
-  MotionPlan(const Model& m, SampleColumns bound, const Eigen::Vector3d& root)
-      : model(&m), cols(std::move(bound)), root_gravity(root) {
+  MotionPlan(const Model& m, SampleColumns bound) : model(&m), cols(std::move(bound)) {
     nj = cols.num_joints;
     nu = cols.num_upstream;
     has_qd = cols.qd >= 0;
@@ -175,7 +173,7 @@ struct MotionPlan {
     std::copy_n(v + cols.wrench, 6, row + o_w);
     if (read_resolve)
       resolve_upstream_row(*model, v + cols.q_up, has_qdu ? v + cols.qd_up : nullptr,
-                           has_qdu ? v + cols.qdd_up : nullptr, root_gravity,
+                           has_qdu ? v + cols.qdd_up : nullptr, cols.root_gravity,
                            cols.gravity_from_upstream ? row + o_g : nullptr,
                            read_sensor ? row + o_sm : nullptr);
     row[width] = cols.time >= 0 ? v[cols.time] : 0.0;
@@ -389,7 +387,7 @@ void prepared_rows(const MotionPlan& plan, const FilterSetup* f, const ParsedBlo
         r[W + 1],
         line};
     if (plan.post_resolve) {
-      resolve_upstream_row(*plan.model, out.qu, out.qdu, out.qddu, plan.root_gravity,
+      resolve_upstream_row(*plan.model, out.qu, out.qdu, out.qddu, plan.cols.root_gravity,
                            plan.cols.gravity_from_upstream ? gravity : nullptr,
                            plan.post_moving ? sensor : nullptr);
       if (plan.cols.gravity_from_upstream) out.g = gravity;
@@ -1101,9 +1099,7 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
                                          const StreamOptions& stream) {
   const detail::MappedFile file(path);
   const std::string_view text = file.text();
-  const detail::MotionPlan plan(model,
-                                detail::bind_columns(model, text, path, data.samples.g0, true),
-                                data.samples.root_gravity);
+  const detail::MotionPlan plan(model, detail::bind_columns(model, text, path, data.samples, true));
   if (plan.derived && plan.cols.time < 0)
     throw InputError(fmt::format(
         "{}: a motion log needs joint velocities and accelerations: columns JOINT_vel and "

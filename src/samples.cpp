@@ -1,12 +1,11 @@
 #include "massid/samples.hpp"
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
+#include "column_map.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/kinematics.hpp"
@@ -22,7 +21,7 @@ namespace {
 struct TableColumns {
   const CsvTable& table;
   int rows() const { return table.num_rows(); }
-  int find(const std::string& name) const { return table.find(name); }
+  const std::vector<std::string>& names() const { return table.header; }
   double number(int r, int c) const { return table.number(r, c); }
   int line(int r) const { return table.line[r]; }
   // "file:line" of the header, "file:line:column: column 'x'" of a cell.
@@ -36,13 +35,10 @@ struct TableColumns {
 
 struct ArrayColumns {
   const std::string& source;
-  const std::vector<std::string>& names;
+  const std::vector<std::string>& header;
   const std::vector<Eigen::VectorXd>& values;
   int rows() const { return values.empty() ? 0 : static_cast<int>(values.front().size()); }
-  int find(const std::string& name) const {
-    const auto it = std::find(names.begin(), names.end(), name);
-    return it == names.end() ? -1 : static_cast<int>(it - names.begin());
-  }
+  const std::vector<std::string>& names() const { return header; }
   double number(int r, int c) const {
     const double v = values[c][r];
     if (!std::isfinite(v))
@@ -53,89 +49,38 @@ struct ArrayColumns {
   std::string header_where() const { return source; }
   std::string row_where(int r) const { return fmt::format("{} row {}", source, r); }
   std::string cell_where(int r, int c) const {
-    return fmt::format("{}['{}'][{}]", source, names[c], r);
+    return fmt::format("{}['{}'][{}]", source, header[c], r);
   }
 };
 
-// Indices of a group of columns that must be all present or all absent.
+// [N x group size] of a group's columns, scaled (0 columns for an absent group).
+// Positions are read column by column, every other group row by row (which
+// decides the cell an error names when several are bad).
+enum class Order { ByColumn, ByRow };
 template <class Columns>
-std::vector<int> column_group(const Columns& table, std::initializer_list<const char*> names) {
-  std::vector<int> idx;
-  std::vector<std::string> missing;
-  for (const char* n : names) {
-    idx.push_back(table.find(n));
-    if (idx.back() < 0) missing.push_back(n);
-  }
-  const size_t found = std::count_if(idx.begin(), idx.end(), [](int c) { return c >= 0; });
-  if (found == 0) return {};
-  if (found < idx.size())
-    throw InputError(fmt::format("{}: column(s) {} missing (the header has some of {} but not all)",
-                                 table.header_where(), fmt::join(missing, ","),
-                                 fmt::join(names.begin(), names.end(), ",")));
-  return idx;
-}
-
-template <class Columns>
-Eigen::MatrixXd joint_columns(const Model& model, const Columns& table) {
+Eigen::MatrixXd read_group(const Columns& table, const detail::ColumnGroup& group, Order order) {
   const int N = table.rows();
-  const int nj = model.num_joints();
-  Eigen::MatrixXd q(N, nj);
-  for (int j = 0; j < nj; ++j) {
-    const Joint& joint = model.joints[j];
-    int c = table.find(joint.name);
-    double scale = 1.0;
-    if (c < 0 && joint.type == JointType::Revolute) {
-      c = table.find(joint.name + "_deg");
-      scale = std::numbers::pi / 180.0;
-    }
-    if (c < 0)
-      throw InputError(fmt::format(
-          "{}: no column for joint '{}' (expected '{}'{})", table.header_where(), joint.name,
-          joint.name,
-          joint.type == JointType::Revolute ? fmt::format(" or '{}_deg'", joint.name) : ""));
-    for (int r = 0; r < N; ++r) q(r, j) = scale * table.number(r, c);
+  const int n = static_cast<int>(group.size());
+  Eigen::MatrixXd m(N, n);
+  const auto cell = [&](int r, int k) {
+    const detail::BoundColumn& b = group[k];
+    m(r, k) = b.scale * table.number(r, b.column);
+  };
+  if (order == Order::ByColumn) {
+    for (int k = 0; k < n; ++k)
+      for (int r = 0; r < N; ++r) cell(r, k);
+  } else {
+    for (int r = 0; r < N; ++r)
+      for (int k = 0; k < n; ++k) cell(r, k);
   }
-  return q;
-}
-
-// Columns NAME + suffix for every joint, or none: [N x joints] (0 columns when none).
-template <class Columns>
-Eigen::MatrixXd optional_joint_columns(const std::vector<Joint>& joints, const Columns& table,
-                                       const char* suffix) {
-  std::vector<int> idx;
-  std::vector<std::string> missing;
-  for (const Joint& j : joints) {
-    idx.push_back(table.find(j.name + suffix));
-    if (idx.back() < 0) missing.push_back(j.name + suffix);
-  }
-  if (missing.size() == joints.size()) return Eigen::MatrixXd(table.rows(), 0);
-  if (!missing.empty())
-    throw InputError(
-        fmt::format("{}: column(s) {} missing (the header has {} columns for some "
-                    "joints but not all)",
-                    table.header_where(), fmt::join(missing, ","), suffix));
-  Eigen::MatrixXd m(table.rows(), static_cast<Eigen::Index>(joints.size()));
-  for (int r = 0; r < table.rows(); ++r)
-    for (size_t j = 0; j < joints.size(); ++j) m(r, j) = table.number(r, idx[j]);
   return m;
-}
-
-// Positions of `joints` (by name, or NAME_deg), or 0 columns when none is present.
-template <class Columns>
-Eigen::MatrixXd optional_positions(const std::vector<Joint>& joints, const Columns& table) {
-  size_t found = 0;
-  for (const Joint& j : joints)
-    if (table.find(j.name) >= 0 || table.find(j.name + "_deg") >= 0) ++found;
-  if (found == 0) return Eigen::MatrixXd(table.rows(), 0);
-  Model chain;
-  chain.joints = joints;
-  return joint_columns(chain, table);
 }
 
 template <class Columns>
 Samples samples_of(const Model& model, const Columns& table, const std::string& source,
                    WrenchColumns wrench, const SampleOptions& options) {
-  const double g0 = options.g0;
+  const detail::ColumnMap map =
+      detail::map_columns(model, table.names(), table.header_where(), wrench);
   Samples s;
   s.source = source;
   s.root_gravity = options.root_gravity;
@@ -143,84 +88,55 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
   s.line.resize(N);
   for (int r = 0; r < N; ++r) s.line[r] = table.line(r);
 
-  s.q = joint_columns(model, table);
-  // Motion: velocities and accelerations, the sensor frame's motion.
-  s.qd = optional_joint_columns(model.joints, table, "_vel");
-  s.qdd = optional_joint_columns(model.joints, table, "_acc");
-  if (s.qd.cols() != s.qdd.cols())
-    throw InputError(fmt::format(
-        "{}: the header has joint {} columns but no {} columns: give "
-        "both, or neither (derived from t and the positions)",
-        table.header_where(), s.qd.cols() ? "_vel" : "_acc", s.qd.cols() ? "_acc" : "_vel"));
-  if (model.num_joints() == 0) {
-    s.qd.resize(N, 0);
-    s.qdd.resize(N, 0);
+  s.q = read_group(table, map.q, Order::ByColumn);
+  s.qd = read_group(table, map.qd, Order::ByRow);
+  s.qdd = read_group(table, map.qdd, Order::ByRow);
+  if (!map.sensor_motion.empty())
+    s.sensor_motion = read_group(table, map.sensor_motion, Order::ByRow);
+  s.q_upstream = read_group(table, map.q_upstream, Order::ByColumn);
+  if (!map.q_upstream.empty()) {
+    s.qd_upstream = read_group(table, map.qd_upstream, Order::ByRow);
+    s.qdd_upstream = read_group(table, map.qdd_upstream, Order::ByRow);
   }
-  if (const std::vector<int> m =
-          column_group(table, {"wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az"});
-      !m.empty()) {
-    s.sensor_motion.resize(N, 9);
-    for (int r = 0; r < N; ++r)
-      for (int k = 0; k < 9; ++k) s.sensor_motion(r, k) = table.number(r, m[k]);
-  }
-  // Joints above the sensor link.
-  s.q_upstream = optional_positions(model.upstream_joints, table);
-  if (s.q_upstream.cols() > 0) {
-    s.qd_upstream = optional_joint_columns(model.upstream_joints, table, "_vel");
-    s.qdd_upstream = optional_joint_columns(model.upstream_joints, table, "_acc");
-    if (s.qd_upstream.cols() != s.qdd_upstream.cols())
-      throw InputError(fmt::format("{}: the upstream joints have _vel or _acc columns but not both",
-                                   table.header_where()));
-  }
-
-  const std::vector<int> w = column_group(table, {"fx", "fy", "fz", "mx", "my", "mz"});
-  if (w.empty() && wrench == WrenchColumns::Required)
-    throw InputError(fmt::format("{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed",
-                                 table.header_where()));
-  if (!w.empty()) {
-    s.wrench.resize(N, 6);
-    for (int r = 0; r < N; ++r)
-      for (int k = 0; k < 6; ++k) s.wrench(r, k) = table.number(r, w[k]);
-  }
-
-  if (const int c = table.find("t"); c >= 0) {
+  if (!map.wrench.empty()) s.wrench = read_group(table, map.wrench, Order::ByRow);
+  if (map.time >= 0) {
     s.time.resize(N);
-    for (int r = 0; r < N; ++r) s.time[r] = table.number(r, c);
+    for (int r = 0; r < N; ++r) s.time[r] = table.number(r, map.time);
   }
-  if (const int c = table.find("block"); c >= 0) {
+  if (map.block >= 0) {
     s.block.resize(N);
     for (int r = 0; r < N; ++r) {
-      const double b = table.number(r, c);
+      const double b = table.number(r, map.block);
       if (b != std::round(b) || std::abs(b) > 1e9)
-        throw InputError(
-            fmt::format("{}: '{}' is not an integer", table.cell_where(r, c), format_number(b)));
+        throw InputError(fmt::format("{}: '{}' is not an integer", table.cell_where(r, map.block),
+                                     format_number(b)));
       s.block[r] = static_cast<int>(b);
     }
   }
 
-  const std::vector<int> g = column_group(table, {"gx", "gy", "gz"});
-  s.gravity.resize(N, 3);
-  if (!g.empty()) {
-    for (int r = 0; r < N; ++r)
-      for (int k = 0; k < 3; ++k) s.gravity(r, k) = table.number(r, g[k]);
-    resolve_upstream(model, s);
-  } else if (s.q_upstream.cols() > 0) {
-    s.gravity_from_upstream = true;
-    resolve_upstream(model, s);
-  } else if (s.has_wrench()) {
-    s.gravity_from_force = true;
-    for (int r = 0; r < N; ++r) {
-      const Eigen::Vector3d f = s.wrench.row(r).head<3>();
-      if (!(f.norm() > 0.0))
-        throw InputError(
-            fmt::format("{}: zero force: no gx,gy,gz columns and no force to take "
-                        "the gravity direction from",
-                        table.row_where(r)));
-      s.gravity.row(r) = g0 * f / f.norm();  // paper eq. 37
-    }
-  } else {
-    throw InputError(fmt::format("{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame)",
-                                 table.header_where()));
+  switch (map.gravity_from) {
+    case detail::GravityFrom::Columns:
+      s.gravity = read_group(table, map.gravity, Order::ByRow);
+      resolve_upstream(model, s);
+      break;
+    case detail::GravityFrom::UpstreamJoints:
+      s.gravity.resize(N, 3);
+      s.gravity_from_upstream = true;
+      resolve_upstream(model, s);
+      break;
+    case detail::GravityFrom::Force:
+      s.gravity.resize(N, 3);
+      s.gravity_from_force = true;
+      for (int r = 0; r < N; ++r) {
+        const Eigen::Vector3d f = s.wrench.row(r).head<3>();
+        if (!(f.norm() > 0.0))
+          throw InputError(
+              fmt::format("{}: zero force: no gx,gy,gz columns and no force to take "
+                          "the gravity direction from",
+                          table.row_where(r)));
+        s.gravity.row(r) = options.g0 * f / f.norm();  // paper eq. 37
+      }
+      break;
   }
   return s;
 }
@@ -250,7 +166,10 @@ void resolve_upstream(const Model& model, Samples& s) {
 }
 
 Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table) {
-  return joint_columns(model, TableColumns{table});
+  const TableColumns columns{table};
+  return read_group(columns,
+                    detail::position_columns(model.joints, table.header, columns.header_where()),
+                    Order::ByColumn);
 }
 
 Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench, double g0) {
@@ -266,7 +185,7 @@ Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wr
 
 Samples samples_from_columns(const Model& model, const std::vector<std::string>& names,
                              const std::vector<Eigen::VectorXd>& columns, WrenchColumns wrench,
-                             const std::string& source, double g0) {
+                             const std::string& source, const SampleOptions& options) {
   if (names.size() != columns.size())
     throw InputError(
         fmt::format("{}: {} column names for {} columns", source, names.size(), columns.size()));
@@ -278,8 +197,6 @@ Samples samples_from_columns(const Model& model, const std::vector<std::string>&
     if (std::count(names.begin(), names.end(), names[c]) > 1)
       throw InputError(fmt::format("{}: column '{}' appears twice", source, names[c]));
   }
-  SampleOptions options;
-  options.g0 = g0;
   return samples_of(model, ArrayColumns{source, names, columns}, source, wrench, options);
 }
 

@@ -837,7 +837,7 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
 }
 
 Samples read_samples_head(const Model& model, const std::string& path, int max_rows,
-                          std::vector<std::string>* header, double g0) {
+                          std::vector<std::string>* header, const SampleOptions& read) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open file", path));
   // Pieces of kChunk rows go through parse_csv + read_samples, which give the
@@ -860,7 +860,7 @@ Samples read_samples_head(const Model& model, const std::string& path, int max_r
     }
     const CsvTable table = parse_csv(text, path);
     if (header && parts.empty()) *header = table.header;
-    parts.push_back(read_samples(model, table, WrenchColumns::Required, g0));
+    parts.push_back(read_samples(model, table, WrenchColumns::Required, read));
     chunk.clear();
     chunk_rows = 0;
   };
@@ -891,6 +891,8 @@ Samples read_samples_head(const Model& model, const std::string& path, int max_r
   Samples s;
   s.source = path;
   s.gravity_from_force = parts.front().gravity_from_force;
+  s.gravity_from_upstream = parts.front().gravity_from_upstream;
+  s.root_gravity = read.root_gravity;
   Eigen::Index n = 0;
   for (const Samples& p : parts) n += p.size();
   s.q.resize(n, model.num_joints());
@@ -911,7 +913,7 @@ Samples read_samples_head(const Model& model, const std::string& path, int max_r
 std::vector<SetupFinding> check_setup_file(const Model& model, const std::string& path,
                                            const SetupCheckOptions& options) {
   std::vector<std::string> header;
-  const Samples s = read_samples_head(model, path, options.max_rows, &header);
+  const Samples s = read_samples_head(model, path, options.max_rows, &header, options.read);
   return check_setup(model, s, header, options);
 }
 

@@ -472,11 +472,10 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 
 // A parsed row's gravity: read (or from the force: parse_block), or from the
 // joints above the sensor link as read_samples takes it (resolve_upstream,
-// root gravity of SampleOptions) when the file has no gx,gy,gz but has them.
+// the root gravity bound with the columns) when the file has no gx,gy,gz but has them.
 struct UpstreamGravity {
   const Model& model;
   const detail::SampleColumns& cols;
-  Eigen::Vector3d root = SampleOptions{}.root_gravity;
   UpstreamGravity(const Model& m, const detail::SampleColumns& c) : model(m), cols(c) {}
   const double* operator()(const double* v, double* buffer) const {
     if (!cols.gravity_from_upstream) return v + cols.gravity_value();
@@ -484,7 +483,7 @@ struct UpstreamGravity {
     const Eigen::VectorXd none(0);
     const SensorPose pose = upstream_kinematics(
         model, Eigen::Map<const Eigen::VectorXd>(v + cols.q_up, nu), none, none);
-    const Eigen::Vector3d g = pose.rotation.transpose() * root;
+    const Eigen::Vector3d g = pose.rotation.transpose() * cols.root_gravity;
     for (int k = 0; k < 3; ++k) buffer[k] = g[k];
     return buffer;
   }
@@ -1023,10 +1022,10 @@ IdentifySummary identify_streaming(const Model& model, const BaseParameters& bas
 
 IdentifyAccumulator accumulate_csv(const Model& model, const BaseParameters& base,
                                    const std::string& path, const StreamOptions& stream,
-                                   double g0) {
+                                   const SampleOptions& read) {
   const detail::MappedFile file(path);
   const std::string_view text = file.text();
-  const detail::SampleColumns cols = detail::bind_columns(model, text, path, g0);
+  const detail::SampleColumns cols = detail::bind_columns(model, text, path, read);
   const size_t bytes = std::max<size_t>(stream.block_bytes, 1);
   IdentifyAccumulator total(model, base);
   total.set_source(path, cols.gravity_from_force, cols.gravity_from_upstream);
@@ -1067,10 +1066,11 @@ IdentifyAccumulator accumulate_csv(const Model& model, const BaseParameters& bas
 
 Eigen::Matrix<double, 6, 1> residual_max_csv(const Model& model, const BaseParameters& base,
                                              const std::string& path, const Eigen::VectorXd& value,
-                                             const StreamOptions& stream, double g0) {
+                                             const StreamOptions& stream,
+                                             const SampleOptions& read) {
   const detail::MappedFile file(path);
   const std::string_view text = file.text();
-  const detail::SampleColumns cols = detail::bind_columns(model, text, path, g0);
+  const detail::SampleColumns cols = detail::bind_columns(model, text, path, read);
   const size_t bytes = std::max<size_t>(stream.block_bytes, 1);
   ResidualMax total(model, base, value);
   const int w = cols.wrench_value();

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <numbers>
 #include <random>
 
 #include "identify_file.hpp"
@@ -22,7 +23,11 @@
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/excitation.hpp"
+#include "massid/identification.hpp"
+#include "massid/kinematics.hpp"
 #include "massid/motion_data.hpp"
+#include "massid/regressor.hpp"
+#include "massid/setup_checks.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
 #include "summary_support.hpp"
@@ -668,6 +673,94 @@ TEST_F(MotionCsvTest, StaticWristLogTakesGravityFromTheArmJoints) {
   StreamOptions so;
   so.block_bytes = 50000;
   expect_same_summary(identify(model, base, s), identify_csv(model, base, f, {}, so), 1e-9);
+}
+
+TEST_F(MotionCsvTest, StaticWristLogWithRootGravityEveryReaderAgreesWithTheUrdf) {
+  // A tool on a wrist sensor at rest, the arm on a tilted wall: a log without
+  // gx,gy,gz. Every reader (in memory, streamed, identify_file and
+  // identify_log as the CLI and Python run them, the arrays of Python) takes
+  // gravity from the arm's joints and the root gravity given, and the fit
+  // finds the URDF's tool.
+  const Model arm = load_urdf(kUrLike);
+  const Model model = load_urdf(kUrLike, "wrist_3_link");
+  const int nu = model.num_upstream_joints();
+  ASSERT_EQ(nu, arm.num_joints());
+  SampleOptions read;
+  read.root_gravity =
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()) * Eigen::Vector3d(-kStandardGravity, 0, 0);
+  // Random poses; gravity in the wrist frame from the whole arm's kinematics
+  // (forward_kinematics, not the upstream_kinematics the readers use).
+  const int n = 300;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> angle(-3.0, 3.0);
+  Samples plan;
+  plan.q.resize(n, 0);
+  plan.q_upstream.resize(n, nu);
+  plan.gravity.resize(n, 3);
+  KinematicsData kin(arm);
+  const int wrist = arm.find_link("wrist_3_link");
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd q(arm.num_joints());
+    for (int j = 0; j < arm.num_joints(); ++j) q[j] = angle(rng);
+    forward_kinematics(arm, kin, q);
+    for (int j = 0; j < nu; ++j)
+      plan.q_upstream(i, j) = q[arm.find_joint(model.upstream_joints[j].name)];
+    plan.gravity.row(i) = (kin.rotation[wrist].transpose() * read.root_gravity).transpose();
+  }
+  SimulateOptions sim;
+  sim.noise_force = 0.05;
+  sim.noise_moment = 0.005;
+  const Eigen::MatrixXd W = simulate_wrenches(model, plan, sim);
+  // The first joint in degrees (a scaled column).
+  std::vector<std::string> header;
+  for (int j = 0; j < nu; ++j)
+    header.push_back(model.upstream_joints[j].name + (j == 0 ? "_deg" : ""));
+  for (const char* c : kWrenchColumns) header.push_back(c);
+  std::vector<std::vector<std::string>> rows(n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < nu; ++j)
+      rows[i].push_back(format_number(j == 0 ? plan.q_upstream(i, j) * 180.0 / std::numbers::pi
+                                             : plan.q_upstream(i, j)));
+    for (int k = 0; k < 6; ++k) rows[i].push_back(format_number(W(i, k)));
+  }
+  const std::string f = path("static_wrist_wall.csv");
+  write_csv(f, header, rows);
+
+  const BaseParameters base = find_base_parameters(model);
+  const Samples s = read_samples(model, read_csv(f), WrenchColumns::Required, read);
+  ASSERT_TRUE(s.gravity_from_upstream);
+  EXPECT_LT((s.gravity - plan.gravity).cwiseAbs().maxCoeff(), 1e-9);
+  const IdentifySummary dense = identify(model, base, s);
+  const Eigen::VectorXd truth = base.K * nominal_standard_parameters(model);
+  for (int k = 0; k < truth.size(); ++k)
+    EXPECT_LT(std::abs(dense.value[k] - truth[k]), 5 * dense.stddev[k] + 1e-9) << k;
+
+  // Streamed from the file, in blocks.
+  StreamOptions so;
+  so.block_bytes = 5000;
+  IdentifySummary streamed = accumulate_csv(model, base, f, so, read).finish();
+  streamed.residual_max = residual_max_csv(model, base, f, streamed.value, so, read);
+  expect_same_summary(dense, streamed, 1e-9);
+  // As massid identify and massid.identify(path) run it.
+  expect_same_summary(dense, identify_file(model, base, f, {}, nullptr, read), 1e-9);
+  MotionDataOptions mo;
+  mo.samples = read;
+  expect_same_summary(dense, identify_log(model, f, false, {}, false, mo).summary, 1e-9);
+  // The set-up checks read the same gravity: no error.
+  SetupCheckOptions checks;
+  checks.read = read;
+  EXPECT_FALSE(has_error(check_setup_file(model, f, checks)));
+  // Python's arrays (the same map).
+  const CsvTable table = read_csv(f);
+  std::vector<Eigen::VectorXd> columns(table.num_columns(), Eigen::VectorXd(table.num_rows()));
+  for (int c = 0; c < table.num_columns(); ++c)
+    for (int r = 0; r < table.num_rows(); ++r) columns[c][r] = table.number(r, c);
+  const Samples arrays =
+      samples_from_columns(model, table.header, columns, WrenchColumns::Required, "data", read);
+  ASSERT_TRUE(arrays.gravity_from_upstream);
+  EXPECT_EQ(arrays.gravity, s.gravity);
+  // The root gravity matters: the default one is another gravity.
+  EXPECT_GT((read_samples(model, table, WrenchColumns::Required).gravity - s.gravity).norm(), 10.0);
 }
 
 }  // namespace

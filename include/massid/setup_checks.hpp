@@ -54,6 +54,9 @@ struct SetupCheckOptions {
   // its gravity (wrench-sign, frame-rotation) are not made; the unit, column
   // and gravity checks are.
   bool motion = false;
+  // check_setup_file reads the file with these (the root gravity for a sensor
+  // below movable joints).
+  SampleOptions read;
 };
 
 // The checks on samples read with read_samples. Without a wrench (a plan, or
@@ -68,7 +71,8 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
 // max_rows, whatever the file's size), with read_csv's and read_samples' rules
 // and errors. header: the file's column names.
 Samples read_samples_head(const Model& model, const std::string& path, int max_rows,
-                          std::vector<std::string>* header = nullptr, double g0 = kStandardGravity);
+                          std::vector<std::string>* header = nullptr,
+                          const SampleOptions& read = {});
 
 // read_samples_head, then check_setup.
 std::vector<SetupFinding> check_setup_file(const Model& model, const std::string& path,

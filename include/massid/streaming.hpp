@@ -191,18 +191,18 @@ IdentifySummary identify_streaming(const Model& model, const BaseParameters& bas
                                    const Samples& samples, const IdentifyOptions& options = {},
                                    const StreamOptions& stream = {});
 
-// Pass 1 over a CSV data file (same columns and rules as read_samples with
-// WrenchColumns::Required; InputError naming file:line:column): the
+// Pass 1 over a CSV data file (same columns, rules and `read` options as
+// read_samples with WrenchColumns::Required; InputError naming file:line:column): the
 // accumulated factors. Constant memory: the file is memory-mapped and pages
 // already parsed are released.
 IdentifyAccumulator accumulate_csv(const Model& model, const BaseParameters& base,
                                    const std::string& path, const StreamOptions& stream = {},
-                                   double g0 = kStandardGravity);
+                                   const SampleOptions& read = {});
 // Pass 2: the largest residual per axis of the estimate `value`.
 Eigen::Matrix<double, 6, 1> residual_max_csv(const Model& model, const BaseParameters& base,
                                              const std::string& path, const Eigen::VectorXd& value,
                                              const StreamOptions& stream = {},
-                                             double g0 = kStandardGravity);
+                                             const SampleOptions& read = {});
 // Both passes: the IdentifySummary of identify(model, base, read_samples(...)).
 IdentifySummary identify_csv(const Model& model, const BaseParameters& base,
                              const std::string& path, const IdentifyOptions& options = {},

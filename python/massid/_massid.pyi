@@ -254,7 +254,7 @@ def identify(
     checks: bool = True,
     dynamic: bool = False,
     cutoff: Optional[float] = None,  # Hz, dynamic without JOINT_vel/_acc
-    root_gravity: Optional[Sequence[float]] = None,  # dynamic: gravity in the URDF root frame
+    root_gravity: Optional[Sequence[float]] = None,  # gravity in the URDF root frame (upstream joints)
     rest: str = "auto",  # static log with t: "auto" uses its rest windows, "off" every row
     delay: Union[None, str, float] = None,  # dynamic: wrench lag, s, or "auto"
     physical: bool = False,  # also physically consistent standard parameters (.physical)

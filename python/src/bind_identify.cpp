@@ -27,8 +27,9 @@ namespace {
 // error on its own line; warnings are returned.
 std::vector<std::string> run_checks(const Model& model, const py::handle& data,
                                     const Samples* samples, const std::vector<std::string>& header,
-                                    bool motion) {
+                                    bool motion, const SampleOptions& read = {}) {
   SetupCheckOptions o;
+  o.read = read;              // the root gravity (a file read here)
   o.constant_joints = false;  // left to the identifiability diagnosis (exit 3), as the CLI
   o.motion = motion;          // the force is not the weight alone
   const std::vector<SetupFinding> findings =
@@ -83,9 +84,8 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   opts.sigma_force = sigma_force;
   opts.sigma_moment = sigma_moment;
   if (physical) opts.physical = PhysicalOptions{};
-  if (!dynamic && (cutoff || root_gravity))
-    throw InputError(fmt::format("{} goes with dynamic=True (identification in motion)",
-                                 cutoff ? "cutoff" : "root_gravity"));
+  if (!dynamic && cutoff)
+    throw InputError("cutoff goes with dynamic=True (identification in motion)");
   BaseParameterOptions bopts;
   bopts.offset = offset || opts.drift != Drift::None;  // a drifting offset is an offset
 
@@ -93,7 +93,9 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
     // As massid identify [--dynamic] (identification.hpp): streamed where it can be.
     const std::string path = path_of(data);
     std::vector<std::string> notes;
-    if (checks) notes = run_checks(out.model, data, nullptr, {}, dynamic);
+    if (checks)
+      notes = run_checks(out.model, data, nullptr, {}, dynamic,
+                         motion_data_options(cutoff, root_gravity).samples);
     {
       py::gil_scoped_release release;
       out = identify_log(std::move(out.model), path, bopts.offset, opts, dynamic,
@@ -116,7 +118,8 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
                                            out.motion_options, &delay_applied, &out.motion);
       out.base = find_base_parameters(out.model, motion_base_options(out.samples, bopts.offset));
     } else {
-      Samples all = samples_of(out.model, data, WrenchColumns::Required, &header);
+      Samples all = samples_of(out.model, data, WrenchColumns::Required, &header,
+                               motion_data_options(cutoff, root_gravity).samples);
       if (checks) notes = run_checks(out.model, data, &all, header, dynamic);
       rest_windows = find_rest_windows(all, opts.rest);  // as identify_file
       out.samples = rest_windows.continuous ? rest_samples(all, rest_windows) : std::move(all);
@@ -445,11 +448,13 @@ windows (.rest_windows says which), 'off' every row. delay (dynamic): the lag of
 behind the joint stream, s (positive when the wrench arrives late), or 'auto' to estimate it
 within +-20 ms (.delay says what was applied). physical: also fit ten physically consistent
 standard parameters per link that reproduce the base parameters, the URDF's inertials where the
-data cannot see (.physical, a PhysicalSummary; saved under "physical").
+data cannot see (.physical, a PhysicalSummary; saved under "physical"). root_gravity: gravity
+in the URDF root frame, for a sensor below movable joints whose columns the data have (they
+then give gravity in the sensor frame when there are no gx,gy,gz), at rest and in motion.
 dynamic: identification in motion, ten parameters per link (inertia about the link origin):
 the data add JOINT_vel and JOINT_acc, or t to derive them from the positions by a zero-phase
 low-pass (cutoff Hz; default min(10, rate/20)); optionally wx..wz, dwx..dwz, ax..az (sensor
-motion) and the joints above the sensor link (root_gravity: gravity in the URDF root frame).
+motion) and the joints above the sensor link (with their _vel, _acc).
 Raises InputError (bad input, failed check) or IdentifiabilityError; warnings are issued
 as MassidWarning and kept in .warnings.)");
 }

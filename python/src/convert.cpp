@@ -120,14 +120,7 @@ Samples samples_of(const Model& model, const py::handle& data, WrenchColumns wre
   }
   const Columns c = columns_of(data);
   if (header) *header = c.names;
-  Samples s = samples_from_columns(model, c.names, c.values, wrench, "data", options.g0);
-  // samples_from_columns takes no root gravity: turn the given one into the
-  // sensor frame as read_samples does.
-  if (s.root_gravity != options.root_gravity) {
-    s.root_gravity = options.root_gravity;
-    if (s.gravity_from_upstream) resolve_upstream(model, s);
-  }
-  return s;
+  return samples_from_columns(model, c.names, c.values, wrench, "data", options);
 }
 
 Eigen::Vector3d root_gravity_of(const std::optional<std::vector<double>>& root_gravity) {

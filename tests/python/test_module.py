@@ -455,3 +455,31 @@ def test_continuous_static_log_uses_its_rest_windows(massid, tmp_path):
     r = run_cli("identify", PUMA, csv, "-o", tmp_path / "off.json", "--rest", "off", "--no-checks")
     assert "rest windows" not in r.stdout
     assert "rest_windows" not in json.loads((tmp_path / "off.json").read_text())
+
+
+def test_static_wrist_log_takes_gravity_from_the_arm_and_root_gravity(massid, tmp_path):
+    """A tool on a wrist sensor at rest, the arm on a tilted wall, no gx,gy,gz:
+    the CSV path (streamed, as the CLI), the CLI and the arrays take gravity
+    from the arm's joints and root_gravity, and find the URDF's tool."""
+    arm = massid.load_model(str(UR))
+    wrist = massid.load_model(str(UR), sensor="wrist_3_link")
+    rng = np.random.default_rng(3)
+    plan = {name: rng.uniform(-3.0, 3.0, 200) for name in arm.joint_names}
+    root_gravity = [-9.0, 0.0, -3.9]
+    data = massid.simulate(wrist, plan, noise_force=0.05, noise_moment=0.005, seed=2, root_gravity=root_gravity)
+    assert not {"gx", "gy", "gz"} & set(data)
+    log = write_csv(tmp_path / "wall.csv", data)
+    run_cli("identify", UR, log, "--sensor", "wrist_3_link", "--root-gravity", "-9,0,-3.9", "-o", tmp_path / "w.json")
+    ident = massid.identify(str(UR), log, sensor="wrist_3_link", root_gravity=root_gravity)
+    assert ident.to_json() == (tmp_path / "w.json").read_text()
+    assert json.loads(ident.to_json())["gravity_from"] == "upstream joints"
+    arrays = massid.identify(wrist, data, root_gravity=root_gravity)
+    np.testing.assert_allclose(arrays.values, ident.values, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(arrays.std, ident.std, rtol=1e-6)
+    truth = massid.base_parameters(wrist).K @ wrist.nominal_parameters()
+    assert max(abs(p.value - t) / p.std for p, t in zip(ident.base_parameters, truth)) < 5.0
+    # the default root gravity is another gravity: the fit misses the tool
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", massid.MassidWarning)  # implausible residuals
+        wrong = massid.identify(wrist, data, checks=False)
+    assert max(abs(p.value - t) / p.std for p, t in zip(wrong.base_parameters, truth)) > 10.0
