@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "bench_command.hpp"
+#include "compensate_command.hpp"
 #include "design_command.hpp"
 #include "emulate_command.hpp"
 #include "massid/atomic_file.hpp"
@@ -433,6 +434,8 @@ int main(int argc, char** argv) {
   add_emulate_command(app, emulate);
   BenchCommand bench;
   add_bench_command(app, bench);
+  CompensateCommand compensate;
+  add_compensate_command(app, compensate);
 
   try {
     app.parse(argc, argv);
@@ -475,6 +478,7 @@ int main(int argc, char** argv) {
     if (*design.app) return run_design(design);
     if (*emulate.app) return run_emulate(emulate);
     if (*bench.app) return run_bench(bench);
+    if (*compensate.app) return run_compensate(compensate);
   } catch (const InputError& e) {
     std::cerr << "massid: error: " << e.what() << "\n";
     return 2;
