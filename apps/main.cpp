@@ -10,6 +10,7 @@
 
 #include "atomic_file.hpp"
 #include "bench_command.hpp"
+#include "compensate_command.hpp"
 #include "design_command.hpp"
 #include "emulate_command.hpp"
 #include "hints.hpp"
@@ -436,6 +437,8 @@ int main(int argc, char** argv) {
   add_emulate_command(app, emulate);
   BenchCommand bench;
   add_bench_command(app, bench);
+  CompensateCommand compensate;
+  add_compensate_command(app, compensate);
 
   try {
     app.parse(argc, argv);
@@ -478,6 +481,7 @@ int main(int argc, char** argv) {
     if (*design.app) return run_design(design);
     if (*emulate.app) return run_emulate(emulate);
     if (*bench.app) return run_bench(bench);
+    if (*compensate.app) return run_compensate(compensate);
   } catch (const InputError& e) {
     std::cerr << "massid: error: " << cli::with_hints(e.what(), e.hints()) << "\n";
     return 2;

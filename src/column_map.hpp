@@ -3,7 +3,7 @@
 // module's named arrays) and the memory-mapped streaming readers
 // (csv_stream.hpp). Every header error is raised here, once.
 //
-// The roles (README.md "Data columns" lists them for users):
+// The roles (docs/formats.md lists them for users):
 //   JOINT or JOINT_deg        position of each joint of Model::joints, rad or m
 //                             (JOINT_deg: a revolute joint in degrees); required
 //   JOINT_vel, JOINT_acc      their velocities and accelerations: every joint or

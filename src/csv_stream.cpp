@@ -64,8 +64,11 @@ int line_number(std::string_view text, size_t pos) {
   return 1 + static_cast<int>(std::count(text.begin(), text.begin() + pos, '\n'));
 }
 
-SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
-                           const SampleOptions& options, bool motion) {
+namespace {
+
+// bind_columns, and with require_rows false bind_header.
+SampleColumns bind(const Model& model, std::string_view text, const std::string& source,
+                   const SampleOptions& options, bool motion, bool require_rows) {
   SampleColumns c;
   c.source = source;
   c.g0 = options.g0;
@@ -90,7 +93,7 @@ SampleColumns bind_columns(const Model& model, std::string_view text, const std:
   if (c.header.empty()) throw InputError(fmt::format("{}:1:1: empty file, no header row", source));
   // read_csv's check: at least one data row. (Rows are checked in full later;
   // a malformed row is reported when it is reached.)
-  bool any = false;
+  bool any = !require_rows;
   for (size_t p = c.data_begin; p < text.size() && !any;) {
     p = next_line(text, p, line);
     const std::string_view content = trim(line);
@@ -157,6 +160,25 @@ SampleColumns bind_columns(const Model& model, std::string_view text, const std:
   return c;
 }
 
+}  // namespace
+
+SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
+                           const SampleOptions& options, bool motion) {
+  return bind(model, text, source, options, motion, true);
+}
+
+SampleColumns bind_header(const Model& model, std::string_view text, const std::string& source,
+                          const SampleOptions& options, bool motion) {
+  return bind(model, text, source, options, motion, false);
+}
+
+int bind_value(SampleColumns& c, int column, double scale) {
+  c.target[column] = c.num_values;
+  c.scale[column] = scale;
+  c.column_of.push_back(column);
+  return c.num_values++;
+}
+
 size_t num_blocks(std::string_view text, const SampleColumns& c, size_t block_bytes) {
   const size_t n = text.size() > c.data_begin ? text.size() - c.data_begin : 0;
   return (n + block_bytes - 1) / block_bytes;
@@ -180,7 +202,12 @@ bool parse_line_slow(std::string_view text, size_t line_begin, size_t line_end,
   const std::string_view line = text.substr(line_begin, line_end - line_begin);
   const std::string_view content = trim(line);
   if (content.empty() || content.front() == '#') return false;
-  const int line_no = line_number(text, line_begin);
+  return parse_row_slow(line, line_number(text, line_begin), c, vals);
+}
+
+bool parse_row_slow(std::string_view line, int line_no, const SampleColumns& c, double* vals) {
+  const std::string_view content = trim(line);
+  if (content.empty() || content.front() == '#') return false;
   std::vector<std::string> fields;
   std::vector<int> offsets;
   split(line, c.source, line_no, fields, offsets);

@@ -88,6 +88,16 @@ struct SampleColumns {
 SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
                            const SampleOptions& options, bool motion = false);
 
+// bind_columns for a header alone, the rows to come later (a live stream,
+// compensator.hpp): `text` ends with the header line (blank and comment lines
+// before it count for its line number); no "header but no data rows" check.
+SampleColumns bind_header(const Model& model, std::string_view text, const std::string& source,
+                          const SampleOptions& options, bool motion = false);
+
+// Binds one more column (one the binding leaves unused, target -1) as the
+// next row value, read as scale * cell; returns its value index.
+int bind_value(SampleColumns& c, int column, double scale);
+
 // Throws read_samples' error for a block cell that is not an integer, for
 // the line at `line_begin`.
 [[noreturn]] void throw_not_integer(std::string_view text, std::size_t line_begin,
@@ -108,6 +118,8 @@ std::pair<std::size_t, std::size_t> block_range(std::string_view text, const Sam
 // for a blank or comment line, true with vals filled, or InputError.
 bool parse_line_slow(std::string_view text, std::size_t line_begin, std::size_t line_end,
                      const SampleColumns& c, double* vals);
+// The same for one line held alone ('\r' removed), `line_no` its number for messages.
+bool parse_row_slow(std::string_view line, int line_no, const SampleColumns& c, double* vals);
 
 // Throws the zero-force error of read_samples for the line at `line_begin`.
 [[noreturn]] void throw_zero_force(std::string_view text, std::size_t line_begin,

@@ -66,8 +66,8 @@ struct SampleOptions {
 };
 
 // The columns of a data file and what each means: src/column_map.hpp (the one
-// binding, shared with the streaming readers), listed for users in README.md
-// "Data columns". In short: the joints (named as the joint, or JOINT_deg in
+// binding, shared with the streaming readers), listed for users in
+// docs/formats.md. In short: the joints (named as the joint, or JOINT_deg in
 // degrees), optionally JOINT_vel and JOINT_acc, the sensor motion wx..wz,
 // dwx..dwz, ax..az, the joints above the sensor link (Model::upstream_joints)
 // with their _vel/_acc, the wrench fx..mz, gravity gx,gy,gz, time t and an

@@ -1,0 +1,269 @@
+#include "compensate_command.hpp"
+
+#include <arpa/inet.h>
+#include <fmt/format.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "massid/compensator.hpp"
+#include "massid/errors.hpp"
+#include "massid/latency_histogram.hpp"
+#include "massid/params_file.hpp"
+#include "options.hpp"
+
+namespace massid::cli {
+
+void add_compensate_command(CLI::App& app, CompensateCommand& c) {
+  c.app = app.add_subcommand(
+      "compensate",
+      "Live gravity compensation: CSV samples on stdin (or UDP), each written back with "
+      "fx_comp..mz_comp");
+  CLI::App* s = c.app;
+  s->add_option("robot", c.urdf, "Robot URDF")->required();
+  s->add_option("params", c.params, "Params JSON from identify")->required();
+  s->add_option("--udp", c.udp_port,
+                "Read one line per UDP datagram on 127.0.0.1:PORT (0: a free port, printed on "
+                "stderr) instead of stdin; an empty datagram or 'end' ends the stream")
+      ->check(CLI::Range(0, 65535));
+  s->add_flag("--reply", c.reply,
+              "With --udp: also send each output line back to the sender of its datagram");
+  s->add_flag("--stats", c.stats,
+              "At the end, print the added latency per sample (parse + predict + format: median, "
+              "99.9th percentile, max) on stderr");
+  s->add_option("--root-gravity", c.root_gravity,
+                "Gravity in the URDF root frame, gx,gy,gz (default 0,0,-9.80665): a sensor below "
+                "movable joints whose columns the stream has");
+  s->add_option("--gravity", c.level_gravity,
+                "Gravity in the sensor frame with the platform level, gx,gy,gz (default "
+                "0,0,-9.80665): turned by the tilt_x_deg,tilt_y_deg columns");
+}
+
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;  // SIGINT or SIGTERM received
+extern "C" void on_stop_signal(int) { g_stop = 1; }
+
+// SIGINT and SIGTERM end the stream (blocking reads return EINTR); a closed
+// stdout ends it too (EPIPE instead of death by SIGPIPE).
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = 0;  // no SA_RESTART
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+}
+
+// Waits until fd is readable, the stop flag is set (false) or, with a
+// signal arriving just before the wait, within 200 ms.
+bool wait_readable(int fd) {
+  pollfd p{fd, POLLIN, 0};
+  while (!g_stop) {
+    const int r = ::poll(&p, 1, 200);
+    if (r > 0) return true;
+    if (r < 0 && errno != EINTR) return true;  // let the read report it
+  }
+  return false;
+}
+
+// The whole of [data, data + size) to fd; false when the reader is gone.
+bool write_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+// Lines of standard input, read with read(2) into a buffer kept between
+// calls (it grows only for a line longer than any before).
+class StdinLines {
+ public:
+  std::string name() const { return "stdin"; }
+  // The next line without its '\n' and its 1-based number; false at the end.
+  // The line stays valid until the next call.
+  bool next(std::string_view& line, int& number) {
+    std::size_t scan = begin_;
+    while (true) {
+      const void* nl = std::memchr(buffer_.data() + scan, '\n', end_ - scan);
+      if (nl) {
+        const std::size_t at =
+            static_cast<std::size_t>(static_cast<const char*>(nl) - buffer_.data());
+        line = std::string_view(buffer_.data() + begin_, at - begin_);
+        begin_ = at + 1;
+        number = ++line_;
+        return true;
+      }
+      scan = end_;
+      if (eof_ || !wait_readable(0)) break;
+      if (begin_ > 0) {  // keep the unfinished line at the front
+        std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
+        end_ -= begin_;
+        scan -= begin_;
+        begin_ = 0;
+      }
+      if (buffer_.size() - end_ < 4096) buffer_.resize(2 * buffer_.size());
+      const ssize_t n = ::read(0, buffer_.data() + end_, buffer_.size() - end_);
+      if (n > 0) end_ += static_cast<std::size_t>(n);
+      if (n == 0 || (n < 0 && errno != EINTR && errno != EAGAIN)) eof_ = true;
+    }
+    if (begin_ == end_ || g_stop) return false;
+    line = std::string_view(buffer_.data() + begin_, end_ - begin_);  // a last line without '\n'
+    begin_ = end_;
+    number = ++line_;
+    return true;
+  }
+  void reply(std::string_view) {}
+
+ private:
+  std::vector<char> buffer_ =
+      std::vector<char>(1 << 16);  // read but not yet returned: [begin_, end_)
+  std::size_t begin_ = 0, end_ = 0;
+  int line_ = 0;
+  bool eof_ = false;
+};
+
+// One line per datagram on 127.0.0.1:port; an empty datagram or "end" ends.
+class UdpLines {
+ public:
+  UdpLines(int port, bool reply) : reply_(reply) {
+    fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (fd_ < 0) throw InputError(fmt::format("--udp: cannot open a socket: {}", strerror(errno)));
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<uint16_t>(port));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+      const int e = errno;
+      ::close(fd_);
+      throw InputError(
+          fmt::format("--udp {}: cannot bind 127.0.0.1:{}: {}", port, port, strerror(e)));
+    }
+    socklen_t len = sizeof addr;
+    ::getsockname(fd_, reinterpret_cast<sockaddr*>(&addr), &len);
+    port_ = ntohs(addr.sin_port);
+  }
+  ~UdpLines() { ::close(fd_); }
+  UdpLines(const UdpLines&) = delete;
+  UdpLines& operator=(const UdpLines&) = delete;
+  int port() const { return port_; }
+  std::string name() const { return "udp"; }
+  bool next(std::string_view& line, int& number) {
+    while (wait_readable(fd_)) {
+      sender_len_ = sizeof sender_;
+      const ssize_t n = ::recvfrom(fd_, buffer_, sizeof buffer_, 0,
+                                   reinterpret_cast<sockaddr*>(&sender_), &sender_len_);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        throw InputError(fmt::format("--udp: receive failed: {}", strerror(errno)));
+      }
+      line = std::string_view(buffer_, static_cast<std::size_t>(n));
+      if (!line.empty() && line.back() == '\n') line.remove_suffix(1);
+      if (line.empty() && n == 0) return false;
+      if (line == "end" || line == "end\r") return false;
+      number = ++datagram_;
+      return true;
+    }
+    return false;
+  }
+  void reply(std::string_view out) {
+    if (reply_)
+      ::sendto(fd_, out.data(), out.size(), 0, reinterpret_cast<const sockaddr*>(&sender_),
+               sender_len_);
+  }
+
+ private:
+  int fd_ = -1, port_ = 0, datagram_ = 0;
+  bool reply_ = false;
+  char buffer_[65536];
+  sockaddr_in sender_{};
+  socklen_t sender_len_ = 0;
+};
+
+using Clock = std::chrono::steady_clock;
+
+template <class Lines>
+int run_stream(const CompensateCommand& c, const Model& model, const ParamsFile& params,
+               const CompensatorOptions& options, Lines& lines) {
+  // The header: the first line that is neither blank nor a comment.
+  std::string_view line;
+  int number = 0;
+  std::string text;  // blank lines for those before the header, then the header
+  while (true) {
+    if (!lines.next(line, number))
+      throw InputError(fmt::format("{}: the stream ended before its header line", lines.name()));
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first != std::string_view::npos && line[first] != '#') break;
+    text += '\n';
+  }
+  text += line;
+  Compensator comp(model, params, text, lines.name(), options);
+  if (!comp.note().empty()) std::cerr << "massid: note: " << comp.note() << std::flush;
+  if (!write_all(1, comp.output_header().data(), comp.output_header().size())) return 0;
+
+  LatencyHistogram latency;
+  long skipped = 0;
+  while (lines.next(line, number)) {
+    const Clock::time_point t0 = Clock::now();
+    std::string_view out;
+    try {
+      out = comp.compensate(line, number);
+    } catch (const InputError& e) {
+      ++skipped;
+      std::cerr << "massid: " << e.what() << " (skipped)\n";
+      continue;
+    }
+    if (out.empty()) continue;  // a comment
+    latency.record(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
+    if (!write_all(1, out.data(), out.size())) break;  // the reader is gone
+    lines.reply(out);
+  }
+  if (c.stats)
+    std::cerr << fmt::format(
+        "massid: compensate: {} samples, {} lines skipped; added latency (parse, predict, "
+        "format) median {:.3f} us, 99.9th percentile {:.3f} us, max {:.3f} us\n",
+        latency.count(), skipped, latency.percentile(0.5) * 1e-3, latency.percentile(0.999) * 1e-3,
+        static_cast<double>(latency.max()) * 1e-3);
+  return 0;
+}
+
+}  // namespace
+
+int run_compensate(const CompensateCommand& c) {
+  if (c.reply && c.udp_port < 0) throw InputError("--reply goes with --udp PORT");
+  const ParamsFile params = read_params(c.params);
+  const Model model = hold_joints(load_urdf(c.urdf, params.sensor_link), params.held);
+  CompensatorOptions options;
+  if (!c.root_gravity.empty())
+    options.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");
+  if (!c.level_gravity.empty())
+    options.level_gravity = parse_numbers<3>(c.level_gravity, "--gravity", "gx,gy,gz");
+  install_signal_handlers();
+  if (c.udp_port >= 0) {
+    UdpLines lines(c.udp_port, c.reply);
+    std::cerr << fmt::format("massid: compensate: listening on udp 127.0.0.1:{}\n", lines.port())
+              << std::flush;
+    return run_stream(c, model, params, options, lines);
+  }
+  StdinLines lines;
+  return run_stream(c, model, params, options, lines);
+}
+
+}  // namespace massid::cli
