@@ -7,9 +7,10 @@
 
 #include "massid/errors.hpp"
 #include "sincos.hpp"
+#include "vector_paths.hpp"
 
-// The four-lane helpers below pass 32-byte vectors by value; they are always
-// inlined into the AVX2 function, so GCC's note that such a call's ABI depends
+// The four-lane helpers below (x86-64 only) pass 32-byte vectors by value;
+// they are always inlined into the AVX2 function, so GCC's note that such a call's ABI depends
 // on -mavx concerns no real call.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
@@ -219,7 +220,7 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
     for (int i = 0; i < 10; ++i) pred.inertial[body_slot(k, 10) + 4 * i] = inertial[i];
   }
   if (base.offset) pred.offset = values.tail<6>();
-  pred.four_lanes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  pred.four_lanes = detail::cpu_has_avx2();
   return pred;
 }
 
@@ -234,7 +235,6 @@ MotionPredictorData::MotionPredictorData(const MotionPredictor& p)
 namespace {
 
 using detail::Lanes;
-using detail::Lanes4;
 
 // T is double or a vector of doubles (lanes of bodies).
 template <class T>
@@ -536,18 +536,20 @@ template <class V>
   backward_stage(p, d, out);
 }
 
-void run_sse2(const MotionPredictor& p, MotionPredictorData& d, const double* q, const double* qd,
-              const double* qdd, const Eigen::Index* stride, const Eigen::Vector3d& g,
-              const FrameMotion& sensor, double* out) {
+void run_two_lanes(const MotionPredictor& p, MotionPredictorData& d, const double* q,
+                   const double* qd, const double* qdd, const Eigen::Index* stride,
+                   const Eigen::Vector3d& g, const FrameMotion& sensor, double* out) {
   run<Lanes>(p, d, q, qd, qdd, stride, g, sensor, out);
 }
 
-[[gnu::target("avx2,fma")]] void run_avx2(const MotionPredictor& p, MotionPredictorData& d,
-                                          const double* q, const double* qd, const double* qdd,
-                                          const Eigen::Index* stride, const Eigen::Vector3d& g,
-                                          const FrameMotion& sensor, double* out) {
-  run<Lanes4>(p, d, q, qd, qdd, stride, g, sensor, out);
+#if MASSID_X86
+[[gnu::target("avx2")]] void run_avx2(const MotionPredictor& p, MotionPredictorData& d,
+                                      const double* q, const double* qd, const double* qdd,
+                                      const Eigen::Index* stride, const Eigen::Vector3d& g,
+                                      const FrameMotion& sensor, double* out) {
+  run<detail::Lanes4>(p, d, q, qd, qdd, stride, g, sensor, out);
 }
+#endif
 
 // One function for both forms, so that they give the same bits.
 void run_any(const MotionPredictor& p, MotionPredictorData& d, const double* q, const double* qd,
@@ -556,10 +558,10 @@ void run_any(const MotionPredictor& p, MotionPredictorData& d, const double* q, 
   static const double kNoJoints = 0.0;  // what bodies without a joint read
   static const Eigen::Index kNoStride[3] = {0, 0, 0};
   if (p.num_joints == 0) q = qd = qdd = &kNoJoints, stride = kNoStride;
-  if (p.four_lanes)
-    run_avx2(p, d, q, qd, qdd, stride, g, sensor, out);
-  else
-    run_sse2(p, d, q, qd, qdd, stride, g, sensor, out);
+#if MASSID_X86
+  if (p.four_lanes) return run_avx2(p, d, q, qd, qdd, stride, g, sensor, out);
+#endif
+  run_two_lanes(p, d, q, qd, qdd, stride, g, sensor, out);
 }
 
 }  // namespace

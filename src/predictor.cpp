@@ -6,9 +6,10 @@
 #include "massid/errors.hpp"
 #include "massid/regressor.hpp"
 #include "sincos.hpp"
+#include "vector_paths.hpp"
 
-// The four-lane helpers below pass 32-byte vectors by value; they are always
-// inlined into the AVX2 function, so GCC's note that such a call's ABI depends
+// The four-lane helpers below (x86-64 only) pass 32-byte vectors by value;
+// they are always inlined into the AVX2 function, so GCC's note that such a call's ABI depends
 // on -mavx concerns no real call.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
@@ -133,7 +134,7 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     pred.steps.push_back(s);
   }
   if (base.offset) pred.offset = values.tail<6>();
-  pred.four_lanes = __builtin_cpu_supports("avx2");
+  pred.four_lanes = detail::cpu_has_avx2();
   // The joint stage's lanes, padded to a multiple of four with theta = 0.
   const std::size_t lanes = (pred.steps.size() + 3) / 4 * 4;
   pred.lane_joint.assign(lanes, 0);
@@ -158,7 +159,6 @@ PredictorData::PredictorData(const Predictor& predictor)
 namespace {
 
 using detail::Lanes;
-using detail::Lanes4;
 
 template <class V>
 [[gnu::always_inline]] inline V load(const double* p) {
@@ -241,6 +241,15 @@ template <class V>
   return {xy[0], xy[1], z};  // body 1's parent is body 0: the last step carries H
 }
 
+Eigen::Vector3d first_moment_two_lanes(const Predictor& pred, PredictorData& data, const double* q,
+                                       Eigen::Index q_stride) {
+  joint_stage<Lanes>(pred, data, q, q_stride);
+  return recursion2(pred, data, q, q_stride);
+}
+
+#if MASSID_X86
+using detail::Lanes4;
+
 // The same recursion, four lanes: a 3-vector (and a zero) in one register.
 // Every lane computes what recursion2 computes, in the same order.
 [[gnu::always_inline]] inline Eigen::Vector3d recursion4(const Predictor& pred, PredictorData& data,
@@ -278,23 +287,20 @@ template <class V>
   return {S[0], S[1], S[2]};
 }
 
-Eigen::Vector3d first_moment_sse2(const Predictor& pred, PredictorData& data, const double* q,
-                                  Eigen::Index q_stride) {
-  joint_stage<Lanes>(pred, data, q, q_stride);
-  return recursion2(pred, data, q, q_stride);
-}
-
 [[gnu::target("avx2")]] Eigen::Vector3d first_moment_avx2(const Predictor& pred,
                                                           PredictorData& data, const double* q,
                                                           Eigen::Index q_stride) {
   joint_stage<Lanes4>(pred, data, q, q_stride);
   return recursion4(pred, data, q, q_stride);
 }
+#endif
 
 Eigen::Vector3d first_moment(const Predictor& pred, PredictorData& data, const double* q,
                              Eigen::Index q_stride) {
-  return pred.four_lanes ? first_moment_avx2(pred, data, q, q_stride)
-                         : first_moment_sse2(pred, data, q, q_stride);
+#if MASSID_X86
+  if (pred.four_lanes) return first_moment_avx2(pred, data, q, q_stride);
+#endif
+  return first_moment_two_lanes(pred, data, q, q_stride);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // sin and cos of several angles at once (the predictor's hot path): two lanes
-// at a time in SSE2 registers (GCC/Clang vector extensions; every x86-64 has
-// SSE2; four in AVX registers where the caller is compiled for AVX2),
+// at a time in SSE2 (x86-64) or NEON (aarch64) registers (GCC/Clang vector
+// extensions; four in AVX registers where the caller is compiled for AVX2),
 // branch-free: Cody-Waite reduction by pi/2 in three parts, then fdlibm's
 // minimax polynomials on [-pi/4, pi/4]. Within 1 ulp of std::sin/std::cos for
 // |x| <= 2 pi, 2 ulp up to 1e5 rad (tests/test_sincos.cpp).
@@ -10,7 +10,7 @@
 
 namespace massid::detail {
 
-using Lanes = double __attribute__((vector_size(16)));   // two doubles (SSE2)
+using Lanes = double __attribute__((vector_size(16)));   // two doubles (SSE2, NEON)
 using Lanes4 = double __attribute__((vector_size(32)));  // four doubles (AVX)
 // Their bit patterns, as 64-bit integers.
 template <int Bytes>
@@ -24,8 +24,9 @@ struct BitsFor<32> {
   using type = long long __attribute__((vector_size(32)));
 };
 
-// Any lane width: the arithmetic is the same per lane (no fused multiply-add),
-// so every width gives the same bits.
+// Any lane width: the arithmetic is the same per lane (no fused multiply-add:
+// -ffp-contract=off, CMakeLists.txt), so every width and architecture gives
+// the same bits.
 template <class V>
 [[gnu::always_inline]] inline void sincos_lanes(const V& x, V& s, V& c) {
   using Bits = typename BitsFor<sizeof(V)>::type;

@@ -11,6 +11,7 @@
 #include "massid/report.hpp"
 #include "massid/simulate.hpp"
 #include "test_support.hpp"
+#include "vector_paths.hpp"
 
 namespace massid {
 namespace {
@@ -90,7 +91,7 @@ TEST_P(PredictorTest, BatchEqualsSingleCalls) {
 // The four-lane (AVX2) path, chosen when the CPU has it, computes every lane
 // as the two-lane (SSE2) path does: the same bits.
 TEST_P(PredictorTest, FourLanesGiveTheSameBitsAsTwo) {
-  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "this CPU has no AVX2";
+  if (!detail::cpu_has_avx2()) GTEST_SKIP() << "no AVX2 (an x86-64 without it, or another CPU)";
   const Model model = load_urdf(GetParam().urdf);
   const BaseParameters base = find_base_parameters(model);
   std::mt19937_64 rng(11);

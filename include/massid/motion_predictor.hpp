@@ -48,9 +48,9 @@
 //
 // MotionPredictor is immutable and compiled once; MotionPredictorData is the
 // workspace. No allocation, no branch on the joint type (flags multiply). The
-// four-lane path (AVX2 with fused multiply-adds, chosen at run time) and the
-// two-lane SSE2 path round differently (about 1e-16 relative); on one machine
-// the single and batch forms give the same bits.
+// four-lane path (AVX2, chosen at run time on x86-64) and the two-lane path
+// (SSE2 or NEON) do the same operations, with no fused multiply-add, and give
+// the same bits; the single and batch forms too.
 #pragma once
 
 #include <Eigen/Core>
@@ -83,7 +83,7 @@ struct MotionPredictor {
   std::vector<double> origin;      // [lanes x 3] t_k
   std::vector<double> inertial;    // [lanes x 10] m, hx, hy, hz, ixx, ixy, ixz, iyy, iyz, izz
   Wrench offset = Wrench::Zero();  // f_0, m_0 (zero without offsets)
-  bool four_lanes = false;         // AVX2 and FMA path (set when the CPU has them)
+  bool four_lanes = false;         // AVX2 path (x86-64 CPUs that have it)
 };
 
 // values: [num_unknowns] base parameters of a motion base (base.motion()),

@@ -64,7 +64,7 @@ struct Predictor {
   double total_mass = 0.0;                      // M_t
   Wrench offset = Wrench::Zero();               // f_0, m_0 (zero without offsets)
   int num_joints = 0;
-  bool four_lanes = false;  // AVX2 path (set when the CPU has it); same bits as the SSE2 path
+  bool four_lanes = false;  // AVX2 path (x86-64 CPUs that have it); same bits as the two-lane path
   int num_bodies() const { return static_cast<int>(first_moment.size()); }
 };
 
