@@ -3,15 +3,13 @@
 #include <fmt/format.h>
 
 #include <Eigen/Cholesky>
-#include <Eigen/QR>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <array>
 #include <cmath>
 
+#include "axis_least_squares.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
-#include "massid/identifiability.hpp"
 
 namespace massid {
 
@@ -26,41 +24,19 @@ Eigen::MatrixXd stacked_regressor(const Model& model, const BaseParameters& base
   return A;
 }
 
-namespace {
-// The condition number of M from the small triangular factor of its QR.
-double condition_number(const Eigen::MatrixXd& M) {
-  if (M.cols() == 0) return 1.0;
-  Eigen::MatrixXd R = M;
-  if (M.rows() > M.cols()) {
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);
-    R = qr.matrixQR().topRows(M.cols()).triangularView<Eigen::Upper>();
-  }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R);
-  const auto& s = svd.singularValues();
-  return s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
-}
-}  // namespace
-
 double scaled_condition_number(const Eigen::MatrixXd& A) {
   Eigen::VectorXd scale(A.cols());
   for (Eigen::Index c = 0; c < A.cols(); ++c) {
     const double n = A.col(c).norm();
     scale[c] = n > 0 ? 1.0 / n : 1.0;
   }
-  return condition_number(A * scale.asDiagonal());
+  return detail::condition_number(A * scale.asDiagonal());
 }
 
 double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd& A) {
-  if (base.motion()) return scaled_condition_number(A);
-  std::vector<int> cols;
-  for (int c = 0; c < base.num_unknowns(); ++c)
-    if (base.is_moment_unknown(c)) cols.push_back(c);
-  const int N = static_cast<int>(A.rows() / 6);
-  Eigen::MatrixXd M(3 * N, cols.size());
-  for (int i = 0; i < N; ++i)
-    for (size_t k = 0; k < cols.size(); ++k)
-      M.block<3, 1>(3 * i, k) = A.block<3, 1>(6 * i + 3, cols[k]);
-  return condition_number(M);
+  const Eigen::Index N = A.rows() / 6;
+  return detail::condition_number(
+      base, detail::fold_stacked(A, Eigen::VectorXd::Zero(A.rows()), Eigen::VectorXd::Ones(N)));
 }
 
 namespace {
@@ -209,50 +185,6 @@ DriftColumns drift_columns(const Samples& s, Drift drift) {
   return out;
 }
 
-// One weighted least-squares solve of M x = y: rows of sample i weighted by
-// sqrt(w_i) / sigma_k (paper eq. 34), columns scaled to unit norm, Householder QR.
-struct Solution {
-  Eigen::VectorXd x, residual;  // residual = y - M x, unweighted
-  Eigen::MatrixXd covariance;   // (M' W M)^-1
-  // Per axis k: the trace of the hat matrix over axis k's rows, tr(H_kk), the
-  // sum of their leverages: the degrees of freedom the fit spent on axis k
-  // (summing to the number of unknowns). E[SSR_k] = sigma_k^2 (N - tr(H_kk)).
-  Eigen::Matrix<double, 6, 1> leverage = Eigen::Matrix<double, 6, 1>::Zero();
-};
-
-Solution weighted_solve(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
-                        const Eigen::Matrix<double, 6, 1>& sigma, const Eigen::VectorXd& w) {
-  const Eigen::Index n = M.cols(), N = w.size();
-  Eigen::VectorXd scale(n);
-  for (Eigen::Index c = 0; c < n; ++c) scale[c] = 1.0 / M.col(c).norm();
-  Eigen::MatrixXd Mw = M * scale.asDiagonal();
-  Eigen::VectorXd yw = y;
-  for (Eigen::Index i = 0; i < N; ++i)
-    for (int k = 0; k < 6; ++k) {
-      const double f = std::sqrt(w[i]) / sigma[k];
-      Mw.row(6 * i + k) *= f;
-      yw[6 * i + k] *= f;
-    }
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr(Mw);
-  const Eigen::MatrixXd R = qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
-  const Eigen::VectorXd qty = (qr.householderQ().transpose() * yw).head(n);
-  Solution out;
-  out.x = scale.asDiagonal() * R.triangularView<Eigen::Upper>().solve(qty);
-  const Eigen::MatrixXd Rinv =
-      R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(n, n));
-  out.covariance = scale.asDiagonal() * (Rinv * Rinv.transpose()) * scale.asDiagonal();
-  out.residual = y - M * out.x;
-  // Leverage of row r: h_r = |Mw_r R^-1|^2 (the row of the thin Q), summed per
-  // axis; a few hundred samples at a time to keep the memory small.
-  constexpr Eigen::Index kRows = 6 * 256;
-  for (Eigen::Index r0 = 0; r0 < 6 * N; r0 += kRows) {
-    const Eigen::Index rows = std::min(kRows, 6 * N - r0);
-    const Eigen::MatrixXd Z = Mw.middleRows(r0, rows) * Rinv.triangularView<Eigen::Upper>();
-    for (Eigen::Index r = 0; r < rows; ++r) out.leverage[(r0 + r) % 6] += Z.row(r).squaredNorm();
-  }
-  return out;
-}
-
 // Mean square of the force and of the moment measurements over used samples.
 std::array<double, 2> signal_power(const Eigen::VectorXd& y, const Eigen::VectorXd& w) {
   std::array<double, 2> p{0.0, 0.0};
@@ -328,46 +260,32 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
                          const IdentifyOptions& options) {
   if (!samples.has_wrench())
     throw InputError(samples.source + ": no measured wrench (columns fx,fy,fz,mx,my,mz)");
-  if (base.offset && samples.gravity_from_force)
-    throw IdentifiabilityError(
-        samples.source +
-        ": the sensor offsets cannot be estimated when gravity is taken from the measured force "
-        "(no gx,gy,gz columns): a force offset would bend the gravity direction. Add gx,gy,gz "
-        "columns, or identify without --offset.");
+  // (Excludes the offsets' check in check_unknowns, which needs base.offset.)
   if (options.drift != Drift::None && !base.offset)
     throw InputError(samples.source + ": a drifting offset needs the offsets estimated (--offset)");
-
   const int N = samples.size();
+  detail::check_unknowns(samples.source, base, samples.gravity_from_force, N);
+
+  // M = [A E] (6N x q): the base regressor (eq. 33) and the drift columns.
   const int p = base.num_unknowns();
-  const Eigen::MatrixXd A = stacked_regressor(model, base, samples);
+  const DriftColumns drift = drift_columns(samples, options.drift);
+  const int e = static_cast<int>(drift.E.cols()), q = p + e;
+  Eigen::MatrixXd M = stacked_regressor(model, base, samples);
+  if (e > 0) {
+    M.conservativeResize(Eigen::NoChange, q);
+    M.rightCols(e) = drift.E;
+  }
   Eigen::VectorXd y(6 * N);
   for (int i = 0; i < N; ++i) y.segment<6>(6 * i) = samples.wrench.row(i).transpose();
-
-  if (6 * N < p) {
-    throw IdentifiabilityError(samples.source + ": " + std::to_string(N) +
-                               " samples give fewer equations than the " + std::to_string(p) +
-                               " unknowns; record more poses");
-  }
-  // M = [A E]: the base regressor (eq. 33) and the drift columns.
-  const DriftColumns drift = drift_columns(samples, options.drift);
-  const IdentifiabilityReport report =
-      check_identifiability(model, base, samples, A, options.rank_tolerance);
-  if (!report.ok()) throw IdentifiabilityError(report.message);
-
-  const int e = static_cast<int>(drift.E.cols());
-  Eigen::MatrixXd M(6 * N, p + e);
-  M.leftCols(p) = A;
-  if (e > 0) M.rightCols(e) = drift.E;
-  if (6 * N < p + e)
+  // Every sample's rows, unweighted: the identifiability check, eq. 36, and
+  // the fit when no sample is rejected.
+  const detail::AxisFactors all = detail::fold_stacked(M, y, Eigen::VectorXd::Ones(N));
+  detail::check_identifiable(model, base, samples, N, all, options.rank_tolerance);
+  if (6 * N < q)
     throw IdentifiabilityError(samples.source + ": too few samples for the drift unknowns");
 
-  IdentifySummary out;
-  out.samples = N;
-  out.gravity_from_force = samples.gravity_from_force;
-  out.gravity_from_upstream = samples.gravity_from_upstream;
-  out.sigma_estimated = !options.sigma_force || !options.sigma_moment;
-  out.sigma_force_given = options.sigma_force.has_value();
-  out.sigma_moment_given = options.sigma_moment.has_value();
+  IdentifySummary out =
+      detail::start_summary(N, samples.gravity_from_force, samples.gravity_from_upstream, options);
   out.robust = options.robust;
   out.drift = options.drift;
   const int score_dof = samples.gravity_from_force ? 4 : 6;
@@ -375,49 +293,21 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
   out.per_sample_test = true;
 
   // Weighted least squares over the samples with w_i = 1, the per-axis noise
-  // re-estimated from the residuals (given by the user, else iterated).
-  Eigen::Matrix<double, 6, 1> sigma;
-  const auto fit = [&](const Eigen::VectorXd& w) {
-    for (int k = 0; k < 6; ++k) {
-      const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
-      sigma[k] = user ? *user : 1.0;  // only the ratio matters for the first solve
-    }
-    const int iterations = out.sigma_estimated ? std::max(1, options.weight_iterations) : 1;
-    const double used = w.sum();
-    const auto power = signal_power(y, w);
-    Solution sol;
-    for (int it = 0; it < iterations; ++it) {
-      sol = weighted_solve(M, y, sigma, w);
-      if (!out.sigma_estimated) break;
-      // sigma_k^2 = SSR_k / (N - tr(H_kk)): each axis' residuals keep N degrees
-      // of freedom less those the fit spent on its rows (its leverages), which
-      // is unbiased at the right weights. (A force axis' rows involve a few
-      // unknowns, a moment axis' most of them: N - n/6 for every axis would
-      // understate the moment noise when n approaches 6N.)
-      for (int k = 0; k < 6; ++k) {
-        const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
-        if (user) continue;
-        double ssr = 0.0;
-        for (int i = 0; i < N; ++i) ssr += w[i] * sol.residual[6 * i + k] * sol.residual[6 * i + k];
-        // Floor for noise-free data: round-off relative to the group's signal.
-        const double floor = 1e-13 * std::sqrt(power[k / 3]) + 1e-150;
-        sigma[k] = std::max(std::sqrt(ssr / noise_dof(used, sol.leverage[k])), floor);
-      }
-    }
-    return sol;
-  };
-
+  // given or re-estimated (detail::fit_noise); x, the residuals y - M x and
+  // the leverages per axis of the latest solve.
   Eigen::VectorXd w = Eigen::VectorXd::Ones(N);
-  Solution sol = fit(w);
+  detail::NoiseFit fit = detail::fit_noise(all, q, N, options);
+  Eigen::VectorXd x = fit.solution.x, residual = y - M * x;
+  detail::Vector6d leverage = fit.solution.leverage;
   if (options.robust) {
     // Robust fit from the least-squares start: Huber weights (a convex
     // problem, 10 steps) then Tukey's biweight with its cut-off at the outlier
     // threshold (redescending: gross errors get weight 0), MAD scales.
     const double huber = chi_quantile(0.1, score_dof), tukey = out.outlier_threshold;
-    Eigen::VectorXd x_prev = sol.x;
+    Eigen::VectorXd x_prev = x;
     for (int it = 0; it < 40; ++it) {
-      const Eigen::VectorXd r = outlier_residuals(model, base, samples, sol.x, sol.residual);
-      const Eigen::Matrix<double, 6, 1> s = robust_sigma(r, w, y, sol.leverage);
+      const Eigen::VectorXd r = outlier_residuals(model, base, samples, x, residual);
+      const Eigen::Matrix<double, 6, 1> s = robust_sigma(r, w, y, leverage);
       const Eigen::VectorXd d = scores(r, s);
       for (int i = 0; i < N; ++i) {
         if (it < 10) {
@@ -427,19 +317,22 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
           w[i] = u < 1.0 ? (1 - u * u) * (1 - u * u) : 0.0;
         }
       }
-      sol = weighted_solve(M, y, s, w);
-      if (it >= 10 && (sol.x - x_prev).cwiseAbs().maxCoeff() <=
-                          1e-12 * std::max(1.0, sol.x.cwiseAbs().maxCoeff()))
+      const detail::FactorSolution step =
+          detail::solve_factors(detail::fold_stacked(M, y, w), q, s);
+      x = step.x;
+      leverage = step.leverage;
+      residual = y - M * x;
+      if (it >= 10 &&
+          (x - x_prev).cwiseAbs().maxCoeff() <= 1e-12 * std::max(1.0, x.cwiseAbs().maxCoeff()))
         break;
-      x_prev = sol.x;
+      x_prev = x;
     }
   }
   // The outlier test on the (robust, or plain) fit's residuals.
   {
-    const Eigen::VectorXd all = Eigen::VectorXd::Ones(N);
-    const Eigen::VectorXd r = outlier_residuals(model, base, samples, sol.x, sol.residual);
-    const Eigen::Matrix<double, 6, 1> s =
-        robust_sigma(r, options.robust ? w : all, y, sol.leverage);
+    const Eigen::VectorXd every = Eigen::VectorXd::Ones(N);
+    const Eigen::VectorXd r = outlier_residuals(model, base, samples, x, residual);
+    const Eigen::Matrix<double, 6, 1> s = robust_sigma(r, options.robust ? w : every, y, leverage);
     const Eigen::VectorXd d = scores(r, s);
     for (int i = 0; i < N; ++i)
       if (d[i] > out.outlier_threshold)
@@ -451,35 +344,24 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
     // least squares, so the covariance and sigma below keep their meaning.
     w.setOnes();
     for (const Outlier& o : out.outliers) w[o.sample] = 0.0;
-    if (6 * (N - static_cast<int>(out.outliers.size())) < p + e)
+    if (6 * (N - static_cast<int>(out.outliers.size())) < q)
       throw IdentifiabilityError(samples.source + ": too many samples rejected as outliers");
-    sol = fit(w);
+    fit = out.outliers.empty()
+              ? detail::fit_noise(all, q, N, options)
+              : detail::fit_noise(detail::fold_stacked(M, y, w), q, w.sum(), options);
+    residual = y - M * fit.solution.x;
   }
 
-  out.value = sol.x.head(p);
-  out.sigma = sigma;
-  out.covariance = sol.covariance.topLeftCorner(p, p);
-  for (int k = 0; k < 6; ++k) out.residual_dof[k] = w.sum() - sol.leverage[k];
-  out.stddev = out.covariance.diagonal().cwiseSqrt();
+  detail::fill_summary(out, fit, p, w.sum());
   out.drift_names = drift.names;
-  out.drift_value = sol.x.tail(e);
-  out.drift_stddev = sol.covariance.diagonal().tail(e).cwiseSqrt();
-  double chi2 = 0.0, used = 0.0;
+  out.drift_value = fit.solution.x.tail(e);
+  out.drift_stddev = fit.solution.covariance.diagonal().tail(e).cwiseSqrt();
   out.residual_max.setZero();
-  out.residual_rms.setZero();
-  for (int i = 0; i < N; ++i) {
-    if (w[i] <= 0) continue;
-    used += 1;
-    for (int k = 0; k < 6; ++k) {
-      const double r = sol.residual[6 * i + k];
-      chi2 += (r / sigma[k]) * (r / sigma[k]);
-      out.residual_max[k] = std::max(out.residual_max[k], std::abs(r));
-      out.residual_rms[k] += r * r;
-    }
-  }
-  out.residual_rms = (out.residual_rms / std::max(used, 1.0)).cwiseSqrt();
-  out.chi2_per_dof = 6 * used > p + e ? chi2 / (6 * used - p - e) : 0.0;
-  out.condition_number = moment_condition_number(base, A);
+  for (int i = 0; i < N; ++i)
+    if (w[i] > 0)
+      for (int k = 0; k < 6; ++k)
+        out.residual_max[k] = std::max(out.residual_max[k], std::abs(residual[6 * i + k]));
+  out.condition_number = detail::condition_number(base, all);
   return out;
 }
 

@@ -6,7 +6,6 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -23,10 +22,10 @@
 #include <thread>
 #include <unordered_map>
 
+#include "axis_least_squares.hpp"
 #include "csv_stream.hpp"
 #include "householder_fold.hpp"
 #include "massid/errors.hpp"
-#include "massid/identifiability.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/motion_filter.hpp"
 #include "massid/regressor.hpp"
@@ -48,11 +47,10 @@ constexpr int kChunk = 128;
 
 // --------------------------------------------------------------- accumulator
 
-struct Axis {
-  int n = 0;                 // columns: unknowns, then y
-  std::vector<int> unknown;  // [n - 1] unknown index of each column
-  Eigen::MatrixXd R;         // [n x n] upper triangular
-  Eigen::MatrixXd B;         // [kChunk x n] rows not yet folded
+// An axis' factor (axis_least_squares.hpp: unknown, R) and its rows in waiting.
+struct Axis : AxisFactor {
+  int n = 0;          // columns: unknowns, then y
+  Eigen::MatrixXd B;  // [kChunk x n] rows not yet folded
 };
 
 struct AccumulatorState {
@@ -605,34 +603,12 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
   const long long N = st.count;
   const int p = base.num_unknowns();
 
-  // Same checks, same order and messages as identify().
-  if (base.offset && st.gravity_from_force)
-    throw IdentifiabilityError(
-        st.source +
-        ": the sensor offsets cannot be estimated when gravity is taken from the measured force "
-        "(no gx,gy,gz columns): a force offset would bend the gravity direction. Add gx,gy,gz "
-        "columns, or identify without --offset.");
-  if (6 * N < p)
-    throw IdentifiabilityError(st.source + ": " + std::to_string(N) +
-                               " samples give fewer equations than the " + std::to_string(p) +
-                               " unknowns; record more poses");
+  detail::check_unknowns(st.source, base, st.gravity_from_force, N);
+  detail::AxisFactors factors;
+  for (int a = 0; a < 6; ++a) factors[a] = static_cast<const detail::AxisFactor&>(st.axes[a]);
 
-  std::array<Eigen::MatrixXd, 6> R;
-  for (int a = 0; a < 6; ++a) R[a] = st.axes[a].R;
-
-  // G: the six R_a over the unknowns, stacked; G^T G = A^T A.
-  int rows = 0;
-  for (const auto& ax : st.axes) rows += ax.n - 1;
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(rows, p);
-  for (int a = 0, r0 = 0; a < 6; ++a) {
-    const detail::Axis& ax = st.axes[a];
-    for (int i = 0; i < ax.n - 1; ++i)
-      for (int j = i; j < ax.n - 1; ++j) G(r0 + i, ax.unknown[j]) = R[a](i, j);
-    r0 += ax.n - 1;
-  }
-
-  // Identifiability on G, which has the singular values (and right singular
-  // vectors) of the stacked regressor. The perturbed-pose hints need samples:
+  // Identifiability on the factors, which have the singular values (and
+  // right singular vectors) of the stacked regressor. The perturbed-pose hints need samples:
   // the first `keep` ones (check_identifiability uses the first max(3p, 30)),
   // and, when there are more, two rows holding each joint's minimum and
   // maximum so that "JOINT never moves" is judged on all the data.
@@ -668,100 +644,14 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
       sub.gravity.row(kept + e) = sub.gravity.row(0);
       sub.line.push_back(0);
     }
-    const IdentifiabilityReport report =
-        check_identifiability(model, base, sub, G, options.rank_tolerance);
-    if (!report.ok()) {
-      std::string message = report.message;
-      const std::string said =
-          st.source + ": the " + std::to_string(sub.size()) + " samples determine only";
-      if (sub.size() != N && message.starts_with(said))
-        message = st.source + ": the " + std::to_string(N) + " samples determine only" +
-                  message.substr(said.size());
-      throw IdentifiabilityError(message);
-    }
+    detail::check_identifiable(model, base, sub, N, factors, options.rank_tolerance);
   }
 
-  IdentifySummary out;
-  out.samples = static_cast<int>(N);
-  out.gravity_from_force = st.gravity_from_force;
-  out.gravity_from_upstream = st.gravity_from_upstream;
-  out.sigma_estimated = !options.sigma_force || !options.sigma_moment;
-  out.sigma_force_given = options.sigma_force.has_value();
-  out.sigma_moment_given = options.sigma_moment.has_value();
-
-  Eigen::VectorXd scale(p);
-  for (int c = 0; c < p; ++c) scale[c] = 1.0 / G.col(c).norm();
-
-  Vector6d sigma;
-  for (int k = 0; k < 6; ++k) {
-    const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
-    sigma[k] = user ? *user : 1.0;
-  }
-  // |y_a|^2 is the squared norm of R_a's y column.
-  double signal[2] = {0.0, 0.0};
-  for (int a = 0; a < 6; ++a)
-    signal[a / 3] += R[a].col(st.axes[a].n - 1).squaredNorm() / (3.0 * static_cast<double>(N));
-
-  int wrows = 0;
-  for (const auto& ax : st.axes) wrows += ax.n;
-  const int iterations = out.sigma_estimated ? std::max(1, options.weight_iterations) : 1;
-  Eigen::VectorXd x(p);
-  Eigen::MatrixXd Rinv;
-  Vector6d ssr, leverage;
-  for (int it = 0; it < iterations; ++it) {
-    // The weighted, column-scaled problem: QR of the stacked [R_a S, R_a y] / sigma_a.
-    Eigen::MatrixXd W = Eigen::MatrixXd::Zero(wrows, p + 1);
-    for (int a = 0, r0 = 0; a < 6; ++a) {
-      const detail::Axis& ax = st.axes[a];
-      for (int i = 0; i < ax.n; ++i) {
-        for (int j = i; j < ax.n - 1; ++j)
-          W(r0 + i, ax.unknown[j]) = R[a](i, j) * scale[ax.unknown[j]] / sigma[a];
-        W(r0 + i, p) = R[a](i, ax.n - 1) / sigma[a];
-      }
-      r0 += ax.n;
-    }
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
-    const Eigen::MatrixXd Rw = qr.matrixQR().topRows(p + 1).triangularView<Eigen::Upper>();
-    const Eigen::MatrixXd Rp = Rw.topLeftCorner(p, p);
-    const Eigen::VectorXd xs = Rp.triangularView<Eigen::Upper>().solve(Rw.col(p).head(p));
-    x = scale.asDiagonal() * xs;
-    Rinv = Rp.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p));
-    // SSR_a = |A_a x - y_a|^2 = |R_a [x_a; -1]|^2.
-    for (int a = 0; a < 6; ++a) {
-      const detail::Axis& ax = st.axes[a];
-      Eigen::VectorXd xa(ax.n);
-      for (int j = 0; j < ax.n - 1; ++j) xa[j] = x[ax.unknown[j]];
-      xa[ax.n - 1] = -1.0;
-      ssr[a] = (R[a].triangularView<Eigen::Upper>() * xa).squaredNorm();
-      // tr(H_aa) = tr(Mw_a^T Mw_a (Mw^T Mw)^-1) = |R_a S_a Rp^-1|_F^2 / sigma_a^2
-      // (Mw_a = A_a S / sigma_a, A_a^T A_a = R_a^T R_a over the axis' columns).
-      Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(ax.n - 1, p);
-      for (int i = 0; i < ax.n - 1; ++i)
-        for (int j = i; j < ax.n - 1; ++j)
-          Z.row(i) += (R[a](i, j) * scale[ax.unknown[j]]) * Rinv.row(ax.unknown[j]);
-      leverage[a] = Z.squaredNorm() / (sigma[a] * sigma[a]);
-    }
-    if (!out.sigma_estimated) break;
-    // As identify(): sigma_k^2 = SSR_k / (N - tr(H_kk)).
-    for (int k = 0; k < 6; ++k) {
-      const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
-      if (user) continue;
-      const double floor = 1e-13 * std::sqrt(signal[k / 3]) + 1e-150;
-      sigma[k] =
-          std::max(std::sqrt(ssr[k] / noise_dof(static_cast<double>(N), leverage[k])), floor);
-    }
-  }
-  for (int k = 0; k < 6; ++k) out.residual_dof[k] = static_cast<double>(N) - leverage[k];
-
-  out.value = x;
-  out.sigma = sigma;
-  out.covariance = scale.asDiagonal() * (Rinv * Rinv.transpose()) * scale.asDiagonal();
-  out.stddev = out.covariance.diagonal().cwiseSqrt();
-  double chi2 = 0.0;
-  for (int k = 0; k < 6; ++k) {
-    chi2 += ssr[k] / (sigma[k] * sigma[k]);
-    out.residual_rms[k] = std::sqrt(ssr[k] / static_cast<double>(N));
-  }
+  IdentifySummary out =
+      detail::start_summary(N, st.gravity_from_force, st.gravity_from_upstream, options);
+  const detail::NoiseFit fit = detail::fit_noise(factors, p, static_cast<double>(N), options);
+  detail::fill_summary(out, fit, p, static_cast<double>(N));
+  const Eigen::VectorXd& x = out.value;
   out.residual_max.setConstant(std::numeric_limits<double>::quiet_NaN());
   if (st.track) {
     // The exact residuals of the candidate rows (as residual_max_csv computes
@@ -798,41 +688,7 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
     }
     if (proven) out.residual_max = M;
   }
-  out.chi2_per_dof = 6 * N > p ? chi2 / static_cast<double>(6 * N - p) : 0.0;
-
-  // eq. 36. In motion: every row, columns scaled (moment_condition_number);
-  // G has the singular values and column norms of the stacked regressor.
-  if (base.motion()) {
-    out.condition_number = scaled_condition_number(G);
-    return out;
-  }
-  // At rest: the moment axes' R_a over the moment unknowns, stacked, have the
-  // singular values of the stacked moment rows.
-  std::vector<int> position(p, -1);
-  int mcols = 0;
-  for (int c = 0; c < p; ++c)
-    if (base.is_moment_unknown(c)) position[c] = mcols++;
-  if (mcols == 0) {
-    out.condition_number = 1.0;
-  } else {
-    int mrows = 0;
-    for (int a = 3; a < 6; ++a) mrows += st.axes[a].n - 1;
-    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(mrows, mcols);
-    for (int a = 3, r0 = 0; a < 6; ++a) {
-      const detail::Axis& ax = st.axes[a];
-      for (int i = 0; i < ax.n - 1; ++i)
-        for (int j = i; j < ax.n - 1; ++j) M(r0 + i, position[ax.unknown[j]]) = R[a](i, j);
-      r0 += ax.n - 1;
-    }
-    Eigen::MatrixXd Rm = M;
-    if (M.rows() > M.cols()) {
-      Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);
-      Rm = qr.matrixQR().topRows(M.cols()).triangularView<Eigen::Upper>();
-    }
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(Rm);
-    const auto& s = svd.singularValues();
-    out.condition_number = s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
-  }
+  out.condition_number = detail::condition_number(base, factors);
   return out;
 }
 

@@ -1,8 +1,10 @@
-// Streaming identification (streaming.hpp) against the independent dense solve
-// (identify() on the stacked regressor): every reported figure agrees to
-// 1e-10 relative; block and thread splits do not change the result; the CSV
-// reader accepts and rejects exactly what read_csv + read_samples do, with the
-// same messages.
+// Streaming identification (streaming.hpp) against identify(): the same
+// estimator (src/axis_least_squares.hpp) fed rows computed another way (the
+// stacked regressor in memory; the chunked kernels, blocks and merges when
+// streamed): every reported figure agrees to 1e-10 relative; block and thread
+// splits do not change the result; the CSV reader accepts and rejects exactly
+// what read_csv + read_samples do, with the same messages.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -172,6 +174,64 @@ TEST_F(StreamingTest, RandomLogOfTenThousandRowsAgreesWithDense) {
       for (int i = 0; i < s.size(); ++i) s.wrench.row(i) += kOffset.transpose();
     expect_same_summary(identify(model, base, s), identify_streaming(model, base, s), 1e-10);
   }
+}
+
+// identify() and the streamed fit are one estimator (axis_least_squares.hpp)
+// fed the same rows: with robust estimation off and no drift their summaries
+// agree to round-off in every part the solve fills, the residual degrees of
+// freedom included (which sum to 6N - p, the hat matrix' trace), and their
+// checks throw the same text.
+TEST_F(StreamingTest, InMemoryAndStreamedFitsAreOneEstimator) {
+  const auto ex = test::examples()[1];  // ur_like
+  const Model model = load_urdf(ex.urdf);
+  BaseParameterOptions bo;
+  bo.offset = true;
+  const BaseParameters base = find_base_parameters(model, bo);
+  const int p = base.num_unknowns();
+  Samples s = random_data(model, 300, 17);
+  for (int i = 0; i < s.size(); ++i) s.wrench.row(i) += kOffset.transpose();
+  for (const int given : {0, 1, 2}) {  // sigma estimated, given, the force's only
+    SCOPED_TRACE(given);
+    IdentifyOptions opts;
+    if (given >= 1) opts.sigma_force = 0.04;
+    if (given == 1) opts.sigma_moment = 0.006;
+    const IdentifySummary dense = identify(model, base, s, opts);
+    StreamOptions so;
+    so.block_rows = 37;
+    so.threads = 2;
+    const IdentifySummary streamed = identify_streaming(model, base, s, opts, so);
+    expect_same_summary(dense, streamed, 1e-10);
+    expect_close(dense.residual_dof, streamed.residual_dof, 1e-10, "residual_dof");
+    EXPECT_NEAR(dense.residual_dof.sum(), 6.0 * s.size() - p, 1e-8);
+    EXPECT_NEAR(streamed.residual_dof.sum(), 6.0 * s.size() - p, 1e-8);
+    EXPECT_EQ(dense.sigma_force_given, streamed.sigma_force_given);
+    EXPECT_EQ(dense.sigma_moment_given, streamed.sigma_moment_given);
+    EXPECT_TRUE(dense.per_sample_test);
+    EXPECT_FALSE(streamed.per_sample_test);
+  }
+  // The checks before any fit: too few samples, offsets with gravity from the force.
+  const auto message = [&](const Samples& data, const BaseParameters& b, bool stream) {
+    try {
+      stream ? identify_streaming(model, b, data) : identify(model, b, data);
+    } catch (const IdentifiabilityError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  Samples two = s;
+  two.q.conservativeResize(2, Eigen::NoChange);
+  two.gravity.conservativeResize(2, Eigen::NoChange);
+  two.wrench.conservativeResize(2, Eigen::NoChange);
+  EXPECT_EQ(message(two, base, false),
+            fmt::format("random: 2 samples give fewer equations than the {} unknowns; record more "
+                        "poses",
+                        p));
+  EXPECT_EQ(message(two, base, true), message(two, base, false));
+  Samples from_force = s;
+  from_force.gravity_from_force = true;
+  EXPECT_NE(message(from_force, base, false).find("sensor offsets cannot be estimated"),
+            std::string::npos);
+  EXPECT_EQ(message(from_force, base, true), message(from_force, base, false));
 }
 
 // ResidualMax evaluates its samples in batches of the streaming regressor
