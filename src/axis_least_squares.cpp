@@ -86,7 +86,8 @@ void check_unknowns(const std::string& source, const BaseParameters& base, bool 
         source +
         ": the sensor offsets cannot be estimated when gravity is taken from the measured force "
         "(no gx,gy,gz columns): a force offset would bend the gravity direction. Add gx,gy,gz "
-        "columns, or identify without --offset.");
+        "columns, or identify without the offsets.",
+        {{Hint::Setting::Offset, "off"}});
   const int p = base.num_unknowns();
   if (6 * samples < p)
     throw IdentifiabilityError(source + ": " + std::to_string(samples) +
@@ -105,7 +106,7 @@ void check_identifiable(const Model& model, const BaseParameters& base, const Sa
   if (hints.size() != samples && message.starts_with(said))
     message = hints.source + ": the " + std::to_string(samples) + " samples determine only" +
               message.substr(said.size());
-  throw IdentifiabilityError(message);
+  throw IdentifiabilityError(message, report.hints);
 }
 
 // ---------------------------------------------------------------- the solve

@@ -169,7 +169,7 @@ void Compensator::init(const Model& model, const BaseParameters& base,
     if (model.num_joints() > 0 && find(header, model.joints.front().name + "_vel") >= 0)
       notes.push_back(fmt::format(
           "{} is a static fit: the weight is compensated, not the inertial forces of the "
-          "motion (identify --dynamic for those)",
+          "motion (a dynamic fit compensates those)",
           params_name));
   }
   for (const std::string& n : notes) m.note += n + "\n";

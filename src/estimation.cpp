@@ -151,12 +151,15 @@ DriftColumns drift_columns(const Samples& s, Drift drift) {
   out.E.resize(6 * N, 0);
   if (drift == Drift::Linear) {
     if (s.time.size() != N)
-      throw InputError(s.source + ": --drift linear needs a t column (time of each sample, s)");
+      throw InputError(
+          s.source + ": a linear drift needs a t column (time of each sample, s)",
+          {{Hint::Setting::Drift, "linear"}});
     const double t_end = s.time.maxCoeff();
     if (!(t_end > s.time.minCoeff()))
       throw IdentifiabilityError(s.source +
                                  ": every sample has the same time t: a drift rate cannot be "
-                                 "estimated; record over time, or identify without --drift");
+                                 "estimated; record over time, or identify without a drift",
+                                 {{Hint::Setting::Drift, "off"}});
     out.E = Eigen::MatrixXd::Zero(6 * N, 6);
     for (int i = 0; i < N; ++i)
       for (int k = 0; k < 6; ++k) out.E(6 * i + k, k) = s.time[i] - t_end;  // offset at t_end
@@ -166,8 +169,9 @@ DriftColumns drift_columns(const Samples& s, Drift drift) {
   } else if (drift == Drift::PerBlock) {
     if (static_cast<int>(s.block.size()) != N)
       throw InputError(s.source +
-                       ": --drift per-block needs a block column (an integer per sample; the "
-                       "sensor was re-zeroed between blocks)");
+                       ": a drift per block needs a block column (an integer per sample; the "
+                       "sensor was re-zeroed between blocks)",
+                       {{Hint::Setting::Drift, "per-block"}});
     const int last = s.block.back();
     const std::vector<int> others = other_blocks(s);
     out.E = Eigen::MatrixXd::Zero(6 * N, 6 * others.size());
@@ -262,7 +266,8 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
     throw InputError(samples.source + ": no measured wrench (columns fx,fy,fz,mx,my,mz)");
   // (Excludes the offsets' check in check_unknowns, which needs base.offset.)
   if (options.drift != Drift::None && !base.offset)
-    throw InputError(samples.source + ": a drifting offset needs the offsets estimated (--offset)");
+    throw InputError(samples.source + ": a drifting offset needs the offsets estimated",
+                     {{Hint::Setting::Offset, "on"}});
   const int N = samples.size();
   detail::check_unknowns(samples.source, base, samples.gravity_from_force, N);
 

@@ -186,7 +186,10 @@ TEST(Excitation, MinHeightNoTrajectoryCanKeepIsAnInputErrorNamingTheOption) {
     design_excitation(model, level_base(model), o);
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--min-height"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("lower the clearance"), std::string::npos) << e.what();
+    // The hints name the clearance setting (the CLI spells it --min-height).
+    ASSERT_FALSE(e.hints().empty());
+    EXPECT_EQ(e.hints().front().setting, Hint::Setting::MinHeight);
   }
 }
 

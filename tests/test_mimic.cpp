@@ -237,7 +237,7 @@ TEST(Model, XacroAndFloatingJointsSayWhatToDo) {
       "<child link=\"trunk\"/></joint>\n</robot>\n";
   const std::string f = load_error(floating);
   EXPECT_NE(f.find("m.urdf:4: joint 'floating_base' is floating"), std::string::npos) << f;
-  EXPECT_NE(f.find("--sensor trunk"), std::string::npos) << f;
+  EXPECT_NE(f.find("sensor link 'trunk'"), std::string::npos) << f;
 }
 
 }  // namespace

@@ -419,7 +419,7 @@ TEST(MotionFilterTest, TimeErrorsNameTheLine) {
     EXPECT_NE(m.find("log.csv:2:"), std::string::npos) << m;
     EXPECT_NE(m.find("lines 2-601"), std::string::npos) << m;
     EXPECT_NE(m.find("at least 601"), std::string::npos) << m;
-    EXPECT_NE(m.find("--cutoff"), std::string::npos) << m;
+    EXPECT_NE(m.find("higher cutoff"), std::string::npos) << m;
     s = timed_log(601, rate);
     s.q = Eigen::MatrixXd::Zero(601, 1);
     EXPECT_EQ(filter_motion(s, o).size(), 1);
