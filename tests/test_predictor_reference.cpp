@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "massid/atomic_file.hpp"
+#include "atomic_file.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/model.hpp"
 #include "massid/motion_predictor.hpp"
