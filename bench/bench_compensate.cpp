@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "example_robots.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/compensator.hpp"
 #include "massid/csv.hpp"
@@ -17,9 +18,7 @@ namespace {
 
 using namespace massid;
 
-const char* const kRobots[] = {MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf",
-                               MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf",
-                               MASSID_SOURCE_DIR "/examples/branching/branching.urdf"};
+using massid::bench::kRobots;
 
 // Header and 1024 lines of random samples: joints, (with motion) their _vel
 // and _acc, gx,gy,gz, fx..mz.

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "chain_robot.hpp"
+#include "example_robots.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/csv.hpp"
@@ -20,10 +21,7 @@ namespace {
 
 using namespace massid;
 
-const char* const kRobots[] = {MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf",
-                               MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf",
-                               MASSID_SOURCE_DIR "/examples/branching/branching.urdf"};
-const char* const kNames[] = {"puma260", "ur_like", "branching"};
+using massid::bench::kRobots;
 
 // Random samples (joint positions and gravity) for a model.
 Samples random_samples(const Model& model, int n, unsigned seed) {
@@ -61,7 +59,7 @@ void time_predict(benchmark::State& state, const Model& model) {
 
 void BM_Predict(benchmark::State& state) {
   time_predict(state, load_urdf(kRobots[state.range(0)]));
-  state.SetLabel(kNames[state.range(0)]);
+  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_Predict)->DenseRange(0, 2);
 
@@ -103,7 +101,7 @@ void time_predict_motion(benchmark::State& state, const Model& model) {
 
 void BM_PredictMotion(benchmark::State& state) {
   time_predict_motion(state, load_urdf(kRobots[state.range(0)]));
-  state.SetLabel(kNames[state.range(0)]);
+  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_PredictMotion)->DenseRange(0, 2);
 
@@ -129,7 +127,7 @@ void BM_StandardRegressor(benchmark::State& state) {
     benchmark::DoNotOptimize(Y.data());
     i = (i + 1) & 1023;
   }
-  state.SetLabel(kNames[state.range(0)]);
+  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_StandardRegressor)->DenseRange(0, 2);
 
@@ -147,14 +145,14 @@ void BM_ForwardKinematicsMotion(benchmark::State& state) {
     benchmark::DoNotOptimize(kin.accel.data());
     i = (i + 1) & 1023;
   }
-  state.SetLabel(kNames[state.range(0)]);
+  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_ForwardKinematicsMotion)->DenseRange(0, 2);
 
 void BM_FindBaseParameters(benchmark::State& state) {
   const Model model = load_urdf(kRobots[state.range(0)]);
   for (auto _ : state) benchmark::DoNotOptimize(find_base_parameters(model));
-  state.SetLabel(kNames[state.range(0)]);
+  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_FindBaseParameters)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 

@@ -27,12 +27,12 @@ namespace fs = std::filesystem;
 
 const char* const kUrLike = MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf";
 
-struct Fixture {
+struct StreamFixture {
   Model model = load_urdf(kUrLike);
   BaseParameters base = find_base_parameters(model);
 };
-const Fixture& fixture() {
-  static const Fixture f;
+const StreamFixture& fixture() {
+  static const StreamFixture f;
   return f;
 }
 

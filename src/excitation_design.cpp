@@ -16,11 +16,14 @@
 #include "massid/estimation.hpp"
 #include "massid/excitation.hpp"
 #include "massid/identifiability.hpp"
+#include "median.hpp"
 
 namespace massid {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+using detail::median;
+
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 // A trajectory below the minimum height ranks behind every one above it:
 // its score is this plus its deficit in mm (criterion scores are logs).
 constexpr double kInfeasible = 1e6;
@@ -71,7 +74,7 @@ Eigen::VectorXd limit_scale(const FourierTrajectory& tr, const std::vector<Joint
   for (int j = 0; j < nj; ++j) {
     const JointBounds& b = bounds[j];
     const auto ratio = [](double room, double used) {
-      return used > 0.0 ? std::max(room, 0.0) / used : kInfinity;
+      return used > 0.0 ? std::max(room, 0.0) / used : kNoLimit;
     };
     double x = std::min(ratio(b.velocity, vel[j]), ratio(b.acceleration, acc[j]));
     if (b.limited)
@@ -313,13 +316,6 @@ void pattern_search(const Coordinates& coords, GridCriterion& grid, Eigen::Vecto
   }
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // The criterion's figure (condition number, or log det) of a score.
 double figure(const CriterionRows& crit, double score) {
   return crit.figure(crit.criterion() == Criterion::DOpt ? score : std::exp(score));
@@ -405,7 +401,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   // first `random_baseline` give the median.
   const int randoms = std::max({1, o.candidates, o.random_baseline});
   Eigen::VectorXd x;
-  double fx = kInfinity;
+  double fx = kNoLimit;
   std::vector<double> baseline;
   for (int c = 0; c < randoms; ++c) {
     const FourierTrajectory tr =
@@ -432,7 +428,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   }
   out.random_median = median(baseline);
   out.random_count = static_cast<int>(baseline.size());
-  out.start_figure = fx < kInfeasible / 2 ? figure(crit.criterion(), fx) : kInfinity;
+  out.start_figure = fx < kInfeasible / 2 ? figure(crit.criterion(), fx) : kNoLimit;
 
   // The search, then the written samples: shrink where a sample exceeds a
   // limit, and check the clearance; a miss between grid points reruns the
@@ -498,7 +494,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   out.identifiable = report.ok();
   out.identifiability_message = report.message;
   const int p = base.num_unknowns();
-  out.predicted_std = Eigen::VectorXd::Constant(p, kInfinity);
+  out.predicted_std = Eigen::VectorXd::Constant(p, kNoLimit);
   if (out.identifiable) {
     Eigen::LDLT<Eigen::MatrixXd> ldlt(info);
     out.predicted_std = ldlt.solve(Eigen::MatrixXd::Identity(p, p)).diagonal().cwiseSqrt();

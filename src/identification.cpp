@@ -79,18 +79,18 @@ std::vector<std::string> identification_notes(const IdentifySummary& summary,
 
 namespace {
 
-using json = nlohmann::json;
+using record_json = nlohmann::json;
 constexpr const char* kRecordFormat = "massid-identification-1";
 static_assert(std::endian::native == std::endian::little, "records store little-endian doubles");
 
 // A matrix as {rows, cols, data: the column-major doubles' bytes}.
-json matrix(const Eigen::MatrixXd& m) {
+record_json matrix(const Eigen::MatrixXd& m) {
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.size()) * sizeof(double));
   if (!bytes.empty()) std::memcpy(bytes.data(), m.data(), bytes.size());
-  return {{"rows", m.rows()}, {"cols", m.cols()}, {"data", json::binary(std::move(bytes))}};
+  return {{"rows", m.rows()}, {"cols", m.cols()}, {"data", record_json::binary(std::move(bytes))}};
 }
 
-Eigen::MatrixXd matrix_of(const json& j) {
+Eigen::MatrixXd matrix_of(const record_json& j) {
   const Eigen::Index rows = j.at("rows").get<Eigen::Index>(),
                      cols = j.at("cols").get<Eigen::Index>();
   const auto& bytes = j.at("data").get_binary();
@@ -104,23 +104,23 @@ Eigen::MatrixXd matrix_of(const json& j) {
 
 // A fixed-size vector (6 or 3): the stored one must have that size.
 template <int R>
-Eigen::Matrix<double, R, 1> vector_of(const json& j) {
+Eigen::Matrix<double, R, 1> vector_of(const record_json& j) {
   const Eigen::MatrixXd m = matrix_of(j);
   if (m.rows() != R || m.cols() != 1) throw std::runtime_error("a vector has the wrong size");
   return m;
 }
 
-json rest_json(const RestWindows& w) {
-  json windows = json::array();
+record_json rest_json(const RestWindows& w) {
+  record_json windows = record_json::array();
   for (const RestWindow& r : w.windows) windows.push_back({r.first, r.last});
   return {{"continuous", w.continuous}, {"windows", windows}, {"rows", w.rows},
           {"samples", w.samples},       {"moving", w.moving}, {"criterion", w.criterion}};
 }
 
-RestWindows rest_of(const json& j) {
+RestWindows rest_of(const record_json& j) {
   RestWindows w;
   w.continuous = j.at("continuous");
-  for (const json& r : j.at("windows")) w.windows.push_back({r.at(0), r.at(1)});
+  for (const record_json& r : j.at("windows")) w.windows.push_back({r.at(0), r.at(1)});
   w.rows = j.at("rows");
   w.samples = j.at("samples");
   w.moving = j.at("moving");
@@ -128,7 +128,7 @@ RestWindows rest_of(const json& j) {
   return w;
 }
 
-json delay_json(const DelayEstimate& d) {
+record_json delay_json(const DelayEstimate& d) {
   return {{"applied", d.applied},
           {"estimated", d.estimated},
           {"value", d.value},
@@ -136,7 +136,7 @@ json delay_json(const DelayEstimate& d) {
           {"scan", d.scan}};
 }
 
-DelayEstimate delay_of(const json& j) {
+DelayEstimate delay_of(const record_json& j) {
   DelayEstimate d;
   d.applied = j.at("applied");
   d.estimated = j.at("estimated");
@@ -146,8 +146,8 @@ DelayEstimate delay_of(const json& j) {
   return d;
 }
 
-json summary_json(const IdentifySummary& s) {
-  json outliers = json::array();
+record_json summary_json(const IdentifySummary& s) {
+  record_json outliers = record_json::array();
   for (const Outlier& o : s.outliers) outliers.push_back({o.sample, o.line, o.score});
   return {{"value", matrix(s.value)},
           {"stddev", matrix(s.stddev)},
@@ -176,7 +176,7 @@ json summary_json(const IdentifySummary& s) {
           {"delay", delay_json(s.delay)}};
 }
 
-IdentifySummary summary_of(const json& j) {
+IdentifySummary summary_of(const record_json& j) {
   IdentifySummary s;
   s.value = matrix_of(j.at("value"));
   s.stddev = matrix_of(j.at("stddev"));
@@ -193,7 +193,7 @@ IdentifySummary summary_of(const json& j) {
   s.samples = j.at("samples");
   s.gravity_from_force = j.at("gravity_from_force");
   s.gravity_from_upstream = j.at("gravity_from_upstream");
-  for (const json& o : j.at("outliers")) s.outliers.push_back({o.at(0), o.at(1), o.at(2)});
+  for (const record_json& o : j.at("outliers")) s.outliers.push_back({o.at(0), o.at(1), o.at(2)});
   s.outlier_threshold = j.at("outlier_threshold");
   s.per_sample_test = j.at("per_sample_test");
   s.robust = j.at("robust");
@@ -208,7 +208,7 @@ IdentifySummary summary_of(const json& j) {
 
 // The physical fit: its ten parameters per link and figures; the per-link
 // summaries are derived again on reading (physical_link).
-json physical_json(const PhysicalSummary& p) {
+record_json physical_json(const PhysicalSummary& p) {
   std::vector<bool> prior;
   for (const PhysicalLink& l : p.links) prior.push_back(l.prior_body);
   return {{"standard", matrix(p.standard)},
@@ -225,7 +225,7 @@ json physical_json(const PhysicalSummary& p) {
           {"prior_body", prior}};
 }
 
-PhysicalSummary physical_of(const json& j, const Model& model) {
+PhysicalSummary physical_of(const record_json& j, const Model& model) {
   PhysicalSummary p;
   p.standard = matrix_of(j.at("standard"));
   p.mismatch = matrix_of(j.at("mismatch"));
@@ -249,7 +249,7 @@ PhysicalSummary physical_of(const json& j, const Model& model) {
   return p;
 }
 
-json samples_json(const Samples& s) {
+record_json samples_json(const Samples& s) {
   return {{"source", s.source},
           {"q", matrix(s.q)},
           {"qd", matrix(s.qd)},
@@ -269,7 +269,7 @@ json samples_json(const Samples& s) {
           {"root_gravity", matrix(s.root_gravity)}};
 }
 
-Samples samples_of(const json& j) {
+Samples samples_of(const record_json& j) {
   Samples s;
   s.source = j.at("source");
   s.q = matrix_of(j.at("q"));
@@ -295,43 +295,43 @@ Samples samples_of(const json& j) {
 
 void write_identification(const std::string& path, const Identification& ident) {
   const BaseParameters& b = ident.base;
-  json held = json::array();
+  record_json held = record_json::array();
   for (const auto& [name, value] : ident.model.held) held.push_back({name, value});
   const MotionDataReport& m = ident.motion;
   const MotionDataOptions& mo = ident.motion_options;
-  json j = {{"format", kRecordFormat},
-            {"urdf", std::filesystem::absolute(ident.model.source).string()},
-            {"sensor_link", ident.model.sensor_link()},
-            {"held", held},
-            {"base",
-             {{"per_link", b.layout.per_link()},
-              {"sensor_moving", b.sensor_moving},
-              {"fixed_gravity", b.fixed_gravity},
-              {"gravity", matrix(b.gravity)},
-              {"offset", b.offset},
-              {"rank_tolerance", b.rank_tolerance},
-              {"names",
-               [&] {
-                 std::vector<std::string> names;
-                 for (const BaseParameter& p : b.params) names.push_back(p.expression);
-                 return names;
-               }()}}},
-            {"summary", summary_json(ident.summary)},
-            {"samples", samples_json(ident.samples)},
-            {"fitted", matrix(ident.fitted)},
-            {"warnings", ident.warnings},
-            {"motion",
-             {{"rows", m.rows},
-              {"derived", m.derived},
-              {"dt", m.kernels.dt},
-              {"cutoff", m.kernels.cutoff},
-              {"decimation", m.decimation},
-              {"option_cutoff", mo.filter.cutoff},
-              {"option_decimation", mo.filter.decimation},
-              {"g0", mo.samples.g0},
-              {"root_gravity", matrix(mo.samples.root_gravity)}}}};
+  record_json j = {{"format", kRecordFormat},
+                   {"urdf", std::filesystem::absolute(ident.model.source).string()},
+                   {"sensor_link", ident.model.sensor_link()},
+                   {"held", held},
+                   {"base",
+                    {{"per_link", b.layout.per_link()},
+                     {"sensor_moving", b.sensor_moving},
+                     {"fixed_gravity", b.fixed_gravity},
+                     {"gravity", matrix(b.gravity)},
+                     {"offset", b.offset},
+                     {"rank_tolerance", b.rank_tolerance},
+                     {"names",
+                      [&] {
+                        std::vector<std::string> names;
+                        for (const BaseParameter& p : b.params) names.push_back(p.expression);
+                        return names;
+                      }()}}},
+                   {"summary", summary_json(ident.summary)},
+                   {"samples", samples_json(ident.samples)},
+                   {"fitted", matrix(ident.fitted)},
+                   {"warnings", ident.warnings},
+                   {"motion",
+                    {{"rows", m.rows},
+                     {"derived", m.derived},
+                     {"dt", m.kernels.dt},
+                     {"cutoff", m.kernels.cutoff},
+                     {"decimation", m.decimation},
+                     {"option_cutoff", mo.filter.cutoff},
+                     {"option_decimation", mo.filter.decimation},
+                     {"g0", mo.samples.g0},
+                     {"root_gravity", matrix(mo.samples.root_gravity)}}}};
   if (ident.physical) j["physical"] = physical_json(*ident.physical);
-  const std::vector<std::uint8_t> bytes = json::to_cbor(j);
+  const std::vector<std::uint8_t> bytes = record_json::to_cbor(j);
   write_file_atomically(path, std::string(bytes.begin(), bytes.end()));
 }
 
@@ -341,13 +341,13 @@ Identification read_identification(const std::string& path) {
   const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
   Identification out;
   try {
-    const json j = json::from_cbor(bytes);
+    const record_json j = record_json::from_cbor(bytes);
     if (j.at("format") != kRecordFormat)
       throw std::runtime_error(fmt::format("format is not {}", kRecordFormat));
     std::vector<std::pair<std::string, double>> held;
-    for (const json& h : j.at("held")) held.emplace_back(h.at(0), h.at(1));
+    for (const record_json& h : j.at("held")) held.emplace_back(h.at(0), h.at(1));
     out.model = hold_joints(load_urdf(j.at("urdf"), j.at("sensor_link")), held);
-    const json& b = j.at("base");
+    const record_json& b = j.at("base");
     BaseParameterOptions bo;
     bo.layout = ParameterLayout::of_size(b.at("per_link"));
     bo.sensor_moving = b.at("sensor_moving");
@@ -365,7 +365,7 @@ Identification read_identification(const std::string& path) {
     out.samples = samples_of(j.at("samples"));
     out.fitted = matrix_of(j.at("fitted"));
     out.warnings = j.at("warnings").get<std::vector<std::string>>();
-    const json& m = j.at("motion");
+    const record_json& m = j.at("motion");
     out.motion.rows = m.at("rows");
     out.motion.derived = m.at("derived");
     out.motion.decimation = m.at("decimation");

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <string>
 
+#include "body_tree.hpp"
+#include "cross_matrix.hpp"
 #include "massid/errors.hpp"
 #include "sincos.hpp"
 #include "vector_paths.hpp"
@@ -18,18 +20,10 @@ namespace massid {
 
 namespace {
 
-// A rotation C with C e_z = axis (unit): the joint frame turned so that its
-// axis is z.
-Eigen::Matrix3d axis_to_z(const Eigen::Vector3d& axis) {
-  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis.normalized())
-      .toRotationMatrix();
-}
+using detail::skew;
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return S;
-}
+using detail::axis_to_z;
+using detail::depth_first;
 
 // A body whose joint axis is no axis of its parent's frame (header).
 constexpr int kGeneralAxis = 3;
@@ -38,7 +32,7 @@ constexpr int kGeneralAxis = 3;
 constexpr int body_slot(int k, int C) { return (k >> 2) * 4 * C + (k & 3); }
 
 // A rigid body before depth-first numbering.
-struct Body {
+struct InertialBody {
   int parent = -1, joint = 0;
   double joint_scale = 1.0, joint_offset = 0.0;  // a mimic joint follows its master
   JointType type = JointType::Fixed;
@@ -75,18 +69,6 @@ double aligning_angle(const Model& model, int l, const Eigen::Matrix3d& R, int m
   return 0.0;
 }
 
-std::vector<int> depth_first(const std::vector<Body>& bodies) {
-  std::vector<int> order, stack{0};
-  while (!stack.empty()) {
-    const int b = stack.back();
-    stack.pop_back();
-    order.push_back(b);
-    for (auto c = bodies[b].children.rbegin(); c != bodies[b].children.rend(); ++c)
-      stack.push_back(*c);
-  }
-  return order;
-}
-
 }  // namespace
 
 MotionPredictor compile_motion_predictor(const Model& model, const BaseParameters& base,
@@ -105,7 +87,7 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
 
   // Rigid bodies: a link joined by a fixed joint belongs to its parent's body.
   // in_body[l]: link l's frame in its body's frame (axis-aligned, see header).
-  std::vector<Body> bodies(1);
+  std::vector<InertialBody> bodies(1);
   std::vector<int> body_of(model.num_links(), 0);
   std::vector<Eigen::Isometry3d> in_body(model.num_links(), Eigen::Isometry3d::Identity());
   for (int l = 1; l < model.num_links(); ++l) {
@@ -116,7 +98,7 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
       in_body[l] = to_joint;
       continue;
     }
-    Body b;
+    InertialBody b;
     b.parent = body_of[link.parent];
     b.joint = link.joint_index;
     b.joint_scale = link.joint_scale;
@@ -161,7 +143,7 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
   // Fold each link into its body (header).
   for (int l = 0; l < model.num_links(); ++l) {
     const Eigen::Matrix<double, 10, 1>& p = standard[l];
-    Body& b = bodies[body_of[l]];
+    InertialBody& b = bodies[body_of[l]];
     const Eigen::Matrix3d& R = in_body[l].linear();
     const Eigen::Vector3d& t = in_body[l].translation();
     const double m = p[kMass];
@@ -196,7 +178,7 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
   for (int k = 0; k < L; ++k)
     for (int i = 0; i < 3; ++i) pred.axes[body_slot(k, 9) + 4 * (4 * i)] = 1.0;  // identity
   for (int k = 0; k < nb; ++k) {
-    const Body& b = bodies[order[k]];
+    const InertialBody& b = bodies[order[k]];
     if (k > 0) {
       pred.parent[k] = number[b.parent];
       pred.axis[k] = b.axis;
@@ -235,18 +217,8 @@ MotionPredictorData::MotionPredictorData(const MotionPredictor& p)
 namespace {
 
 using detail::Lanes;
-
-// T is double or a vector of doubles (lanes of bodies).
-template <class T>
-[[gnu::always_inline]] inline T load(const double* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-template <class T>
-[[gnu::always_inline]] inline void store(double* p, const T& v) {
-  std::memcpy(p, &v, sizeof v);
-}
+using detail::load;  // of a double or of lanes of bodies
+using detail::store;
 
 template <class T>
 struct Vec3 {
@@ -463,7 +435,7 @@ template <int M>
   }
 }
 
-// Body wrenches, V's lanes of bodies at a time (header).
+// InertialBody wrenches, V's lanes of bodies at a time (header).
 template <class V>
 [[gnu::always_inline]] inline void wrench_stage(const MotionPredictor& p, MotionPredictorData& d) {
   constexpr int W = sizeof(V) / sizeof(double);

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cstring>
 
+#include "body_tree.hpp"
 #include "massid/errors.hpp"
 #include "massid/regressor.hpp"
 #include "sincos.hpp"
@@ -17,15 +18,11 @@ namespace massid {
 
 namespace {
 
-// A rotation C with C e_z = axis (unit): the joint frame turned so that its
-// axis is z.
-Eigen::Matrix3d axis_to_z(const Eigen::Vector3d& axis) {
-  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis.normalized())
-      .toRotationMatrix();
-}
+using detail::axis_to_z;
+using detail::depth_first;
 
 // A rigid body of the recursion before depth-first numbering.
-struct Body {
+struct GravityBody {
   int parent = -1, joint = 0;
   double joint_scale = 1.0, joint_offset = 0.0;  // a mimic joint follows its master
   JointType type = JointType::Fixed;
@@ -36,19 +33,6 @@ struct Body {
   std::vector<int> children;
 };
 
-// Bodies in depth-first order from body 0 (children in their original order).
-std::vector<int> depth_first(const std::vector<Body>& bodies) {
-  std::vector<int> order, stack{0};
-  while (!stack.empty()) {
-    const int b = stack.back();
-    stack.pop_back();
-    order.push_back(b);
-    for (auto c = bodies[b].children.rbegin(); c != bodies[b].children.rend(); ++c)
-      stack.push_back(*c);
-  }
-  return order;
-}
-
 }  // namespace
 
 Predictor compile_predictor(const Model& model, const BaseParameters& base,
@@ -57,7 +41,7 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
   pred.num_joints = model.num_joints();
   // Rigid bodies: a link joined by a fixed joint belongs to its parent's body.
   // in_body[l]: link l's frame in its body's frame (axis-aligned, see header).
-  std::vector<Body> bodies(1);
+  std::vector<GravityBody> bodies(1);
   std::vector<int> body_of(model.num_links(), 0);
   std::vector<Eigen::Isometry3d> in_body(model.num_links(), Eigen::Isometry3d::Identity());
   for (int l = 1; l < model.num_links(); ++l) {
@@ -69,7 +53,7 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
       continue;
     }
     const Eigen::Matrix3d C = axis_to_z(link.axis);
-    Body b;
+    GravityBody b;
     b.parent = body_of[link.parent];
     b.joint = link.joint_index;
     b.joint_scale = link.joint_scale;
@@ -91,7 +75,7 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     const int c = base.column[i];
     const int l = c / kParamsPerLink, k = c % kParamsPerLink;
     const double v = values[i];
-    Body& b = bodies[body_of[l]];
+    GravityBody& b = bodies[body_of[l]];
     const Eigen::Isometry3d& T = in_body[l];
     if (c == kMass) {
       pred.total_mass = v;
@@ -112,7 +96,7 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
   std::vector<int> number(bodies.size());
   for (std::size_t k = 0; k < order.size(); ++k) number[order[k]] = static_cast<int>(k);
   for (std::size_t k = 0; k < order.size(); ++k) {
-    const Body& b = bodies[order[k]];
+    const GravityBody& b = bodies[order[k]];
     pred.first_moment.push_back(b.first_moment);
     if (k == 0) continue;
     PredictorStep s;
@@ -142,7 +126,7 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
   pred.lane_scale.assign(lanes, 1.0);
   pred.lane_offset.assign(lanes, 0.0);
   for (std::size_t k = 0; k < pred.steps.size(); ++k) {
-    const Body& b = bodies[order[k + 1]];
+    const GravityBody& b = bodies[order[k + 1]];
     pred.lane_joint[k] = b.joint;
     pred.lane_revolute[k] = b.type == JointType::Revolute ? 1.0 : 0.0;
     pred.lane_scale[k] = b.joint_scale;
@@ -159,20 +143,8 @@ PredictorData::PredictorData(const Predictor& predictor)
 namespace {
 
 using detail::Lanes;
-
-template <class V>
-[[gnu::always_inline]] inline V load(const double* p) {
-  V v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-// v in every lane (written lane by lane: V{} + v would add 0, not free).
-template <class V>
-[[gnu::always_inline]] inline V splat(double v) {
-  V r;
-  for (int l = 0; l < static_cast<int>(sizeof(V) / sizeof(double)); ++l) r[l] = v;
-  return r;
-}
+using detail::load;
+using detail::splat;
 
 // Joint stage: theta_k built in registers (no store-to-load round trip), then
 // their sines and cosines, V's lanes at a time. Lanes past n compute sin 0.

@@ -1,14 +1,13 @@
 #include "massid/regressor.hpp"
 
 #include "argument_checks.hpp"
+#include "cross_matrix.hpp"
 
 namespace massid {
 namespace {
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return S;
-}
+
+using detail::skew;
+
 // L(v) with I v = L(v) [ixx, ixy, ixz, iyy, iyz, izz].
 Eigen::Matrix<double, 3, 6> inertia_map(const Eigen::Vector3d& v) {
   Eigen::Matrix<double, 3, 6> L;

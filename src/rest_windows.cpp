@@ -6,16 +6,13 @@
 #include <utility>
 #include <vector>
 
+#include "median.hpp"
+
 namespace massid {
 
 namespace {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
+using detail::median;
 
 // 8 sigma of a signal's noise from its steps (motion is rare among them), at least `floor`.
 double tolerance(const Eigen::Ref<const Eigen::VectorXd>& x, double floor) {

@@ -27,9 +27,12 @@
 #include "massid/estimation.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/simulate.hpp"
+#include "median.hpp"
 
 namespace massid {
 namespace {
+
+using detail::median;
 
 using Severity = SetupFinding::Severity;
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -84,13 +87,6 @@ std::string matrix_text(const Eigen::Matrix3d& R) {
   return fmt::format(
       "[[{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}]]", R(0, 0),
       R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2));
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + m, v.end());
-  return v[m];
 }
 
 bool constant(const Eigen::VectorXd& c) { return c.size() > 0 && c.maxCoeff() == c.minCoeff(); }

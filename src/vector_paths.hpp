@@ -8,6 +8,8 @@
 // aarch64 may still differ in the last bits).
 #pragma once
 
+#include <cstring>
+
 #if defined(__x86_64__)
 #define MASSID_X86 1
 #else
@@ -24,5 +26,30 @@ inline bool cpu_has_avx2() {
   return false;
 #endif
 }
+
+// A double, or a vector of lanes of doubles, loaded from and stored to
+// (possibly unaligned) memory. Always inlined, the AVX2 copies' four-lane
+// vectors included, so GCC's note that passing those by value depends on
+// -mavx concerns no real call.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+template <class V>
+[[gnu::always_inline]] inline V load(const double* p) {
+  V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+template <class V>
+[[gnu::always_inline]] inline void store(double* p, const V& v) {
+  std::memcpy(p, &v, sizeof v);
+}
+// v in every lane of V (written lane by lane: V{} + v would add 0, not free).
+template <class V>
+[[gnu::always_inline]] inline V splat(double v) {
+  V r;
+  for (int l = 0; l < static_cast<int>(sizeof(V) / sizeof(double)); ++l) r[l] = v;
+  return r;
+}
+#pragma GCC diagnostic pop
 
 }  // namespace massid::detail

@@ -37,6 +37,7 @@ inline const std::string kSource = MASSID_SOURCE_DIR;
 inline std::string example(const std::string& rel) { return kSource + "/examples/" + rel; }
 inline const std::string kPumaUrdf = example("puma260/puma260.urdf");
 inline const std::string kPumaPlan = example("puma260/plan.csv");
+inline const std::string kUrUrdf = example("ur_like/ur_like.urdf");
 
 inline std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

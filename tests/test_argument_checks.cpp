@@ -13,12 +13,12 @@
 #include "massid/regressor.hpp"
 #include "massid/samples.hpp"
 #include "massid/simulate.hpp"
+#include "test_support.hpp"
 
 namespace massid {
 namespace {
 
 const char* kPuma = MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf";
-const char* kUrLike = MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf";
 
 // Runs f, expects an ArgumentError whose message holds every piece.
 template <class F>
@@ -46,7 +46,7 @@ TEST(ArgumentChecks, ForwardKinematicsChecksEveryVector) {
       [&] { forward_kinematics(model, data, q3, q3, q2, Eigen::Vector3d(0, 0, -9.81)); },
       {"qdd has 2 entries"});
   // A workspace built for another model.
-  const Model other = load_urdf(kUrLike);
+  const Model other = load_urdf(test::kUrLikeUrdf);
   KinematicsData wrong(other);
   expect_argument_error([&] { forward_kinematics(model, wrong, q3); }, {"data has"});
 }

@@ -61,7 +61,6 @@ class CliChecks : public Cli {
   }
 };
 
-const std::string kUrUrdf = example("ur_like/ur_like.urdf");
 const std::vector<std::string> kWrench{"fx", "fy", "fz", "mx", "my", "mz"};
 
 TEST_F(CliChecks, CleanDataWithNoiseAndOffsetSayNothing) {

@@ -25,7 +25,6 @@ using namespace massid_cli_test;
 constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kG = 9.80665;
 
-const std::string kUrUrdf = example("ur_like/ur_like.urdf");
 const std::string kBranchingUrdf = example("branching/branching.urdf");
 const std::string kWristUrdf = example("wrist_tool/wrist_tool.urdf");
 

@@ -14,13 +14,11 @@
 namespace massid_cli_test {
 namespace {
 
-const std::string kUr = example("ur_like/ur_like.urdf");
-
 class CliMotion : public Cli {
  protected:
   // A trajectory of ur_like (design --dynamic, a short search) and its simulated log.
   std::string trajectory(const std::string& name, int seed, double duration, double rate) {
-    const Result r = run({"design", kUr, "--dynamic", "-o", path(name), "--duration",
+    const Result r = run({"design", kUrUrdf, "--dynamic", "-o", path(name), "--duration",
                           std::to_string(duration), "--rate", std::to_string(rate), "--seed",
                           std::to_string(seed), "--evaluations", "1000"});
     EXPECT_EQ(r.code, 0) << r;
@@ -28,7 +26,7 @@ class CliMotion : public Cli {
   }
   std::string simulate(const std::string& traj, const std::string& name,
                        std::vector<std::string> extra = {}) {
-    std::vector<std::string> args{"simulate", kUr, traj, "-o", path(name), "--dynamic"};
+    std::vector<std::string> args{"simulate", kUrUrdf, traj, "-o", path(name), "--dynamic"};
     args.insert(args.end(), extra.begin(), extra.end());
     const Result r = run(args);
     EXPECT_EQ(r.code, 0) << r;
@@ -57,14 +55,14 @@ TEST_F(CliMotion, DesignSimulateIdentifyPredict) {
   const std::string log =
       simulate(traj, "log.csv",
                {"--noise-force", "0.1", "--noise-moment", "0.01", "--offset", "1,2,3,0.1,0.2,0.3"});
-  Result r = run({"identify", kUr, log, "--dynamic", "--offset", "-o", path("params.json")});
+  Result r = run({"identify", kUrUrdf, log, "--dynamic", "--offset", "-o", path("params.json")});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("condition number (all rows"), std::string::npos) << r;
   const json params = json::parse(read_file(path("params.json")));
   EXPECT_EQ(params["model"], "dynamic");
   EXPECT_EQ(params["motion"]["gravity"], "fixed");
   EXPECT_EQ(params["base_parameters"].size(), 40u);  // level, with offsets
-  const massid::Model model = massid::load_urdf(kUr);
+  const massid::Model model = massid::load_urdf(kUrUrdf);
   for (const auto& p : params["base_parameters"])
     EXPECT_NEAR(p["value"].get<double>(), true_value(model, p), 4 * p["std"].get<double>())
         << p["name"] << " = " << p["expression"];
@@ -74,7 +72,7 @@ TEST_F(CliMotion, DesignSimulateIdentifyPredict) {
   // level data cannot tell from them: the weight in fz ...) are the wrench;
   // fx_comp .. mz_comp = measured - fx_pred - offset.
   const std::string other = simulate(trajectory("other.csv", 7, 8.0, 200.0), "other_log.csv");
-  r = run({"predict", kUr, path("params.json"), other, "-o", path("pred.csv")});
+  r = run({"predict", kUrUrdf, path("params.json"), other, "-o", path("pred.csv")});
   ASSERT_EQ(r.code, 0) << r;
   const Table pred = read_table(path("pred.csv"));
   const double offset[6] = {1, 2, 3, 0.1, 0.2, 0.3};
@@ -106,12 +104,13 @@ TEST_F(CliMotion, FromPositionsOnlyWithTheFilter) {
     return name.find("_vel") != std::string::npos || name.find("_acc") != std::string::npos;
   });
   write_file(path("positions.csv"), to_csv(p));
-  Result r = run({"identify", kUr, path("positions.csv"), "--dynamic", "-o", path("params.json")});
+  Result r =
+      run({"identify", kUrUrdf, path("positions.csv"), "--dynamic", "-o", path("params.json")});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("derived from t and the positions"), std::string::npos) << r;
   EXPECT_NE(r.out.find("10 Hz"), std::string::npos) << r;  // the default cutoff, said
   const json params = json::parse(read_file(path("params.json")));
-  const massid::Model model = massid::load_urdf(kUr);
+  const massid::Model model = massid::load_urdf(kUrUrdf);
   EXPECT_EQ(params["base_parameters"].size(), 43u);
   for (const auto& q : params["base_parameters"])
     EXPECT_NEAR(q["value"].get<double>(), true_value(model, q), 4 * q["std"].get<double>())
@@ -119,7 +118,7 @@ TEST_F(CliMotion, FromPositionsOnlyWithTheFilter) {
   EXPECT_NEAR(params["total_mass"].get<double>(), model.nominal_total_mass(), 0.01);
 
   // A lower cutoff is applied and said.
-  r = run({"identify", kUr, path("positions.csv"), "--dynamic", "--cutoff", "5", "-o",
+  r = run({"identify", kUrUrdf, path("positions.csv"), "--dynamic", "--cutoff", "5", "-o",
            path("params5.json")});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("5 Hz"), std::string::npos) << r;
@@ -135,13 +134,13 @@ TEST_F(CliMotion, ToolOnAWristSensorFromTheArmJoints) {
   const std::string log =
       simulate(path("arm.csv"), "wrist.csv",
                {"--sensor", "wrist_3_link", "--noise-force", "0.05", "--noise-moment", "0.005"});
-  Result r =
-      run({"identify", kUr, log, "--dynamic", "--sensor", "wrist_3_link", "-o", path("tool.json")});
+  Result r = run(
+      {"identify", kUrUrdf, log, "--dynamic", "--sensor", "wrist_3_link", "-o", path("tool.json")});
   ASSERT_EQ(r.code, 0) << r;
   const json params = json::parse(read_file(path("tool.json")));
   EXPECT_EQ(params["base_parameters"].size(), 10u);  // all ten of the tool
   EXPECT_EQ(params["motion"]["sensor_moving"], true);
-  const massid::Model wrist = massid::load_urdf(kUr, "wrist_3_link");
+  const massid::Model wrist = massid::load_urdf(kUrUrdf, "wrist_3_link");
   for (const auto& q : params["base_parameters"])
     EXPECT_NEAR(q["value"].get<double>(), true_value(wrist, q), 4 * q["std"].get<double>())
         << q["name"] << " = " << q["expression"];
@@ -153,7 +152,7 @@ TEST_F(CliMotion, MotionLogErrorsNameTheFileAndLine) {
                                  "shoulder_pan_joint,shoulder_lift_joint,elbow_joint,wrist_1_joint,"
                                  "wrist_2_joint,wrist_3_joint,gx,gy,gz,fx,fy,fz,mx,my,mz\n"
                                  "0,0,0,0,0,0,0,0,-9.8,0,0,-229,0,0,0\n");
-  expect_input_error(run({"identify", kUr, still, "--dynamic", "-o", path("p.json")}),
+  expect_input_error(run({"identify", kUrUrdf, still, "--dynamic", "-o", path("p.json")}),
                      {"still.csv", "JOINT_vel", "t"});
   // Time going backwards.
   std::string text =
@@ -162,19 +161,19 @@ TEST_F(CliMotion, MotionLogErrorsNameTheFileAndLine) {
   for (int i = 0; i < 3000; ++i)
     text += std::to_string(i == 1500 ? 1.0 : i * 0.001) + ",0,0,0,0,0,0,0,0,-9.8,0,0,-229,0,0,0\n";
   const std::string back = file("back.csv", text);
-  const Result r = run({"identify", kUr, back, "--dynamic", "-o", path("p.json")});
+  const Result r = run({"identify", kUrUrdf, back, "--dynamic", "-o", path("p.json")});
   expect_input_error(r, {"back.csv:"});
   EXPECT_FALSE(fs::exists(path("p.json")));
   // simulate --dynamic without velocities.
-  expect_input_error(run({"simulate", kUr, still, "-o", path("s.csv"), "--dynamic"}),
+  expect_input_error(run({"simulate", kUrUrdf, still, "-o", path("s.csv"), "--dynamic"}),
                      {"still.csv", "_vel", "design --dynamic"});
 }
 
 TEST_F(CliMotion, ModelDynamicPrintsTheCounts) {
-  Result r = run({"model", kUr, "--dynamic", "--gravity", "level", "--json"});
+  Result r = run({"model", kUrUrdf, "--dynamic", "--gravity", "level", "--json"});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_EQ(json::parse(r.out)["base_parameters"].size(), 43u);
-  r = run({"model", kUr, "--dynamic"});
+  r = run({"model", kUrUrdf, "--dynamic"});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("base parameters: 44"), std::string::npos) << r;
   EXPECT_NE(r.out.find("kg m^2"), std::string::npos) << r;

@@ -11,7 +11,6 @@
 namespace massid_cli_test {
 namespace {
 
-const std::string kUr = example("ur_like/ur_like.urdf");
 const char* kKinds[10] = {"m", "mx", "my", "mz", "ixx", "ixy", "ixz", "iyy", "iyz", "izz"};
 
 // Every link of the section: exactly ten numbers, m > 0, J >= 0.
@@ -86,13 +85,14 @@ class CliPhysical : public Cli {
 };
 
 TEST_F(CliPhysical, DynamicIdentifyPrintsTheTableAndPredictUsesIt) {
-  Result r = run({"design", kUr, "--dynamic", "-o", path("traj.csv"), "--duration", "10", "--rate",
-                  "200", "--seed", "1"});
+  Result r = run({"design", kUrUrdf, "--dynamic", "-o", path("traj.csv"), "--duration", "10",
+                  "--rate", "200", "--seed", "1"});
   ASSERT_EQ(r.code, 0) << r;
-  r = run({"simulate", kUr, path("traj.csv"), "-o", path("log.csv"), "--dynamic", "--noise-force",
-           "0.1", "--noise-moment", "0.01", "--offset", "1,2,3,0.1,0.2,0.3", "--seed", "2"});
+  r = run({"simulate", kUrUrdf, path("traj.csv"), "-o", path("log.csv"), "--dynamic",
+           "--noise-force", "0.1", "--noise-moment", "0.01", "--offset", "1,2,3,0.1,0.2,0.3",
+           "--seed", "2"});
   ASSERT_EQ(r.code, 0) << r;
-  r = run({"identify", kUr, path("log.csv"), "--dynamic", "--offset", "--physical", "-o",
+  r = run({"identify", kUrUrdf, path("log.csv"), "--dynamic", "--offset", "--physical", "-o",
            path("params.json")});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("physically consistent parameters"), std::string::npos) << r;
@@ -105,12 +105,12 @@ TEST_F(CliPhysical, DynamicIdentifyPrintsTheTableAndPredictUsesIt) {
   expect_consistent_links(p["physical"]["links"], 10);
   EXPECT_TRUE(p["physical"]["consistent"].get<bool>());
   EXPECT_LE(std::abs(p["physical"]["worst_mismatch"]["std"].get<double>()), 2.0);
-  expect_physical_prediction({"predict", kUr}, path("params.json"), path("log.csv"));
+  expect_physical_prediction({"predict", kUrUrdf}, path("params.json"), path("log.csv"));
   // No link turned into a needle: where the data see a link's products of
   // inertia only to within its own inertia (the shoulder on a 10 s log), the
   // prior keeps its principal moments near the URDF's (a weak prior on the
   // arm's global scale let the smallest fall to 1e-8 kg m^2).
-  const massid::Model urdf = massid::load_urdf(kUr);
+  const massid::Model urdf = massid::load_urdf(kUrUrdf);
   for (const massid::Link& link : urdf.links) {
     if (!(link.mass > 0)) continue;
     const json& q = p["physical"]["links"][link.name];
@@ -126,10 +126,11 @@ TEST_F(CliPhysical, DynamicIdentifyPrintsTheTableAndPredictUsesIt) {
     EXPECT_GT(smallest, 0.2 * urdf_smallest) << link.name;
   }
   // Without --physical the file has no such section, and predict --physical says so.
-  r = run({"identify", kUr, path("log.csv"), "--dynamic", "--offset", "-o", path("plain.json")});
+  r = run(
+      {"identify", kUrUrdf, path("log.csv"), "--dynamic", "--offset", "-o", path("plain.json")});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_FALSE(json::parse(read_file(path("plain.json"))).contains("physical"));
-  r = run({"predict", kUr, path("plain.json"), path("log.csv"), "--physical"});
+  r = run({"predict", kUrUrdf, path("plain.json"), path("log.csv"), "--physical"});
   EXPECT_EQ(r.code, 2) << r;
   EXPECT_NE(r.err.find("no \"physical\" section"), std::string::npos) << r;
 }
@@ -208,16 +209,16 @@ TEST_F(CliUrdfOut, StaticIdentifiedUrdfReproducesThePhysicalPrediction) {
 }
 
 TEST_F(CliUrdfOut, DynamicIdentifiedUrdfReproducesThePhysicalPrediction) {
-  ASSERT_EQ(run({"design", kUr, "--dynamic", "-o", path("traj.csv"), "--duration", "6", "--period",
-                 "6", "--rate", "100", "--harmonics", "3", "--evaluations", "300"})
+  ASSERT_EQ(run({"design", kUrUrdf, "--dynamic", "-o", path("traj.csv"), "--duration", "6",
+                 "--period", "6", "--rate", "100", "--harmonics", "3", "--evaluations", "300"})
                 .code,
             0);
-  ASSERT_EQ(run({"simulate", kUr, path("traj.csv"), "-o", path("log.csv"), "--dynamic",
+  ASSERT_EQ(run({"simulate", kUrUrdf, path("traj.csv"), "-o", path("log.csv"), "--dynamic",
                  "--noise-force", "0.1", "--noise-moment", "0.01", "--seed", "2"})
                 .code,
             0);
-  const Result r = run({"identify", kUr, path("log.csv"), "--dynamic", "-o", path("params.json"),
-                        "--urdf-out", path("ur_identified.urdf")});
+  const Result r = run({"identify", kUrUrdf, path("log.csv"), "--dynamic", "-o",
+                        path("params.json"), "--urdf-out", path("ur_identified.urdf")});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("masses, centres of mass, inertias), every other byte"), std::string::npos)
       << r;
@@ -225,13 +226,13 @@ TEST_F(CliUrdfOut, DynamicIdentifiedUrdfReproducesThePhysicalPrediction) {
                  "--dynamic"})
                 .code,
             0);
-  ASSERT_EQ(run({"predict", kUr, path("params.json"), path("log.csv"), "-o", path("pred.csv"),
+  ASSERT_EQ(run({"predict", kUrUrdf, path("params.json"), path("log.csv"), "-o", path("pred.csv"),
                  "--physical"})
                 .code,
             0);
   expect_same_wrench(path("sim.csv"), path("pred.csv"));
   // A URDF that cannot be written to: exit 2, nothing left behind.
-  const Result bad = run({"identify", kUr, path("log.csv"), "--dynamic", "-o", path("p2.json"),
+  const Result bad = run({"identify", kUrUrdf, path("log.csv"), "--dynamic", "-o", path("p2.json"),
                           "--urdf-out", path("no/such/dir/x.urdf")});
   EXPECT_EQ(bad.code, 2) << bad;
 }

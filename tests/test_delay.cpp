@@ -16,7 +16,7 @@
 namespace massid {
 namespace {
 
-const Eigen::Vector3d kLevel(0.0, 0.0, -kStandardGravity);
+using test::kLevel;
 
 // The trajectory at 1 kHz with the wrench of the state `lag` earlier.
 Samples lagged_log(const Model& model, double lag, std::uint64_t seed, double duration = 4.0) {

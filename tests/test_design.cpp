@@ -18,7 +18,7 @@
 namespace massid {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using test::kDeg;
 
 Samples as_samples(const std::vector<PlanPose>& plan) {
   Samples s;

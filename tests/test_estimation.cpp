@@ -23,28 +23,17 @@
 namespace massid {
 namespace {
 
-const Wrench kOffset = (Wrench() << 0.5, -0.3, 1.0, 0.05, -0.02, 0.03).finished();
+using test::kOffset;
 
-// Plans that determine the offsets too (three or more gravity directions).
-std::string offset_plan(const test::Example& ex) {
-  if (ex.name == "puma260") return MASSID_SOURCE_DIR "/examples/puma260/holdout.csv";
-  return ex.plan;
-}
+using test::offset_plan;
 
-Eigen::VectorXd truth(const Model& model, const BaseParameters& base, const Wrench& offset) {
-  Eigen::VectorXd t(base.num_unknowns());
-  t.head(base.num_mass()) = base.K * nominal_standard_parameters(model);
-  if (base.offset) t.tail(6) = offset;
-  return t;
-}
-
-struct Case {
+struct EstimationCase {
   test::Example example;
   bool offset;
 };
 
-std::vector<Case> cases() {
-  std::vector<Case> out;
+std::vector<EstimationCase> estimation_cases() {
+  std::vector<EstimationCase> out;
   for (const auto& ex : test::examples()) {
     out.push_back({ex, false});
     out.push_back({ex, true});
@@ -52,7 +41,7 @@ std::vector<Case> cases() {
   return out;
 }
 
-class EstimationTest : public ::testing::TestWithParam<Case> {};
+class EstimationTest : public ::testing::TestWithParam<EstimationCase> {};
 
 TEST_P(EstimationTest, RecoversEveryBaseParameterFromNoiseFreeData) {
   const auto& [ex, offset] = GetParam();
@@ -65,7 +54,7 @@ TEST_P(EstimationTest, RecoversEveryBaseParameterFromNoiseFreeData) {
   if (offset) so.offset = kOffset;
   s.wrench = simulate_wrenches(model, s, so);
   const IdentifySummary r = identify(model, base, s);
-  const Eigen::VectorXd t = truth(model, base, so.offset);
+  const Eigen::VectorXd t = test::true_values(model, base, so.offset);
   for (int i = 0; i < base.num_unknowns(); ++i)
     EXPECT_LE(std::abs(r.value[i] - t[i]), 1e-9 * std::max(std::abs(t[i]), 1e-3))
         << base.unknown_name(i) << " = " << t[i];
@@ -79,7 +68,7 @@ TEST_P(EstimationTest, StandardDeviationsMatchTheErrorsOver200Seeds) {
   bo.offset = offset;
   const BaseParameters base = find_base_parameters(model, bo);
   Samples s = test::load_plan(model, offset ? offset_plan(ex) : ex.plan);
-  const Eigen::VectorXd t = truth(model, base, offset ? kOffset : Wrench::Zero());
+  const Eigen::VectorXd t = test::true_values(model, base, offset ? kOffset : Wrench::Zero());
   const int seeds = 200;
   Eigen::VectorXd sum_z2 = Eigen::VectorXd::Zero(base.num_unknowns());
   for (int seed = 1; seed <= seeds; ++seed) {
@@ -102,7 +91,7 @@ TEST_P(EstimationTest, StandardDeviationsMatchTheErrorsOver200Seeds) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, EstimationTest, ::testing::ValuesIn(cases()),
+INSTANTIATE_TEST_SUITE_P(Examples, EstimationTest, ::testing::ValuesIn(estimation_cases()),
                          [](const auto& info) {
                            return info.param.example.name + (info.param.offset ? "_offset" : "");
                          });

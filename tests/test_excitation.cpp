@@ -22,7 +22,7 @@
 namespace massid {
 namespace {
 
-const Eigen::Vector3d kLevel(0.0, 0.0, -kStandardGravity);
+using test::kLevel;
 
 Model ur_like() {
   return load_urdf(std::string(MASSID_SOURCE_DIR) + "/examples/ur_like/ur_like.urdf");

@@ -171,7 +171,11 @@ TEST(ParamsFile, RoundTripsThroughJson) {
 }
 
 std::string params_error(const std::string& text) {
-  const fs::path path = fs::temp_directory_path() / "massid_params_error.json";
+  // One file per test: ctest runs the tests of this suite in parallel processes.
+  const fs::path path =
+      fs::temp_directory_path() /
+      (std::string("massid_params_error_") +
+       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".json");
   write_file_atomically(path.string(), text);
   std::string what = "no error";
   try {

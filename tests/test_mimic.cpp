@@ -28,7 +28,7 @@ namespace {
 using test::expand;
 using test::gripper_urdf;
 
-const std::string kRobots = MASSID_SOURCE_DIR "/tests/data/robots/";
+const std::string kRobotsDir = MASSID_SOURCE_DIR "/tests/data/robots/";
 
 TEST(Mimic, LoadsWithTheMasterAndNoJointOfItsOwn) {
   const Model with = load_urdf_string(gripper_urdf(true), "", "g.urdf");
@@ -176,14 +176,14 @@ TEST(Mimic, ChainsAndCyclesAreNamedAllAtOnce) {
 }
 
 TEST(Mimic, PublishedPandaAndRobotiqLoad) {
-  const Model panda = load_urdf(kRobots + "panda.urdf");
+  const Model panda = load_urdf(kRobotsDir + "panda.urdf");
   EXPECT_EQ(panda.num_joints(), 8);  // 7 arm joints and finger 1; finger 2 mimics it
   ASSERT_EQ(panda.mimics.size(), 1u);
   EXPECT_EQ(panda.mimics[0].name, "panda_finger_joint2");
   EXPECT_EQ(panda.mimics[0].master, "panda_finger_joint1");
   EXPECT_EQ(panda.mimics[0].multiplier, 1.0);  // URDF default
 
-  const Model robotiq = load_urdf(kRobots + "robotiq_2f_85.urdf");
+  const Model robotiq = load_urdf(kRobotsDir + "robotiq_2f_85.urdf");
   EXPECT_EQ(robotiq.num_joints(), 1);
   EXPECT_EQ(robotiq.mimics.size(), 5u);
   // Its multiplier -1 fingers have <limit lower="0" upper="0.8757">:
@@ -212,7 +212,7 @@ TEST(Model, SwappedLimitsAreAnErrorWithTheLine) {
 TEST(Model, UnknownSensorLinkSuggestsTheClosestNames) {
   const std::string e = [] {
     try {
-      load_urdf(kRobots + "ur5_robot.urdf", "wrist3_link");
+      load_urdf(kRobotsDir + "ur5_robot.urdf", "wrist3_link");
     } catch (const InputError& e) {
       return std::string(e.what());
     }

@@ -22,8 +22,8 @@
 namespace massid {
 namespace {
 
-const Eigen::Vector3d kLevel(0.0, 0.0, -kStandardGravity);
-const Wrench kOffset = (Wrench() << 2.0, -1.0, 3.0, 0.2, -0.1, 0.05).finished();
+using test::kLevel;
+const Wrench kDynamicOffset = (Wrench() << 2.0, -1.0, 3.0, 0.2, -0.1, 0.05).finished();
 
 // The base parameters' true values: K pi for the URDF's ten parameters per link.
 Eigen::VectorXd truth(const Model& model, const BaseParameters& base) {
@@ -38,7 +38,7 @@ Samples log_of(const Model& model, const FourierTrajectory& tr, double duration,
   so.noise_force = 0.1;
   so.noise_moment = 0.01;
   so.seed = seed;
-  if (offset) so.offset = kOffset;
+  if (offset) so.offset = kDynamicOffset;
   s.wrench = simulate_wrenches(model, s, so);
   return s;
 }
@@ -82,7 +82,7 @@ Eigen::Matrix<double, 6, 1> error_on_another_trajectory(const Model& model,
   exact.dynamic = true;
   check.wrench = simulate_wrenches(model, check, exact);
   IdentifySummary mechanism = fit;
-  mechanism.value.tail(6) -= kOffset;
+  mechanism.value.tail(6) -= kDynamicOffset;
   return prediction_error(model, base, mechanism, check);
 }
 
@@ -117,7 +117,7 @@ TEST(MotionIdentify, TiltedGravityDeterminesTheTotalMassWithOffsets) {
   so.dynamic = true;
   so.noise_force = 0.1;
   so.noise_moment = 0.01;
-  so.offset = kOffset;
+  so.offset = kDynamicOffset;
   s.wrench = simulate_wrenches(model, s, so);
   const BaseParameters base = find_base_parameters(model, motion_base_options(s, true));
   EXPECT_FALSE(base.fixed_gravity);

@@ -58,25 +58,25 @@ BaseParameters motion_base(const Model& model, bool offset, bool moving, bool fi
   return find_base_parameters(model, o);
 }
 
-struct Case {
+struct MotionCase {
   test::Example example;
   bool offset, moving;
 };
 
-std::vector<Case> cases() {
-  std::vector<Case> out;
+std::vector<MotionCase> motion_cases() {
+  std::vector<MotionCase> out;
   for (const test::Example& e : test::examples())
     for (bool offset : {false, true})
       for (bool moving : {false, true}) out.push_back({e, offset, moving});
   return out;
 }
 
-class MotionPredictorTest : public ::testing::TestWithParam<Case> {};
+class MotionPredictorTest : public ::testing::TestWithParam<MotionCase> {};
 
 // Y_b values (+ offsets) for random values of every unknown, and for values
 // K pi of random standard parameters, at random motions.
 TEST_P(MotionPredictorTest, EqualsTheBaseRegressor) {
-  const Case& c = GetParam();
+  const MotionCase& c = GetParam();
   const Model model = load_urdf(c.example.urdf);
   const BaseParameters base = motion_base(model, c.offset, c.moving, false);
   std::mt19937_64 rng(11);
@@ -110,7 +110,7 @@ TEST_P(MotionPredictorTest, EqualsTheBaseRegressor) {
 // Y_b K pi = Y pi: the URDF's inertials through the base parameters give the
 // standard regressor's wrench.
 TEST_P(MotionPredictorTest, NominalParametersGiveTheStandardRegressor) {
-  const Case& c = GetParam();
+  const MotionCase& c = GetParam();
   const Model model = load_urdf(c.example.urdf);
   const BaseParameters base = motion_base(model, c.offset, c.moving, false);
   const Eigen::VectorXd pi = ParameterLayout::full().nominal(model);
@@ -133,7 +133,7 @@ TEST_P(MotionPredictorTest, NominalParametersGiveTheStandardRegressor) {
 
 // The batch form computes row by row exactly what single calls compute.
 TEST_P(MotionPredictorTest, BatchEqualsSingleCalls) {
-  const Case& c = GetParam();
+  const MotionCase& c = GetParam();
   const Model model = load_urdf(c.example.urdf);
   const BaseParameters base = motion_base(model, c.offset, c.moving, false);
   std::mt19937_64 rng(7);
@@ -165,7 +165,7 @@ TEST_P(MotionPredictorTest, BatchEqualsSingleCalls) {
 // The two-lane path (SSE2, NEON) gives the same bits as the four-lane (AVX2)
 // one, which the CPU runs when it has it: no path contracts to fused multiply-adds.
 TEST_P(MotionPredictorTest, TwoLanesGiveTheSameBitsAsFour) {
-  const Case& c = GetParam();
+  const MotionCase& c = GetParam();
   const Model model = load_urdf(c.example.urdf);
   const BaseParameters base = motion_base(model, c.offset, c.moving, false);
   std::mt19937_64 rng(13);
@@ -186,7 +186,7 @@ TEST_P(MotionPredictorTest, TwoLanesGiveTheSameBitsAsFour) {
 // the static predictor's for the same standard parameters (a base for a
 // moving sensor holds at rest too).
 TEST_P(MotionPredictorTest, AtRestEqualsTheStaticPredictor) {
-  const Case& c = GetParam();
+  const MotionCase& c = GetParam();
   const Model model = load_urdf(c.example.urdf);
   const BaseParameters base = motion_base(model, c.offset, c.moving, false);
   BaseParameterOptions so;
@@ -219,7 +219,7 @@ TEST_P(MotionPredictorTest, AtRestEqualsTheStaticPredictor) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, MotionPredictorTest, ::testing::ValuesIn(cases()),
+INSTANTIATE_TEST_SUITE_P(Examples, MotionPredictorTest, ::testing::ValuesIn(motion_cases()),
                          [](const auto& info) {
                            return info.param.example.name + (info.param.offset ? "_offset" : "") +
                                   (info.param.moving ? "_moving" : "_rest");

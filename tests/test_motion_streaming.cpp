@@ -38,14 +38,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const Eigen::Vector3d kLevel(0.0, 0.0, -kStandardGravity);
-const std::string kUrLike = MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf";
+using test::kLevel;
 
 using test::expect_close;
 using test::expect_identical;
 
 // Values near zero against their std (inertias and first moments differ in size).
-void expect_same_summary(const IdentifySummary& d, const IdentifySummary& s, double rel) {
+void expect_same_motion_summary(const IdentifySummary& d, const IdentifySummary& s, double rel) {
   test::expect_same_summary(d, s, rel, /*residual_max=*/true, /*values_to_std=*/true);
 }
 
@@ -113,21 +112,21 @@ TEST(MotionAccumulator, AgreesWithIdentifyOnEveryExample) {
         StreamOptions so;
         so.block_rows = 700;
         const IdentifySummary streamed = identify_streaming(model, base, s, {}, so);
-        expect_same_summary(dense, streamed, 1e-9);
+        expect_same_motion_summary(dense, streamed, 1e-9);
         // The same rows one at a time through add(MotionRow).
         IdentifyAccumulator acc(model, base);
         acc.set_source(s.source, false);
         acc.add(s);
         IdentifySummary added = acc.finish();
         added.residual_max = dense.residual_max;  // (not tracked here)
-        expect_same_summary(dense, added, 1e-9);
+        expect_same_motion_summary(dense, added, 1e-9);
       }
   }
 }
 
 TEST(MotionAccumulator, UndeterminedMotionGivesTheDenseMessage) {
   // wrist_3 never moves: identify() names it; so must finish().
-  const Model model = load_urdf(kUrLike);
+  const Model model = load_urdf(test::kUrLikeUrdf);
   FourierTrajectory tr = random_fourier_trajectory(model, 5, 10.0, 11);
   tr.a.row(5).setZero();
   tr.b.row(5).setZero();
@@ -156,7 +155,7 @@ TEST(MotionAccumulator, UndeterminedMotionGivesTheDenseMessage) {
 // ------------------------------------------------------------ motion logs
 
 // A log's make-up: which columns the file has.
-struct Log {
+struct MotionLog {
   std::string sensor;               // sensor link ("" for the root)
   bool velocities = true;           // JOINT_vel, JOINT_acc of the measured joints
   bool upstream_velocities = true;  // ... of the joints above the sensor link
@@ -184,11 +183,11 @@ class MotionCsvTest : public ::testing::Test {
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   // Writes the log and returns its path; `edit` may change the rows first.
-  std::string write(const std::string& name, const Log& log,
+  std::string write(const std::string& name, const MotionLog& log,
                     const std::function<void(std::vector<std::string>&,
                                              std::vector<std::vector<std::string>>&)>& edit = {}) {
-    const Model arm = load_urdf(kUrLike);
-    const Model model = load_urdf(kUrLike, log.sensor);
+    const Model arm = load_urdf(test::kUrLikeUrdf);
+    const Model model = load_urdf(test::kUrLikeUrdf, log.sensor);
     // One trajectory for every joint of the arm; the sensor's model takes its
     // joints (below) and upstream joints (above) from it by name.
     const FourierTrajectory tr = random_fourier_trajectory(arm, 5, 10.0, log.seed);
@@ -294,16 +293,16 @@ class MotionCsvTest : public ::testing::Test {
   }
 
   // The in-memory path and the stream, compared; returns the stream's result.
-  MotionIdentification compare(const std::string& file, const Log& log, const StreamOptions& so,
-                               const MotionDataOptions& data = {}) {
-    const Model model = load_urdf(kUrLike, log.sensor);
+  MotionIdentification compare(const std::string& file, const MotionLog& log,
+                               const StreamOptions& so, const MotionDataOptions& data = {}) {
+    const Model model = load_urdf(test::kUrLikeUrdf, log.sensor);
     MotionDataReport report;
     const Samples s = in_memory(model, file, data, report);
     const BaseParameters base = find_base_parameters(model, motion_base_options(s, log.offset));
     const IdentifySummary dense = identify(model, base, s);
     const MotionIdentification m = identify_motion_csv(model, file, log.offset, {}, data, so);
     expect_same_base(base, m.base);
-    expect_same_summary(dense, m.summary, 1e-9);
+    expect_same_motion_summary(dense, m.summary, 1e-9);
     EXPECT_EQ(report.rows, m.report.rows);
     EXPECT_EQ(report.derived, m.report.derived);
     EXPECT_EQ(report.decimation, m.report.decimation);
@@ -369,7 +368,7 @@ StreamOptions small_blocks(size_t bytes = 37000, int threads = 2) {
 TEST_F(MotionCsvTest, VelocitiesGivenAgreeWithInMemory) {
   for (const bool offset : {false, true}) {
     SCOPED_TRACE(offset ? "offset" : "no offset");
-    Log log;
+    MotionLog log;
     log.offset = offset;
     const std::string f = write("given.csv", log);
     const MotionIdentification m = compare(f, log, small_blocks());
@@ -390,14 +389,14 @@ TEST_F(MotionCsvTest, LargestResidualWithoutASecondPass) {
   // on 10^6 rows the default 2 MB head and windows prove it, see
   // docs/performance.md); and a second pass (a filtered log's pilot is its
   // head alone, too small to prove it).
-  Log log;
+  MotionLog log;
   const std::string f = write("residual.csv", log);
   StreamOptions so = small_blocks();
   EXPECT_FALSE(compare(f, log, so).residual_pass);
   so.keep_bytes = 0;
   so.pilot_bytes = 1 << 20;
   EXPECT_FALSE(compare(f, log, so).residual_pass);
-  Log filtered;
+  MotionLog filtered;
   filtered.velocities = false;
   const std::string g = write("residual_filtered.csv", filtered);
   so.pilot_bytes = 60000;
@@ -407,7 +406,7 @@ TEST_F(MotionCsvTest, LargestResidualWithoutASecondPass) {
 TEST_F(MotionCsvTest, VelocitiesDerivedInTheStreamAgreeWithInMemory) {
   for (const bool offset : {false, true}) {
     SCOPED_TRACE(offset ? "offset" : "no offset");
-    Log log;
+    MotionLog log;
     log.velocities = false;
     log.offset = offset;
     log.encoder_noise = 1e-5;
@@ -428,7 +427,7 @@ TEST_F(MotionCsvTest, VelocitiesDerivedInTheStreamAgreeWithInMemory) {
 }
 
 TEST_F(MotionCsvTest, BlockColumnRestartsTheFilter) {
-  Log log;
+  MotionLog log;
   log.velocities = false;
   log.blocks = 3;
   const std::string f = write("blocks.csv", log);
@@ -441,7 +440,7 @@ TEST_F(MotionCsvTest, WristSensorWithTheArmJointsAbove) {
   // motion from the six arm joints (given velocities, then derived).
   for (const bool given : {true, false}) {
     SCOPED_TRACE(given ? "given" : "derived");
-    Log log;
+    MotionLog log;
     log.sensor = "wrist_3_link";
     log.gravity_columns = false;
     log.upstream_velocities = given;
@@ -459,7 +458,7 @@ TEST_F(MotionCsvTest, SensorMidChainWithMixedColumns) {
   // from the raw upstream velocities and is smoothed like the wrench).
   for (const bool below_given : {true, false}) {
     SCOPED_TRACE(below_given ? "below given" : "above given");
-    Log log;
+    MotionLog log;
     log.sensor = "wrist_1_link";
     log.velocities = below_given;
     log.upstream_velocities = !below_given;
@@ -474,10 +473,10 @@ TEST_F(MotionCsvTest, SensorMidChainWithMixedColumns) {
 TEST_F(MotionCsvTest, ThreadCountDoesNotChangeTheResult) {
   for (const bool given : {true, false}) {
     SCOPED_TRACE(given ? "given" : "derived");
-    Log log;
+    MotionLog log;
     log.velocities = given;
     const std::string f = write("threads.csv", log);
-    const Model model = load_urdf(kUrLike);
+    const Model model = load_urdf(test::kUrLikeUrdf);
     const MotionIdentification one =
         identify_motion_csv(model, f, true, {}, {}, small_blocks(20000, 1));
     for (const int threads : {2, 4}) {
@@ -492,7 +491,7 @@ TEST_F(MotionCsvTest, WhatTheHeadSuggestsIsCheckedAgainstTheWholeFile) {
   // Gravity level in the head, tilted later: the base is the one for varying
   // gravity (the total mass is then identifiable with offsets).
   {
-    Log log;
+    MotionLog log;
     log.velocities = false;
     log.tilt_after = 10.0;
     const std::string f = write("tilt.csv", log);
@@ -503,7 +502,7 @@ TEST_F(MotionCsvTest, WhatTheHeadSuggestsIsCheckedAgainstTheWholeFile) {
   }
   // A platform at rest in the head, swaying later.
   {
-    Log log;
+    MotionLog log;
     log.sensor_columns = true;
     const std::string f = write("sway.csv", log);
     const MotionIdentification m = compare(f, log, small_blocks());
@@ -513,7 +512,7 @@ TEST_F(MotionCsvTest, WhatTheHeadSuggestsIsCheckedAgainstTheWholeFile) {
   // A sample period that differs between the head and the rest (within the
   // 0.1 % uniformity): the median of all steps, as filter_motion takes it.
   {
-    Log log;
+    MotionLog log;
     log.velocities = false;
     const std::string f = write("period.csv", log, [](auto& header, auto& rows) {
       const size_t n = rows.size();
@@ -541,11 +540,11 @@ std::string input_error(const std::function<void()>& f) {
 }
 
 TEST_F(MotionCsvTest, ErrorsAreThoseOfReadMotionSamples) {
-  Log log;
+  MotionLog log;
   log.velocities = false;
   log.blocks = 2;
   log.sensor_columns = true;
-  const Model model = load_urdf(kUrLike);
+  const Model model = load_urdf(test::kUrLikeUrdf);
   // A bad cell deep in the file (line 4001: far beyond the head) in each kind of new column.
   const auto with_cell = [&](const std::string& column, const std::string& value) {
     return [=](std::vector<std::string>& header, std::vector<std::vector<std::string>>& rows) {
@@ -593,7 +592,7 @@ TEST_F(MotionCsvTest, ErrorsAreThoseOfReadMotionSamples) {
     const std::string& name = header_case.first;   // (lambdas below capture them:
     const std::string& drop = header_case.second;  // no structured binding, for clang 14)
     SCOPED_TRACE(name);
-    Log given;
+    MotionLog given;
     given.sensor_columns = true;
     const std::string f = write(name + ".csv", given, [&](auto& header, auto& rows) {
       // Drop every column ending in `drop` (or only the first one for "some_").
@@ -615,7 +614,7 @@ TEST_F(MotionCsvTest, ErrorsAreThoseOfReadMotionSamples) {
   }
   // No velocities and no t.
   {
-    Log no_t;
+    MotionLog no_t;
     no_t.velocities = false;
     const std::string f = write("no_t.csv", no_t, [](auto& header, auto& rows) {
       header.erase(header.begin());
@@ -632,10 +631,10 @@ TEST_F(MotionCsvTest, ErrorsAreThoseOfReadMotionSamples) {
 // ------------------------------------------------------------ identify_motion_file
 
 TEST_F(MotionCsvTest, IdentifyMotionFileIsTheInMemoryPath) {
-  Log log;
+  MotionLog log;
   log.velocities = false;
   const std::string f = write("file.csv", log);
-  const Model model = load_urdf(kUrLike);
+  const Model model = load_urdf(test::kUrLikeUrdf);
   MotionDataReport report;
   const Samples s = read_motion_samples(model, f, WrenchColumns::Required, {}, &report);
   const BaseParameters base = find_base_parameters(model, motion_base_options(s, true));
@@ -646,14 +645,14 @@ TEST_F(MotionCsvTest, IdentifyMotionFileIsTheInMemoryPath) {
   const IdentifySummary streamed =
       identify_motion_file(model, f, true, {}, {}, &streamed_base, &streamed_report, &head);
   expect_same_base(base, streamed_base);
-  expect_same_summary(dense, streamed, 1e-9);
+  expect_same_motion_summary(dense, streamed, 1e-9);
   EXPECT_EQ(streamed_report.rows, report.rows);
   EXPECT_GT(head.size(), 0);
   // --robust: in memory, the same as identify() with it.
   IdentifyOptions robust;
   robust.robust = true;
   const IdentifySummary r = identify_motion_file(model, f, true, robust, {}, &streamed_base);
-  expect_same_summary(identify(model, base, s, robust), r, 1e-12);
+  expect_same_motion_summary(identify(model, base, s, robust), r, 1e-12);
 }
 
 // ------------------------------------------------------------ static logs
@@ -661,8 +660,8 @@ TEST_F(MotionCsvTest, IdentifyMotionFileIsTheInMemoryPath) {
 TEST_F(MotionCsvTest, StaticWristLogTakesGravityFromTheArmJoints) {
   // A static log of a wrist sensor without gx,gy,gz: read_samples takes
   // gravity from the arm's joints; so does the static stream.
-  const Model model = load_urdf(kUrLike, "wrist_3_link");
-  Log log;
+  const Model model = load_urdf(test::kUrLikeUrdf, "wrist_3_link");
+  MotionLog log;
   log.sensor = "wrist_3_link";
   log.gravity_columns = false;
   log.upstream_velocities = false;
@@ -672,7 +671,7 @@ TEST_F(MotionCsvTest, StaticWristLogTakesGravityFromTheArmJoints) {
   const BaseParameters base = find_base_parameters(model);
   StreamOptions so;
   so.block_bytes = 50000;
-  expect_same_summary(identify(model, base, s), identify_csv(model, base, f, {}, so), 1e-9);
+  expect_same_motion_summary(identify(model, base, s), identify_csv(model, base, f, {}, so), 1e-9);
 }
 
 TEST_F(MotionCsvTest, StaticWristLogWithRootGravityEveryReaderAgreesWithTheUrdf) {
@@ -681,8 +680,8 @@ TEST_F(MotionCsvTest, StaticWristLogWithRootGravityEveryReaderAgreesWithTheUrdf)
   // identify_log as the CLI and Python run them, the arrays of Python) takes
   // gravity from the arm's joints and the root gravity given, and the fit
   // finds the URDF's tool.
-  const Model arm = load_urdf(kUrLike);
-  const Model model = load_urdf(kUrLike, "wrist_3_link");
+  const Model arm = load_urdf(test::kUrLikeUrdf);
+  const Model model = load_urdf(test::kUrLikeUrdf, "wrist_3_link");
   const int nu = model.num_upstream_joints();
   ASSERT_EQ(nu, arm.num_joints());
   SampleOptions read;
@@ -740,12 +739,12 @@ TEST_F(MotionCsvTest, StaticWristLogWithRootGravityEveryReaderAgreesWithTheUrdf)
   so.block_bytes = 5000;
   IdentifySummary streamed = accumulate_csv(model, base, f, so, read).finish();
   streamed.residual_max = residual_max_csv(model, base, f, streamed.value, so, read);
-  expect_same_summary(dense, streamed, 1e-9);
+  expect_same_motion_summary(dense, streamed, 1e-9);
   // As massid identify and massid.identify(path) run it.
-  expect_same_summary(dense, identify_file(model, base, f, {}, nullptr, read), 1e-9);
+  expect_same_motion_summary(dense, identify_file(model, base, f, {}, nullptr, read), 1e-9);
   MotionDataOptions mo;
   mo.samples = read;
-  expect_same_summary(dense, identify_log(model, f, false, {}, false, mo).summary, 1e-9);
+  expect_same_motion_summary(dense, identify_log(model, f, false, {}, false, mo).summary, 1e-9);
   // The set-up checks read the same gravity: no error.
   SetupCheckOptions checks;
   checks.read = read;

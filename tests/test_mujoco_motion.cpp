@@ -188,14 +188,14 @@ double exact_principal_axes(const massid::Model& model, mjModel* m) {
   return error;
 }
 
-struct Robot {
+struct MotionRobot {
   const char* name;
   const char* urdf;
 };
 
-void PrintTo(const Robot& robot, std::ostream* os) { *os << robot.name; }
+void PrintTo(const MotionRobot& robot, std::ostream* os) { *os << robot.name; }
 
-class MujocoMotion : public ::testing::TestWithParam<Robot> {
+class MujocoMotion : public ::testing::TestWithParam<MotionRobot> {
  protected:
   void SetUp() override {
     urdf_path_ = std::string(MASSID_SOURCE_DIR) + "/" + GetParam().urdf;
@@ -379,11 +379,11 @@ TEST_P(MujocoMotion, ImportedUrdfMovingMount) {
 
 INSTANTIATE_TEST_SUITE_P(
     Examples, MujocoMotion,
-    ::testing::Values(Robot{"puma260", "examples/puma260/puma260.urdf"},
-                      Robot{"ur_like", "examples/ur_like/ur_like.urdf"},
-                      Robot{"branching", "examples/branching/branching.urdf"},
-                      Robot{"wrist_tool", "examples/wrist_tool/wrist_tool.urdf"}),
-    [](const ::testing::TestParamInfo<Robot>& info) { return std::string(info.param.name); });
+    ::testing::Values(MotionRobot{"puma260", "examples/puma260/puma260.urdf"},
+                      MotionRobot{"ur_like", "examples/ur_like/ur_like.urdf"},
+                      MotionRobot{"branching", "examples/branching/branching.urdf"},
+                      MotionRobot{"wrist_tool", "examples/wrist_tool/wrist_tool.urdf"}),
+    [](const ::testing::TestParamInfo<MotionRobot>& info) { return std::string(info.param.name); });
 
 // ---------------------------------------------------------------------------
 // A sensor below movable joints: MuJoCo's model is the whole ur_like (loaded at

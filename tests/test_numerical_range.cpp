@@ -26,6 +26,7 @@
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
+#include "test_support.hpp"
 
 namespace massid {
 namespace {
@@ -119,13 +120,6 @@ Samples random_plan(const Model& model, int n, double tilt_max, std::uint64_t se
   return s;
 }
 
-Eigen::VectorXd truth(const Model& model, const BaseParameters& base, const Wrench& offset) {
-  Eigen::VectorXd t(base.num_unknowns());
-  t.head(base.num_mass()) = base.K * nominal_standard_parameters(model);
-  if (base.offset) t.tail(6) = offset;
-  return t;
-}
-
 // Offsets of the size of the wrench: total mass M and lever arm L.
 Wrench scaled_offset(double M, double L) {
   const double f = M * kStandardGravity;
@@ -150,7 +144,7 @@ Fixture make(const Scales& sc, bool offset) {
   bo.offset = offset;
   f.base = find_base_parameters(f.model, bo);
   if (offset) f.offset = scaled_offset(f.model.nominal_total_mass(), max_length(sc));
-  f.truth = truth(f.model, f.base, f.offset);
+  f.truth = test::true_values(f.model, f.base, f.offset);
   return f;
 }
 

@@ -24,7 +24,7 @@
 namespace massid {
 namespace {
 
-const Eigen::Vector3d kLevel(0.0, 0.0, -kStandardGravity);
+using test::kLevel;
 
 // One link's ten parameters as (m, h, I about the origin).
 struct Body {

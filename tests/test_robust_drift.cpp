@@ -20,14 +20,7 @@
 namespace massid {
 namespace {
 
-const Wrench kOffset = (Wrench() << 0.5, -0.3, 1.0, 0.05, -0.02, 0.03).finished();
-
-Eigen::VectorXd truth(const Model& model, const BaseParameters& base, const Wrench& offset) {
-  Eigen::VectorXd t(base.num_unknowns());
-  t.head(base.num_mass()) = base.K * nominal_standard_parameters(model);
-  if (base.offset) t.tail(6) = offset;
-  return t;
-}
+using test::kOffset;
 
 // Largest |estimate - truth| over the base parameters (not the offsets), in
 // standard deviations (by default the fit's own; a plain fit on spoiled data
@@ -40,12 +33,12 @@ double worst_error_in_std(const BaseParameters& base, const IdentifySummary& s,
 }
 
 // The ur_like plan held 10 samples per pose, with sensor noise and offset.
-struct Log {
+struct DriftLog {
   Model model = load_urdf(MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf");
   Samples samples;
   // by_tilt: poses visited tilt after tilt, as a platform does (the order in
   // which a drifting offset biases the parameters most).
-  explicit Log(bool by_tilt = false, std::uint64_t seed = 3) {
+  explicit DriftLog(bool by_tilt = false, std::uint64_t seed = 3) {
     Samples plan = test::load_plan(model, MASSID_SOURCE_DIR "/examples/ur_like/plan.csv");
     if (by_tilt) {
       std::vector<int> order(plan.size());
@@ -97,9 +90,9 @@ BaseParameters with_offset(const Model& model) {
 }
 
 TEST(Robust, SpoiledSamplesAreFoundByLineAndRejected) {
-  Log log;
+  DriftLog log;
   const BaseParameters base = with_offset(log.model);
-  const Eigen::VectorXd t = truth(log.model, base, kOffset);
+  const Eigen::VectorXd t = test::true_values(log.model, base, kOffset);
   // A bump spoils 2.5 % of the samples: 3 N and 0.4 N m, random directions.
   std::mt19937_64 rng(9);
   std::normal_distribution<double> n;
@@ -164,7 +157,7 @@ TEST(Robust, CleanDataHasNoOutliersAndTheRobustFitEqualsThePlainOne) {
 }
 
 TEST(Drift, LinearDriftOfFourNewtonsNoLongerBiasesTheMasses) {
-  Log log(true);
+  DriftLog log(true);
   const BaseParameters base = with_offset(log.model);
   // 0.5 s per sample (5 minutes); fx drifts by 4 N, mx by 0.1 N m, mz by -0.05 N m.
   const int N = log.samples.size();
@@ -177,7 +170,7 @@ TEST(Drift, LinearDriftOfFourNewtonsNoLongerBiasesTheMasses) {
     log.samples.wrench.row(i) += (rate * log.samples.time[i]).transpose();
   }
   const Wrench end_offset = kOffset + rate * duration;  // what a prediction afterwards needs
-  const Eigen::VectorXd t = truth(log.model, base, end_offset);
+  const Eigen::VectorXd t = test::true_values(log.model, base, end_offset);
 
   IdentifyOptions opts;
   opts.drift = Drift::Linear;
@@ -201,7 +194,7 @@ TEST(Drift, LinearDriftOfFourNewtonsNoLongerBiasesTheMasses) {
 }
 
 TEST(Drift, PerBlockOffsetsAfterReZeroingNoLongerBiasTheMasses) {
-  Log log(true);
+  DriftLog log(true);
   const BaseParameters base = with_offset(log.model);
   // Three blocks; the sensor re-zeroed between them moves every offset.
   const int N = log.samples.size();
@@ -216,7 +209,7 @@ TEST(Drift, PerBlockOffsetsAfterReZeroingNoLongerBiasTheMasses) {
     log.samples.block[i] = kLabels[b];
     log.samples.wrench.row(i) += jump[b].transpose();
   }
-  const Eigen::VectorXd t = truth(log.model, base, kOffset);  // the last block's offset
+  const Eigen::VectorXd t = test::true_values(log.model, base, kOffset);  // the last block's offset
 
   IdentifyOptions opts;
   opts.drift = Drift::PerBlock;
@@ -236,7 +229,7 @@ TEST(Drift, PerBlockOffsetsAfterReZeroingNoLongerBiasTheMasses) {
 }
 
 TEST(Drift, MissingOrUselessColumnsAreClearErrors) {
-  Log log;
+  DriftLog log;
   const BaseParameters base = with_offset(log.model);
   IdentifyOptions opts;
   opts.drift = Drift::Linear;

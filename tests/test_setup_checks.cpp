@@ -27,7 +27,7 @@ namespace massid {
 namespace {
 
 using Severity = SetupFinding::Severity;
-constexpr double kDeg = std::numbers::pi / 180.0;
+using test::kDeg;
 
 struct Data {
   Model model;

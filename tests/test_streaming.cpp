@@ -31,13 +31,9 @@ using test::expect_close;
 using test::expect_identical;
 using test::expect_same_summary;
 
-const Wrench kOffset = (Wrench() << 0.5, -0.3, 1.0, 0.05, -0.02, 0.03).finished();
+using test::kOffset;
 
-// Plans that determine the offsets too (three or more gravity directions).
-std::string offset_plan(const test::Example& ex) {
-  if (ex.name == "puma260") return MASSID_SOURCE_DIR "/examples/puma260/holdout.csv";
-  return ex.plan;
-}
+using test::offset_plan;
 
 // The plan's rows repeated `repeat` times, with simulated noisy wrenches.
 Samples noisy_data(const Model& model, const std::string& plan_path, bool offset, int repeat,

@@ -5,6 +5,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -12,9 +13,31 @@
 #include "massid/csv.hpp"
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
+#include "massid/predictor.hpp"
+#include "massid/regressor.hpp"
 #include "massid/samples.hpp"
 
 namespace massid::test {
+
+// Radians per degree.
+inline constexpr double kDeg = std::numbers::pi / 180.0;
+// Gravity on a level sensor, in its frame.
+inline const Eigen::Vector3d kLevel(0.0, 0.0, -kStandardGravity);
+
+// An offset of the sensor's wrench (fx fy fz mx my mz) that the tests add.
+inline const Wrench kOffset = (Wrench() << 0.5, -0.3, 1.0, 0.05, -0.02, 0.03).finished();
+
+inline const std::string kUrLikeUrdf = MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf";
+
+// The values of the base parameters for the URDF's own inertials, then the
+// offset where the basis has one.
+inline Eigen::VectorXd true_values(const Model& model, const BaseParameters& base,
+                                   const Wrench& offset) {
+  Eigen::VectorXd t(base.num_unknowns());
+  t.head(base.num_mass()) = base.K * nominal_standard_parameters(model);
+  if (base.offset) t.tail(6) = offset;
+  return t;
+}
 
 struct Example {
   std::string name;     // folder under examples/
@@ -31,6 +54,13 @@ inline std::vector<Example> examples() {
       {"branching", dir + "branching/branching.urdf", dir + "branching/plan.csv", 17},
       {"wrist_tool", dir + "wrist_tool/wrist_tool.urdf", dir + "wrist_tool/plan.csv", 4},
   };
+}
+
+// A plan of the example that determines the offsets too (three or more
+// gravity directions).
+inline std::string offset_plan(const Example& ex) {
+  if (ex.name == "puma260") return MASSID_SOURCE_DIR "/examples/puma260/holdout.csv";
+  return ex.plan;
 }
 
 inline Samples load_plan(const Model& model, const std::string& path) {
