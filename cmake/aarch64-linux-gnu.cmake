@@ -34,10 +34,14 @@ set(CMAKE_CXX_STANDARD_INCLUDE_DIRECTORIES ${MASSID_ARM_SYSROOT}/usr/include)
 
 # The sysroot's shared libraries need others (libceres.so: glog, cholmod, ...):
 # the linker finds them there (-rpath-link), and so does the dynamic loader
-# under qemu (LD_LIBRARY_PATH; the C and C++ runtimes from -L).
+# under qemu (LD_LIBRARY_PATH). The C and C++ runtimes are the cross
+# compiler's (/usr/aarch64-linux-gnu/lib, also the loader's prefix -L), first
+# in the path: on a machine with Debian's own arm64 libc6 installed
+# (multi-arch), the loader would otherwise take /lib/aarch64-linux-gnu's libc,
+# of another build than the loader's, and a program hangs in pthread_create.
 set(_massid_arm_libs
     "${MASSID_ARM_SYSROOT}/usr/lib/aarch64-linux-gnu:${MASSID_ARM_SYSROOT}/lib/aarch64-linux-gnu")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "-Wl,-rpath-link,${_massid_arm_libs}")
 set(CMAKE_SHARED_LINKER_FLAGS_INIT "-Wl,-rpath-link,${_massid_arm_libs}")
 set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /usr/aarch64-linux-gnu -E
-                                  LD_LIBRARY_PATH=${_massid_arm_libs})
+                                  LD_LIBRARY_PATH=/usr/aarch64-linux-gnu/lib:${_massid_arm_libs})

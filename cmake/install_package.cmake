@@ -6,7 +6,13 @@
 include(CMakePackageConfigHelpers)
 set(MASSID_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/massid)
 
-install(TARGETS massid_core massid_emulator EXPORT massidTargets
+# Without MASSID_EMULATOR (the library alone, as on aarch64) the package has
+# massid::core and massid::c only.
+set(MASSID_INSTALLED_LIBRARIES massid_core)
+if(TARGET massid_emulator)
+  list(APPEND MASSID_INSTALLED_LIBRARIES massid_emulator)
+endif()
+install(TARGETS ${MASSID_INSTALLED_LIBRARIES} EXPORT massidTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
@@ -14,10 +20,12 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/massid DESTINATION ${CMAKE_INSTA
         FILES_MATCHING PATTERN "*.hpp")
 install(FILES ${PROJECT_BINARY_DIR}/include/massid/version.hpp
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/massid)
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/emulator/include/massid/emulator
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/massid
-        FILES_MATCHING PATTERN "*.hpp"
-        PATTERN "mujoco_plant.hpp" EXCLUDE PATTERN "emulation.hpp" EXCLUDE)
+if(TARGET massid_emulator)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/emulator/include/massid/emulator
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/massid
+          FILES_MATCHING PATTERN "*.hpp"
+          PATTERN "mujoco_plant.hpp" EXCLUDE PATTERN "emulation.hpp" EXCLUDE)
+endif()
 
 install(EXPORT massidTargets NAMESPACE massid:: DESTINATION ${MASSID_CMAKE_DIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/massidConfig.cmake.in
