@@ -435,7 +435,7 @@ template <int M>
   }
 }
 
-// InertialBody wrenches, V's lanes of bodies at a time (header).
+// Body wrenches, V's lanes of bodies at a time (header).
 template <class V>
 [[gnu::always_inline]] inline void wrench_stage(const MotionPredictor& p, MotionPredictorData& d) {
   constexpr int W = sizeof(V) / sizeof(double);
