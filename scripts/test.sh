@@ -42,7 +42,7 @@ scripts/deps.sh
 #    (-g1) rather than full debug information, which cuts the compile time by a third
 #    of the Eigen-heavy files. A unity build (CMAKE_UNITY_BUILD: eight .cpp
 #    files compiled as one) parses Eigen, GoogleTest and nlohmann once per
-#    eight files instead of once per file: about half the compile time (CI:
+#    eight files instead of once per file: about half the CPU time, a third less wall time (CI:
 #    2 cores, 40 minutes for the whole script; docs/build.md).
 stage "build ($BUILD)"
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMASSID_WERROR=ON -DCMAKE_UNITY_BUILD=ON \
