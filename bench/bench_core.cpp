@@ -21,6 +21,7 @@ namespace {
 
 using namespace massid;
 
+using massid::bench::kRobotNames;
 using massid::bench::kRobots;
 
 // Random samples (joint positions and gravity) for a model.
@@ -59,7 +60,7 @@ void time_predict(benchmark::State& state, const Model& model) {
 
 void BM_Predict(benchmark::State& state) {
   time_predict(state, load_urdf(kRobots[state.range(0)]));
-  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
+  state.SetLabel(kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_Predict)->DenseRange(0, 2);
 
@@ -101,7 +102,7 @@ void time_predict_motion(benchmark::State& state, const Model& model) {
 
 void BM_PredictMotion(benchmark::State& state) {
   time_predict_motion(state, load_urdf(kRobots[state.range(0)]));
-  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
+  state.SetLabel(kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_PredictMotion)->DenseRange(0, 2);
 
@@ -127,7 +128,7 @@ void BM_StandardRegressor(benchmark::State& state) {
     benchmark::DoNotOptimize(Y.data());
     i = (i + 1) & 1023;
   }
-  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
+  state.SetLabel(kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_StandardRegressor)->DenseRange(0, 2);
 
@@ -145,14 +146,14 @@ void BM_ForwardKinematicsMotion(benchmark::State& state) {
     benchmark::DoNotOptimize(kin.accel.data());
     i = (i + 1) & 1023;
   }
-  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
+  state.SetLabel(kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_ForwardKinematicsMotion)->DenseRange(0, 2);
 
 void BM_FindBaseParameters(benchmark::State& state) {
   const Model model = load_urdf(kRobots[state.range(0)]);
   for (auto _ : state) benchmark::DoNotOptimize(find_base_parameters(model));
-  state.SetLabel(massid::bench::kRobotNames[state.range(0)]);
+  state.SetLabel(kRobotNames[state.range(0)]);
 }
 BENCHMARK(BM_FindBaseParameters)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 

@@ -8,6 +8,7 @@
 
 #include "massid/base_parameters.hpp"
 #include "massid/errors.hpp"
+#include "median.hpp"
 
 namespace massid {
 
@@ -16,10 +17,7 @@ namespace {
 double median_step(const Eigen::VectorXd& t) {
   std::vector<double> steps;
   for (Eigen::Index i = 0; i + 1 < t.size(); ++i) steps.push_back(t[i + 1] - t[i]);
-  if (steps.empty()) return 0.0;
-  const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
-  std::nth_element(steps.begin(), mid, steps.end());
-  return *mid;
+  return detail::median(std::move(steps));
 }
 
 void require_time(const Samples& raw) {

@@ -10,6 +10,7 @@
 #include "axis_least_squares.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
+#include "median.hpp"
 
 namespace massid {
 
@@ -91,10 +92,7 @@ Eigen::VectorXd outlier_residuals(const Model& model, const BaseParameters& base
     a.push_back(std::abs(out[6 * i]));
   }
   if (N < 2) return out;
-  const auto mad = [](std::vector<double>& v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return 1.4826 * v[v.size() / 2];
-  };
+  const auto mad = [](const std::vector<double>& v) { return 1.4826 * detail::median(v); };
   const double sf = mad(a);
   // Direction part of each sample's moment covariance.
   RegressorData data(model, base);
@@ -151,14 +149,13 @@ DriftColumns drift_columns(const Samples& s, Drift drift) {
   out.E.resize(6 * N, 0);
   if (drift == Drift::Linear) {
     if (s.time.size() != N)
-      throw InputError(
-          s.source + ": a linear drift needs a t column (time of each sample, s)",
-          {{Hint::Setting::Drift, "linear"}});
+      throw InputError(s.source + ": a linear drift needs a t column (time of each sample, s)",
+                       {{Hint::Setting::Drift, "linear"}});
     const double t_end = s.time.maxCoeff();
     if (!(t_end > s.time.minCoeff()))
       throw IdentifiabilityError(s.source +
-                                 ": every sample has the same time t: a drift rate cannot be "
-                                 "estimated; record over time, or identify without a drift",
+                                     ": every sample has the same time t: a drift rate cannot be "
+                                     "estimated; record over time, or identify without a drift",
                                  {{Hint::Setting::Drift, "off"}});
     out.E = Eigen::MatrixXd::Zero(6 * N, 6);
     for (int i = 0; i < N; ++i)
@@ -169,8 +166,8 @@ DriftColumns drift_columns(const Samples& s, Drift drift) {
   } else if (drift == Drift::PerBlock) {
     if (static_cast<int>(s.block.size()) != N)
       throw InputError(s.source +
-                       ": a drift per block needs a block column (an integer per sample; the "
-                       "sensor was re-zeroed between blocks)",
+                           ": a drift per block needs a block column (an integer per sample; the "
+                           "sensor was re-zeroed between blocks)",
                        {{Hint::Setting::Drift, "per-block"}});
     const int last = s.block.back();
     const std::vector<int> others = other_blocks(s);
@@ -217,10 +214,9 @@ Eigen::Matrix<double, 6, 1> robust_sigma(const Eigen::VectorXd& r, const Eigen::
     a.clear();
     for (Eigen::Index i = 0; i < w.size(); ++i)
       if (w[i] > 0) a.push_back(std::abs(r[6 * i + k]));
-    std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
     const double rows = static_cast<double>(a.size());
     const double dof = std::sqrt(rows / noise_dof(rows, leverage[k]));
-    sigma[k] = std::max(1.4826 * a[a.size() / 2] * dof, 1e-9 * std::sqrt(power[k / 3]) + 1e-150);
+    sigma[k] = std::max(1.4826 * detail::median(a) * dof, 1e-9 * std::sqrt(power[k / 3]) + 1e-150);
   }
   return sigma;
 }

@@ -1,5 +1,8 @@
-// Private: the median of a sample (the mean of the two middle values when
-// their number is even; 0 for none).
+// Private: the median of a sample as massid takes it everywhere: the element
+// of rank n / 2 (for an even count the upper of the two middle values, as
+// std::nth_element gives it); 0 for none. The streamed motion filter's
+// histogram median (motion_csv_identify.cpp) is the same rank, so a streamed
+// log and the same log in memory find the same time step.
 #pragma once
 
 #include <algorithm>
@@ -10,11 +13,9 @@ namespace massid::detail {
 
 inline double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
-  const std::size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
-  if (v.size() % 2) return v[m];
-  const double below = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m));
-  return 0.5 * (below + v[m]);
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
 }
 
 }  // namespace massid::detail

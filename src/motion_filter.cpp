@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "massid/errors.hpp"
+#include "median.hpp"
 
 namespace massid {
 
@@ -346,9 +347,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
     throw InputError(
         fmt::format("{}: every block has a single sample: filtering the motion needs a time series",
                     where(source, line_of(0))));
-  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-  const double dt = steps[steps.size() / 2];
-  steps = {};
+  const double dt = detail::median(std::move(steps));
   const double rate = 1.0 / dt;
 
   const FilterPlan plan = plan_filter(dt, options, source, line_of(0), line_of(n - 1));

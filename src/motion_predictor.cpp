@@ -32,19 +32,13 @@ constexpr int kGeneralAxis = 3;
 constexpr int body_slot(int k, int C) { return (k >> 2) * 4 * C + (k & 3); }
 
 // A rigid body before depth-first numbering.
-struct InertialBody {
-  int parent = -1, joint = 0;
-  double joint_scale = 1.0, joint_offset = 0.0;  // a mimic joint follows its master
-  JointType type = JointType::Fixed;
+struct InertialBody : detail::TreeBody {
   int axis = kGeneralAxis;  // 0, 1, 2: the joint axis is sign * e_axis of the parent's frame
   double sign = 1.0;
   double angle = 0.0;  // the body frame at q = 0: the parent's, turned about e_axis by this
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // A_k
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();   // t_k
   double mass = 0.0;
   Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about the body origin
-  std::vector<int> children;
 };
 
 // For a link l whose body turns about axis m of its parent's frame (R: l's
@@ -85,51 +79,32 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
   pred.num_joints = model.num_joints();
   const ParameterLayout& layout = base.layout;
 
-  // Rigid bodies: a link joined by a fixed joint belongs to its parent's body.
-  // in_body[l]: link l's frame in its body's frame (axis-aligned, see header).
-  std::vector<InertialBody> bodies(1);
-  std::vector<int> body_of(model.num_links(), 0);
-  std::vector<Eigen::Isometry3d> in_body(model.num_links(), Eigen::Isometry3d::Identity());
-  for (int l = 1; l < model.num_links(); ++l) {
-    const Link& link = model.links[l];
-    const Eigen::Isometry3d to_joint = in_body[link.parent] * link.origin;
-    if (link.type == JointType::Fixed) {
-      body_of[l] = body_of[link.parent];
-      in_body[l] = to_joint;
-      continue;
-    }
-    InertialBody b;
-    b.parent = body_of[link.parent];
-    b.joint = link.joint_index;
-    b.joint_scale = link.joint_scale;
-    b.joint_offset = link.joint_offset;
-    b.type = link.type;
-    b.translation = to_joint.translation();
-    // The axis in the parent body's frame: along one of its axes, the body
-    // keeps the parent's orientation at q = 0 and turns about that axis.
-    const Eigen::Vector3d s = to_joint.linear() * link.axis.normalized();
-    int m = 0;
-    s.cwiseAbs().maxCoeff(&m);
-    const double sign = s[m] < 0.0 ? -1.0 : 1.0;
-    if ((s - sign * Eigen::Vector3d::Unit(m)).norm() < 1e-12) {
-      b.axis = m;
-      b.sign = sign;
-      b.rotation = axis_to_z(Eigen::Vector3d::Unit(m));  // only its z column (e_m) is used
-      // The body frame may be turned about e_m by a constant angle: chosen so
-      // that a child's axis is an axis of this body's frame too (a mount
-      // yawed by 45 degrees, say), added to the joint angle.
-      b.angle = aligning_angle(model, l, to_joint.linear(), m);
-      in_body[l].linear() = Eigen::AngleAxisd(-b.angle, Eigen::Vector3d::Unit(m)) *
-                            to_joint.linear();  // link frame in the body frame
-    } else {
-      const Eigen::Matrix3d C = axis_to_z(link.axis);
-      b.rotation = to_joint.linear() * C;
-      in_body[l].linear() = C.transpose();  // link frame in the axis-aligned body frame
-    }
-    body_of[l] = static_cast<int>(bodies.size());
-    bodies[b.parent].children.push_back(body_of[l]);
-    bodies.push_back(b);
-  }
+  // Rigid bodies; in_body[l]: link l's frame in its body's frame (header).
+  detail::BodyTree<InertialBody> tree = detail::fold_fixed_links<InertialBody>(
+      model, [&](InertialBody& b, int l, const Eigen::Isometry3d& to_joint) -> Eigen::Matrix3d {
+        // The axis in the parent body's frame: along one of its axes, the body
+        // keeps the parent's orientation at q = 0 and turns about that axis.
+        const Eigen::Vector3d s = to_joint.linear() * model.links[l].axis.normalized();
+        int m = 0;
+        s.cwiseAbs().maxCoeff(&m);
+        const double sign = s[m] < 0.0 ? -1.0 : 1.0;
+        if ((s - sign * Eigen::Vector3d::Unit(m)).norm() < 1e-12) {
+          b.axis = m;
+          b.sign = sign;
+          b.rotation = axis_to_z(Eigen::Vector3d::Unit(m));  // only its z column (e_m) is used
+          // The body frame may be turned about e_m by a constant angle: chosen
+          // so that a child's axis is an axis of this body's frame too (a
+          // mount yawed by 45 degrees, say), added to the joint angle.
+          b.angle = aligning_angle(model, l, to_joint.linear(), m);
+          return Eigen::AngleAxisd(-b.angle, Eigen::Vector3d::Unit(m)) * to_joint.linear();
+        }
+        const Eigen::Matrix3d C = axis_to_z(model.links[l].axis);
+        b.rotation = to_joint.linear() * C;
+        return C.transpose();  // link frame in the axis-aligned body frame
+      });
+  std::vector<InertialBody>& bodies = tree.bodies;
+  const std::vector<int>& body_of = tree.body_of;
+  const std::vector<Eigen::Isometry3d>& in_body = tree.in_body;
 
   // Representatives: pi'_c = value, back to standard coordinates (header).
   std::vector<Eigen::Matrix<double, 10, 1>> standard(model.num_links(),

@@ -22,15 +22,9 @@ using detail::axis_to_z;
 using detail::depth_first;
 
 // A rigid body of the recursion before depth-first numbering.
-struct GravityBody {
-  int parent = -1, joint = 0;
-  double joint_scale = 1.0, joint_offset = 0.0;  // a mimic joint follows its master
-  JointType type = JointType::Fixed;
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // A_k
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();   // t_k
+struct GravityBody : detail::TreeBody {
   double mass = 0.0, subtree_mass = 0.0;                   // m_b, M_b
   Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();  // h_b
-  std::vector<int> children;
 };
 
 }  // namespace
@@ -39,33 +33,17 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
                             const Eigen::Ref<const Eigen::VectorXd>& values) {
   Predictor pred;
   pred.num_joints = model.num_joints();
-  // Rigid bodies: a link joined by a fixed joint belongs to its parent's body.
-  // in_body[l]: link l's frame in its body's frame (axis-aligned, see header).
-  std::vector<GravityBody> bodies(1);
-  std::vector<int> body_of(model.num_links(), 0);
-  std::vector<Eigen::Isometry3d> in_body(model.num_links(), Eigen::Isometry3d::Identity());
-  for (int l = 1; l < model.num_links(); ++l) {
-    const Link& link = model.links[l];
-    const Eigen::Isometry3d to_joint = in_body[link.parent] * link.origin;
-    if (link.type == JointType::Fixed) {
-      body_of[l] = body_of[link.parent];
-      in_body[l] = to_joint;
-      continue;
-    }
-    const Eigen::Matrix3d C = axis_to_z(link.axis);
-    GravityBody b;
-    b.parent = body_of[link.parent];
-    b.joint = link.joint_index;
-    b.joint_scale = link.joint_scale;
-    b.joint_offset = link.joint_offset;
-    b.type = link.type;
-    b.rotation = to_joint.linear() * C;
-    b.translation = to_joint.translation();
-    body_of[l] = static_cast<int>(bodies.size());
-    bodies[b.parent].children.push_back(body_of[l]);
-    bodies.push_back(b);
-    in_body[l].linear() = C.transpose();  // link frame in the axis-aligned body frame
-  }
+  // Rigid bodies, each turned so that its joint axis is z; in_body[l]: link
+  // l's frame in its body's frame (axis-aligned, see header).
+  detail::BodyTree<GravityBody> tree = detail::fold_fixed_links<GravityBody>(
+      model, [&](GravityBody& b, int l, const Eigen::Isometry3d& to_joint) {
+        const Eigen::Matrix3d C = axis_to_z(model.links[l].axis);
+        b.rotation = to_joint.linear() * C;
+        return Eigen::Matrix3d(C.transpose());
+      });
+  std::vector<GravityBody>& bodies = tree.bodies;
+  const std::vector<int>& body_of = tree.body_of;
+  const std::vector<Eigen::Isometry3d>& in_body = tree.in_body;
   if (base.motion())
     throw InputError(
         "the gravity predictor takes static (first-moment) base parameters; a dynamic params "

@@ -3,9 +3,9 @@
 // AVX2, is taken at run time where cpu_has_avx2(); elsewhere (aarch64: NEON)
 // the two-lane path alone, chosen at compile time. Both are GCC/Clang vector
 // extensions doing the same operations per lane, and the tree is compiled with
-// -ffp-contract=off (CMakeLists.txt), so every path gives the same bits from
-// the same compiled predictor (docs/embedding-arm.md: the constants compiled on
-// aarch64 may still differ in the last bits).
+// -ffp-contract=off (and, on aarch64, -U__ARM_FEATURE_FMA for Eigen:
+// CMakeLists.txt), so every path gives the same bits, on either architecture
+// (docs/embedding-arm.md, tests/test_predictor_reference.cpp).
 #pragma once
 
 #include <cstring>
