@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 
+#include "argument_checks.hpp"
 #include "axis_least_squares.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
@@ -258,6 +259,7 @@ bool largest_residuals_implausible(const IdentifySummary& s) {
 
 IdentifySummary identify(const Model& model, const BaseParameters& base, const Samples& samples,
                          const IdentifyOptions& options) {
+  detail::check_samples("identify", model, samples);
   if (!samples.has_wrench())
     throw InputError(samples.source + ": no measured wrench (columns fx,fy,fz,mx,my,mz)");
   // (Excludes the offsets' check in check_unknowns, which needs base.offset.)

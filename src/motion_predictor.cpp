@@ -5,9 +5,11 @@
 #include <cstring>
 #include <string>
 
+#include "argument_checks.hpp"
 #include "body_tree.hpp"
 #include "cross_matrix.hpp"
 #include "massid/errors.hpp"
+#include "motion_predictor_plan.hpp"
 #include "sincos.hpp"
 #include "vector_paths.hpp"
 
@@ -20,6 +22,7 @@ namespace massid {
 
 namespace {
 
+using detail::MotionPredictorPlan;
 using detail::skew;
 
 using detail::axis_to_z;
@@ -71,12 +74,12 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
     throw InputError(
         "the motion predictor takes dynamic (full-layout) base parameters; a static params file "
         "needs the gravity predictor (predictor.hpp)");
-  if (values.size() != base.num_unknowns())
-    throw InputError("the motion predictor takes " + std::to_string(base.num_unknowns()) +
-                     " values (base parameters, then offsets), not " +
-                     std::to_string(values.size()));
-  MotionPredictor pred;
-  pred.num_joints = model.num_joints();
+  detail::check_size("compile_motion_predictor", "values", values.size(), base.num_unknowns(),
+                     "the base parameters, then the offsets");
+  MotionPredictor out;
+  out.num_joints = model.num_joints();
+  auto plan = std::make_shared<MotionPredictorPlan>();
+  MotionPredictorPlan& pred = *plan;
   const ParameterLayout& layout = base.layout;
 
   // Rigid bodies; in_body[l]: link l's frame in its body's frame (header).
@@ -137,7 +140,7 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
   for (std::size_t k = 0; k < order.size(); ++k) number[order[k]] = static_cast<int>(k);
   const int nb = static_cast<int>(bodies.size());
   const int L = (nb + 3) / 4 * 4;
-  pred.num_bodies = nb;
+  out.num_bodies = pred.num_bodies = nb;
   pred.lanes = L;
   pred.parent.assign(nb, -1);
   pred.axis.assign(nb, kGeneralAxis);
@@ -176,18 +179,53 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
         b.inertia(1, 2), b.inertia(2, 2)};
     for (int i = 0; i < 10; ++i) pred.inertial[body_slot(k, 10) + 4 * i] = inertial[i];
   }
-  if (base.offset) pred.offset = values.tail<6>();
+  if (base.offset) out.offset = values.tail<6>();
   pred.four_lanes = detail::cpu_has_avx2();
-  return pred;
+  out.plan = std::move(plan);
+  return out;
 }
 
-MotionPredictorData::MotionPredictorData(const MotionPredictor& p)
-    : sincos(2 * p.lanes, 0.0),
-      rotation(p.axes),
-      translation(p.origin),
-      joint_rates(4 * p.lanes, 0.0),
-      motion(9 * p.lanes, 0.0),
-      wrench(6 * p.lanes, 0.0) {}
+MotionPredictor detail::with_four_lanes(const MotionPredictor& predictor, bool four_lanes) {
+  MotionPredictor out = predictor;
+  auto plan = std::make_shared<MotionPredictorPlan>(*predictor.plan);
+  plan->four_lanes = four_lanes && detail::cpu_has_avx2();
+  out.plan = std::move(plan);
+  return out;
+}
+
+namespace {
+
+const MotionPredictorPlan& plan_of(const char* function, const MotionPredictor& predictor) {
+  return detail::checked_plan(function, predictor.plan, "compile_motion_predictor");
+}
+
+// Every workspace array holds a fixed number of components per body lane.
+void check_data(const char* function, const MotionPredictorPlan& plan,
+                const MotionPredictorData& data) {
+  const auto check = [&](const char* name, const std::vector<double>& v, int per_lane) {
+    detail::check_size(function, name, static_cast<Eigen::Index>(v.size()),
+                       static_cast<Eigen::Index>(per_lane) * plan.lanes,
+                       "a workspace made for this predictor's model");
+  };
+  check("data.sincos", data.sincos, 2);
+  check("data.rotation", data.rotation, 9);
+  check("data.translation", data.translation, 3);
+  check("data.joint_rates", data.joint_rates, 4);
+  check("data.motion", data.motion, 9);
+  check("data.wrench", data.wrench, 6);
+}
+
+}  // namespace
+
+MotionPredictorData::MotionPredictorData(const MotionPredictor& predictor) {
+  const MotionPredictorPlan& p = plan_of("MotionPredictorData", predictor);
+  sincos.assign(2 * p.lanes, 0.0);
+  rotation = p.axes;
+  translation = p.origin;
+  joint_rates.assign(4 * p.lanes, 0.0);
+  motion.assign(9 * p.lanes, 0.0);
+  wrench.assign(6 * p.lanes, 0.0);
+}
 
 namespace {
 
@@ -293,7 +331,7 @@ template <class V>
 // Joint stage, V's lanes of bodies at a time: theta_k and d_k, their sines
 // and cosines, B_k and r_k.
 template <class V>
-[[gnu::always_inline]] inline void joint_stage(const MotionPredictor& p, MotionPredictorData& d,
+[[gnu::always_inline]] inline void joint_stage(const MotionPredictorPlan& p, MotionPredictorData& d,
                                                const double* q, const double* qd, const double* qdd,
                                                const Eigen::Index* stride) {
   constexpr int W = sizeof(V) / sizeof(double);
@@ -369,8 +407,8 @@ template <int M>
 
 // Forward pass, one body after the other (header). Along a serial run the
 // parent's motion stays in registers.
-[[gnu::always_inline]] inline void forward_stage(const MotionPredictor& p, MotionPredictorData& d,
-                                                 const Eigen::Vector3d& g,
+[[gnu::always_inline]] inline void forward_stage(const MotionPredictorPlan& p,
+                                                 MotionPredictorData& d, const Eigen::Vector3d& g,
                                                  const FrameMotion& sensor) {
   double* motion = d.motion.data();
   Vec3<double> w{sensor.omega.x(), sensor.omega.y(), sensor.omega.z()};
@@ -412,7 +450,8 @@ template <int M>
 
 // Body wrenches, V's lanes of bodies at a time (header).
 template <class V>
-[[gnu::always_inline]] inline void wrench_stage(const MotionPredictor& p, MotionPredictorData& d) {
+[[gnu::always_inline]] inline void wrench_stage(const MotionPredictorPlan& p,
+                                                MotionPredictorData& d) {
   constexpr int W = sizeof(V) / sizeof(double);
   for (int k = 0; k < p.lanes; k += W) {
     const double* in = p.inertial.data() + body_slot(k, 10);
@@ -437,8 +476,8 @@ template <class V>
 // Backward pass: subtree sums into the parents, from the last body to body 1.
 // Along a serial run the child's share stays in registers (carry); where a
 // branch joins, it is added to the parent's slot.
-[[gnu::always_inline]] inline void backward_stage(const MotionPredictor& p, MotionPredictorData& d,
-                                                  double* out) {
+[[gnu::always_inline]] inline void backward_stage(const MotionPredictorPlan& p,
+                                                  MotionPredictorData& d, double* out) {
   double* wrench = d.wrench.data();
   Vec3<double> F{0.0, 0.0, 0.0}, N{0.0, 0.0, 0.0};  // carry: child k + 1's share, body k's frame
   for (int k = p.num_bodies - 1; k >= 1; --k) {
@@ -473,7 +512,7 @@ template <class V>
 }
 
 template <class V>
-[[gnu::always_inline]] inline void run(const MotionPredictor& p, MotionPredictorData& d,
+[[gnu::always_inline]] inline void run(const MotionPredictorPlan& p, MotionPredictorData& d,
                                        const double* q, const double* qd, const double* qdd,
                                        const Eigen::Index* stride, const Eigen::Vector3d& g,
                                        const FrameMotion& sensor, double* out) {
@@ -483,14 +522,14 @@ template <class V>
   backward_stage(p, d, out);
 }
 
-void run_two_lanes(const MotionPredictor& p, MotionPredictorData& d, const double* q,
+void run_two_lanes(const MotionPredictorPlan& p, MotionPredictorData& d, const double* q,
                    const double* qd, const double* qdd, const Eigen::Index* stride,
                    const Eigen::Vector3d& g, const FrameMotion& sensor, double* out) {
   run<Lanes>(p, d, q, qd, qdd, stride, g, sensor, out);
 }
 
 #if MASSID_X86
-[[gnu::target("avx2")]] void run_avx2(const MotionPredictor& p, MotionPredictorData& d,
+[[gnu::target("avx2")]] void run_avx2(const MotionPredictorPlan& p, MotionPredictorData& d,
                                       const double* q, const double* qd, const double* qdd,
                                       const Eigen::Index* stride, const Eigen::Vector3d& g,
                                       const FrameMotion& sensor, double* out) {
@@ -499,12 +538,12 @@ void run_two_lanes(const MotionPredictor& p, MotionPredictorData& d, const doubl
 #endif
 
 // One function for both forms, so that they give the same bits.
-void run_any(const MotionPredictor& p, MotionPredictorData& d, const double* q, const double* qd,
-             const double* qdd, const Eigen::Index* stride, const Eigen::Vector3d& g,
-             const FrameMotion& sensor, double* out) {
+void run_any(const MotionPredictorPlan& p, int num_joints, MotionPredictorData& d, const double* q,
+             const double* qd, const double* qdd, const Eigen::Index* stride,
+             const Eigen::Vector3d& g, const FrameMotion& sensor, double* out) {
   static const double kNoJoints = 0.0;  // what bodies without a joint read
   static const Eigen::Index kNoStride[3] = {0, 0, 0};
-  if (p.num_joints == 0) q = qd = qdd = &kNoJoints, stride = kNoStride;
+  if (num_joints == 0) q = qd = qdd = &kNoJoints, stride = kNoStride;
 #if MASSID_X86
   if (p.four_lanes) return run_avx2(p, d, q, qd, qdd, stride, g, sensor, out);
 #endif
@@ -513,29 +552,57 @@ void run_any(const MotionPredictor& p, MotionPredictorData& d, const double* q, 
 
 }  // namespace
 
-Wrench predict_motion(const MotionPredictor& p, MotionPredictorData& d, const double* q,
+Wrench predict_motion(const MotionPredictor& predictor, MotionPredictorData& d, const double* q,
                       const double* qd, const double* qdd, const Eigen::Vector3d& g,
                       const FrameMotion& sensor) {
+  const MotionPredictorPlan& p = plan_of("predict_motion", predictor);
+  check_data("predict_motion", p, d);
   static const Eigen::Index kUnitStride[3] = {1, 1, 1};
   Wrench w;
-  run_any(p, d, q, qd, qdd, kUnitStride, g, sensor, w.data());
+  run_any(p, predictor.num_joints, d, q, qd, qdd, kUnitStride, g, sensor, w.data());
   return w;
 }
 
-void predict_motion(const MotionPredictor& p, MotionPredictorData& d,
+Wrench predict_motion(const MotionPredictor& predictor, MotionPredictorData& data,
+                      const Eigen::Ref<const Eigen::VectorXd>& q,
+                      const Eigen::Ref<const Eigen::VectorXd>& qd,
+                      const Eigen::Ref<const Eigen::VectorXd>& qdd, const Eigen::Vector3d& g,
+                      const FrameMotion& sensor) {
+  check_data("predict_motion", plan_of("predict_motion", predictor), data);
+  const Eigen::Index n = predictor.num_joints;
+  detail::check_size("predict_motion", "q", q.size(), n, "the model's joints");
+  detail::check_size("predict_motion", "qd", qd.size(), n, "the model's joints");
+  detail::check_size("predict_motion", "qdd", qdd.size(), n, "the model's joints");
+  return predict_motion(predictor, data, q.data(), qd.data(), qdd.data(), g, sensor);
+}
+
+void predict_motion(const MotionPredictor& predictor, MotionPredictorData& d,
                     const Eigen::Ref<const Eigen::MatrixXd>& q,
                     const Eigen::Ref<const Eigen::MatrixXd>& qd,
                     const Eigen::Ref<const Eigen::MatrixXd>& qdd,
                     const Eigen::Ref<const Eigen::MatrixXd>& gravity,
                     Eigen::Ref<Eigen::MatrixXd> wrenches) {
+  const MotionPredictorPlan& p = plan_of("predict_motion", predictor);
+  check_data("predict_motion", p, d);
+  const Eigen::Index n = predictor.num_joints, N = q.rows();
+  const char* joints = "the model's joints";
+  detail::check_size("predict_motion", "q columns", q.cols(), n, joints);
+  detail::check_size("predict_motion", "qd columns", qd.cols(), n, joints);
+  detail::check_size("predict_motion", "qdd columns", qdd.cols(), n, joints);
+  detail::check_size("predict_motion", "qd rows", qd.rows(), N, "q's rows");
+  detail::check_size("predict_motion", "qdd rows", qdd.rows(), N, "q's rows");
+  detail::check_size("predict_motion", "gravity columns", gravity.cols(), 3, "gx, gy, gz");
+  detail::check_size("predict_motion", "gravity rows", gravity.rows(), N, "q's rows");
+  detail::check_size("predict_motion", "wrenches columns", wrenches.cols(), 6, "fx..mz");
+  detail::check_size("predict_motion", "wrenches rows", wrenches.rows(), N, "q's rows");
   const FrameMotion rest;
   const Eigen::Index stride[3] = {q.outerStride(), qd.outerStride(), qdd.outerStride()};
-  const bool joints = p.num_joints > 0;  // else the data may be null: run_any ignores them
-  for (Eigen::Index i = 0; i < q.rows(); ++i) {
+  const bool any = n > 0;  // else the data may be null: run_any ignores them
+  for (Eigen::Index i = 0; i < N; ++i) {
     const Eigen::Vector3d g = gravity.row(i).transpose();
     double w[6];
-    run_any(p, d, joints ? q.data() + i : nullptr, joints ? qd.data() + i : nullptr,
-            joints ? qdd.data() + i : nullptr, stride, g, rest, w);
+    run_any(p, predictor.num_joints, d, any ? q.data() + i : nullptr, any ? qd.data() + i : nullptr,
+            any ? qdd.data() + i : nullptr, stride, g, rest, w);
     for (int k = 0; k < 6; ++k) wrenches(i, k) = w[k];
   }
 }

@@ -2,10 +2,14 @@
 
 #include <Eigen/Geometry>
 #include <cstring>
+#include <memory>
+#include <string>
 
+#include "argument_checks.hpp"
 #include "body_tree.hpp"
 #include "massid/errors.hpp"
 #include "massid/regressor.hpp"
+#include "predictor_plan.hpp"
 #include "sincos.hpp"
 #include "vector_paths.hpp"
 
@@ -20,6 +24,8 @@ namespace {
 
 using detail::axis_to_z;
 using detail::depth_first;
+using detail::PredictorPlan;
+using detail::PredictorStep;
 
 // A rigid body of the recursion before depth-first numbering.
 struct GravityBody : detail::TreeBody {
@@ -31,8 +37,12 @@ struct GravityBody : detail::TreeBody {
 
 Predictor compile_predictor(const Model& model, const BaseParameters& base,
                             const Eigen::Ref<const Eigen::VectorXd>& values) {
-  Predictor pred;
-  pred.num_joints = model.num_joints();
+  detail::check_size("compile_predictor", "values", values.size(), base.num_unknowns(),
+                     "the base parameters, then the offsets");
+  Predictor out;
+  out.num_joints = model.num_joints();
+  auto plan = std::make_shared<PredictorPlan>();
+  PredictorPlan& pred = *plan;
   // Rigid bodies, each turned so that its joint axis is z; in_body[l]: link
   // l's frame in its body's frame (axis-aligned, see header).
   detail::BodyTree<GravityBody> tree = detail::fold_fixed_links<GravityBody>(
@@ -56,7 +66,7 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     GravityBody& b = bodies[body_of[l]];
     const Eigen::Isometry3d& T = in_body[l];
     if (c == kMass) {
-      pred.total_mass = v;
+      out.total_mass = v;
     } else if (k == kMass) {
       b.mass += v;  // Y'(m_l) = [0; p_l x g]
       b.first_moment += v * T.translation();
@@ -95,7 +105,7 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     s.slide = b.type == JointType::Prismatic ? b.subtree_mass : 0.0;
     pred.steps.push_back(s);
   }
-  if (base.offset) pred.offset = values.tail<6>();
+  if (base.offset) out.offset = values.tail<6>();
   pred.four_lanes = detail::cpu_has_avx2();
   // The joint stage's lanes, padded to a multiple of four with theta = 0.
   const std::size_t lanes = (pred.steps.size() + 3) / 4 * 4;
@@ -110,13 +120,45 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     pred.lane_scale[k] = b.joint_scale;
     pred.lane_offset[k] = b.joint_offset;
   }
-  return pred;
+  out.plan = std::move(plan);
+  return out;
 }
 
-PredictorData::PredictorData(const Predictor& predictor)
-    : sin(predictor.lane_joint.size(), 0.0),
-      cos(predictor.lane_joint.size(), 1.0),
-      gathered(4 * predictor.first_moment.size(), 0.0) {}
+Predictor detail::with_four_lanes(const Predictor& predictor, bool four_lanes) {
+  Predictor out = predictor;
+  auto plan = std::make_shared<PredictorPlan>(*predictor.plan);
+  plan->four_lanes = four_lanes && detail::cpu_has_avx2();
+  out.plan = std::move(plan);
+  return out;
+}
+
+namespace {
+
+const PredictorPlan& plan_of(const char* function, const Predictor& predictor) {
+  return detail::checked_plan(function, predictor.plan, "compile_predictor");
+}
+
+// The workspace's sizes follow from the number of bodies alone.
+void check_data(const char* function, const PredictorPlan& plan, const PredictorData& data) {
+  detail::check_size(function, "data.sin", static_cast<Eigen::Index>(data.sin.size()),
+                     static_cast<Eigen::Index>(plan.lane_joint.size()),
+                     "the predictor's joint lanes: a workspace made for another model");
+  detail::check_size(function, "data.gathered", static_cast<Eigen::Index>(data.gathered.size()),
+                     static_cast<Eigen::Index>(4 * plan.first_moment.size()),
+                     "four per body: a workspace made for another model");
+  detail::check_size(function, "data.cos", static_cast<Eigen::Index>(data.cos.size()),
+                     static_cast<Eigen::Index>(plan.lane_joint.size()),
+                     "the predictor's joint lanes: a workspace made for another model");
+}
+
+}  // namespace
+
+PredictorData::PredictorData(const Predictor& predictor) {
+  const PredictorPlan& plan = plan_of("PredictorData", predictor);
+  sin.assign(plan.lane_joint.size(), 0.0);
+  cos.assign(plan.lane_joint.size(), 1.0);
+  gathered.assign(4 * plan.first_moment.size(), 0.0);
+}
 
 namespace {
 
@@ -127,7 +169,7 @@ using detail::splat;
 // Joint stage: theta_k built in registers (no store-to-load round trip), then
 // their sines and cosines, V's lanes at a time. Lanes past n compute sin 0.
 template <class V>
-[[gnu::always_inline]] inline void joint_stage(const Predictor& pred, PredictorData& data,
+[[gnu::always_inline]] inline void joint_stage(const PredictorPlan& pred, PredictorData& data,
                                                const double* q, Eigen::Index q_stride) {
   constexpr int kLanes = sizeof(V) / sizeof(double);
   const int lanes = static_cast<int>(data.sin.size());
@@ -147,8 +189,9 @@ template <class V>
 
 // H(q) by the backward recursion of the header, two lanes: rows 0 and 1 of a
 // 3-vector share one register, row 2 is a scalar.
-[[gnu::always_inline]] inline Eigen::Vector3d recursion2(const Predictor& pred, PredictorData& data,
-                                                         const double* q, Eigen::Index q_stride) {
+[[gnu::always_inline]] inline Eigen::Vector3d recursion2(const PredictorPlan& pred,
+                                                         PredictorData& data, const double* q,
+                                                         Eigen::Index q_stride) {
   const int n = static_cast<int>(pred.steps.size());
   const PredictorStep* steps = pred.steps.data();
   const double* sines = data.sin.data();
@@ -191,8 +234,8 @@ template <class V>
   return {xy[0], xy[1], z};  // body 1's parent is body 0: the last step carries H
 }
 
-Eigen::Vector3d first_moment_two_lanes(const Predictor& pred, PredictorData& data, const double* q,
-                                       Eigen::Index q_stride) {
+Eigen::Vector3d first_moment_two_lanes(const PredictorPlan& pred, PredictorData& data,
+                                       const double* q, Eigen::Index q_stride) {
   joint_stage<Lanes>(pred, data, q, q_stride);
   return recursion2(pred, data, q, q_stride);
 }
@@ -202,8 +245,9 @@ using detail::Lanes4;
 
 // The same recursion, four lanes: a 3-vector (and a zero) in one register.
 // Every lane computes what recursion2 computes, in the same order.
-[[gnu::always_inline]] inline Eigen::Vector3d recursion4(const Predictor& pred, PredictorData& data,
-                                                         const double* q, Eigen::Index q_stride) {
+[[gnu::always_inline]] inline Eigen::Vector3d recursion4(const PredictorPlan& pred,
+                                                         PredictorData& data, const double* q,
+                                                         Eigen::Index q_stride) {
   const int n = static_cast<int>(pred.steps.size());
   const PredictorStep* steps = pred.steps.data();
   const double* sines = data.sin.data();
@@ -237,7 +281,7 @@ using detail::Lanes4;
   return {S[0], S[1], S[2]};
 }
 
-[[gnu::target("avx2")]] Eigen::Vector3d first_moment_avx2(const Predictor& pred,
+[[gnu::target("avx2")]] Eigen::Vector3d first_moment_avx2(const PredictorPlan& pred,
                                                           PredictorData& data, const double* q,
                                                           Eigen::Index q_stride) {
   joint_stage<Lanes4>(pred, data, q, q_stride);
@@ -245,7 +289,7 @@ using detail::Lanes4;
 }
 #endif
 
-Eigen::Vector3d first_moment(const Predictor& pred, PredictorData& data, const double* q,
+Eigen::Vector3d first_moment(const PredictorPlan& pred, PredictorData& data, const double* q,
                              Eigen::Index q_stride) {
 #if MASSID_X86
   if (pred.four_lanes) return first_moment_avx2(pred, data, q, q_stride);
@@ -257,7 +301,10 @@ Eigen::Vector3d first_moment(const Predictor& pred, PredictorData& data, const d
 
 Wrench predict(const Predictor& pred, PredictorData& data,
                const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Vector3d& g) {
-  const Eigen::Vector3d H = first_moment(pred, data, q.data(), 1);
+  const PredictorPlan& plan = plan_of("predict", pred);
+  check_data("predict", plan, data);
+  detail::check_size("predict", "q", q.size(), pred.num_joints, "the model's joints");
+  const Eigen::Vector3d H = first_moment(plan, data, q.data(), 1);
   Wrench w;
   w.head<3>() = pred.total_mass * g + pred.offset.head<3>();
   w.tail<3>() = H.cross(g) + pred.offset.tail<3>();
@@ -267,10 +314,17 @@ Wrench predict(const Predictor& pred, PredictorData& data,
 void predict(const Predictor& pred, PredictorData& data, const Eigen::Ref<const Eigen::MatrixXd>& q,
              const Eigen::Ref<const Eigen::MatrixXd>& gravity,
              Eigen::Ref<Eigen::MatrixXd> wrenches) {
+  const PredictorPlan& plan = plan_of("predict", pred);
+  check_data("predict", plan, data);
+  detail::check_size("predict", "q columns", q.cols(), pred.num_joints, "the model's joints");
+  detail::check_size("predict", "gravity columns", gravity.cols(), 3, "gx, gy, gz");
+  detail::check_size("predict", "gravity rows", gravity.rows(), q.rows(), "q's rows");
+  detail::check_size("predict", "wrenches columns", wrenches.cols(), 6, "fx..mz");
+  detail::check_size("predict", "wrenches rows", wrenches.rows(), q.rows(), "q's rows");
   for (Eigen::Index i = 0; i < q.rows(); ++i) {
     const Eigen::Vector3d g = gravity.row(i).transpose();
     const Eigen::Vector3d H =
-        first_moment(pred, data, q.cols() > 0 ? q.data() + i : nullptr, q.outerStride());
+        first_moment(plan, data, q.cols() > 0 ? q.data() + i : nullptr, q.outerStride());
     wrenches.row(i).head<3>() = (pred.total_mass * g + pred.offset.head<3>()).transpose();
     wrenches.row(i).tail<3>() = (H.cross(g) + pred.offset.tail<3>()).transpose();
   }

@@ -8,8 +8,11 @@
 #include "massid/base_parameters.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
+#include "massid/estimation.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/model.hpp"
+#include "massid/motion_predictor.hpp"
+#include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
 #include "massid/samples.hpp"
 #include "massid/simulate.hpp"
@@ -89,6 +92,118 @@ TEST(ArgumentChecks, SimulateChecksThePlan) {
   plan.q = Eigen::MatrixXd::Zero(4, 3);
   plan.gravity = Eigen::MatrixXd::Zero(3, 3);
   expect_argument_error([&] { simulate_wrenches(model, plan); }, {"plan.gravity rows"});
+}
+
+TEST(ArgumentChecks, PredictorChecksValuesQGravityAndOutputs) {
+  const Model model = load_urdf(kPuma);  // 3 joints
+  const BaseParameters base = find_base_parameters(model);
+  const Eigen::VectorXd values = Eigen::VectorXd::Ones(base.num_unknowns());
+  expect_argument_error(
+      [&] { compile_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns() + 6)); },
+      {"massid::compile_predictor", "values has", "expected " + std::to_string(values.size())});
+  const Predictor pred = compile_predictor(model, base, values);
+  EXPECT_EQ(pred.num_joints, 3);
+  PredictorData data(pred);
+  const Eigen::Vector3d g(0, 0, -9.81);
+  expect_argument_error([&] { predict(pred, data, Eigen::VectorXd::Zero(2), g); },
+                        {"massid::predict", "q has 2 entries", "expected 3"});
+  // Batch: every shape, and nothing written on a mismatch.
+  Eigen::MatrixXd W = Eigen::MatrixXd::Constant(4, 6, 7.0);
+  const Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(4, 3), G = Eigen::MatrixXd::Zero(4, 3);
+  expect_argument_error([&] { predict(pred, data, Eigen::MatrixXd::Zero(4, 2), G, W); },
+                        {"q columns has 2 entries"});
+  expect_argument_error([&] { predict(pred, data, Q, Eigen::MatrixXd::Zero(3, 3), W); },
+                        {"gravity rows has 3 entries", "expected 4"});
+  expect_argument_error([&] { predict(pred, data, Q, Eigen::MatrixXd::Zero(4, 2), W); },
+                        {"gravity columns has 2 entries"});
+  Eigen::MatrixXd W5 = Eigen::MatrixXd::Constant(4, 5, 7.0);
+  expect_argument_error([&] { predict(pred, data, Q, G, W5); }, {"wrenches columns has 5"});
+  EXPECT_TRUE((W.array() == 7.0).all() && (W5.array() == 7.0).all());
+  // A workspace of another model; an empty predictor.
+  const Model other = load_urdf(test::kUrLikeUrdf);
+  PredictorData wrong(
+      compile_predictor(other, find_base_parameters(other),
+                        Eigen::VectorXd::Ones(find_base_parameters(other).num_unknowns())));
+  expect_argument_error([&] { predict(pred, wrong, Eigen::VectorXd::Zero(3), g); },
+                        {"massid::predict", "data."});
+  expect_argument_error([&] { predict(Predictor{}, data, Eigen::VectorXd::Zero(3), g); },
+                        {"massid::predict", "empty"});
+  // A workspace serves every predictor of its model, to the bit.
+  const Predictor twice = compile_predictor(model, base, 2.0 * values);
+  PredictorData own(twice);
+  const Eigen::Vector3d q(0.3, -1.2, 2.0);
+  EXPECT_EQ(predict(twice, data, q, g), predict(twice, own, q, g));
+}
+
+TEST(ArgumentChecks, MotionPredictorChecksValuesVectorsAndOutputs) {
+  const Model model = load_urdf(kPuma);
+  BaseParameterOptions o;
+  o.layout = ParameterLayout::full();
+  const BaseParameters base = find_base_parameters(model, o);
+  expect_argument_error([&] { compile_motion_predictor(model, base, Eigen::VectorXd::Ones(3)); },
+                        {"massid::compile_motion_predictor", "values has 3 entries"});
+  const MotionPredictor pred =
+      compile_motion_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns()));
+  MotionPredictorData data(pred);
+  const Eigen::VectorXd v3 = Eigen::VectorXd::Zero(3), v4 = Eigen::VectorXd::Zero(4);
+  const Eigen::Vector3d g(0, 0, -9.81);
+  EXPECT_NO_THROW(predict_motion(pred, data, v3, v3, v3, g));
+  expect_argument_error([&] { predict_motion(pred, data, v4, v3, v3, g); },
+                        {"massid::predict_motion", "q has 4 entries", "expected 3"});
+  expect_argument_error([&] { predict_motion(pred, data, v3, v4, v3, g); }, {"qd has 4"});
+  expect_argument_error([&] { predict_motion(pred, data, v3, v3, v4, g); }, {"qdd has 4"});
+  const Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(5, 3), G = Eigen::MatrixXd::Zero(5, 3);
+  Eigen::MatrixXd W = Eigen::MatrixXd::Constant(5, 6, 7.0);
+  expect_argument_error(
+      [&] { predict_motion(pred, data, Q, Eigen::MatrixXd::Zero(4, 3), Q, G, W); },
+      {"qd rows has 4 entries", "expected 5"});
+  expect_argument_error(
+      [&] { predict_motion(pred, data, Q, Q, Eigen::MatrixXd::Zero(5, 2), G, W); },
+      {"qdd columns has 2"});
+  Eigen::MatrixXd W4 = Eigen::MatrixXd::Constant(4, 6, 7.0);
+  expect_argument_error([&] { predict_motion(pred, data, Q, Q, Q, G, W4); },
+                        {"wrenches rows has 4"});
+  EXPECT_TRUE((W.array() == 7.0).all() && (W4.array() == 7.0).all());
+  const Model other = load_urdf(test::kUrLikeUrdf);
+  const BaseParameters other_base = find_base_parameters(other, o);
+  MotionPredictorData wrong(compile_motion_predictor(
+      other, other_base, Eigen::VectorXd::Ones(other_base.num_unknowns())));
+  expect_argument_error([&] { predict_motion(pred, wrong, v3, v3, v3, g); },
+                        {"massid::predict_motion", "data."});
+  expect_argument_error([&] { predict_motion(MotionPredictor{}, data, v3, v3, v3, g); }, {"empty"});
+}
+
+TEST(ArgumentChecks, IdentifyChecksThatTheSamplesAgree) {
+  const Model model = load_urdf(kPuma);
+  const BaseParameters base = find_base_parameters(model);
+  Samples s;
+  s.source = "memory";
+  s.q = Eigen::MatrixXd::Random(20, 3);
+  s.gravity = Eigen::MatrixXd::Random(20, 3);
+  s.wrench = Eigen::MatrixXd::Random(20, 6);
+  EXPECT_NO_THROW(identify(model, base, s));
+  Samples t = s;
+  t.gravity = Eigen::MatrixXd::Random(19, 3);
+  expect_argument_error([&] { identify(model, base, t); },
+                        {"massid::identify", "gravity rows has 19 entries", "expected 20"});
+  t = s;
+  t.wrench = Eigen::MatrixXd::Random(20, 5);
+  expect_argument_error([&] { identify(model, base, t); }, {"wrench columns has 5"});
+  t = s;
+  t.q = Eigen::MatrixXd::Random(20, 4);
+  expect_argument_error([&] { identify(model, base, t); }, {"q columns has 4", "expected 3"});
+  t = s;
+  t.qd = Eigen::MatrixXd::Random(20, 2);
+  expect_argument_error([&] { identify(model, base, t); }, {"qd columns has 2"});
+  t = s;
+  t.line = {1, 2, 3};
+  expect_argument_error([&] { identify(model, base, t); }, {"line has 3 entries"});
+  t = s;
+  t.time = Eigen::VectorXd::LinSpaced(21, 0.0, 1.0);
+  expect_argument_error([&] { identify(model, base, t); }, {"time has 21 entries"});
+  t = s;
+  t.wrench.resize(0, 0);  // no wrench at all: a user's input, not a programming error
+  EXPECT_THROW(identify(model, base, t), InputError);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "massid/motion_predictor.hpp"
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
+#include "motion_predictor_plan.hpp"
 #include "test_support.hpp"
 
 namespace massid {
@@ -172,8 +173,8 @@ TEST_P(MotionPredictorTest, TwoLanesGiveTheSameBitsAsFour) {
   std::normal_distribution<double> n;
   Eigen::VectorXd values(base.num_unknowns());
   for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
-  MotionPredictor two = compile_motion_predictor(model, base, values), four = two;
-  two.four_lanes = false;
+  const MotionPredictor four = compile_motion_predictor(model, base, values);
+  const MotionPredictor two = detail::with_four_lanes(four, false);
   MotionPredictorData data2(two), data4(four);
   for (int k = 0; k < 50; ++k) {
     const Motion m = random_motion(model, rng, c.moving);
@@ -347,7 +348,7 @@ TEST(MotionPredictor, RejectsStaticBasesAndWrongSizes) {
   const BaseParameters base = motion_base(model, false, false, false);
   EXPECT_THROW(
       compile_motion_predictor(model, base, Eigen::VectorXd::Ones(base.num_unknowns() + 1)),
-      InputError);
+      ArgumentError);
 }
 
 }  // namespace

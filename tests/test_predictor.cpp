@@ -10,6 +10,7 @@
 #include "massid/predictor.hpp"
 #include "massid/report.hpp"
 #include "massid/simulate.hpp"
+#include "predictor_plan.hpp"
 #include "test_support.hpp"
 #include "vector_paths.hpp"
 
@@ -98,9 +99,8 @@ TEST_P(PredictorTest, FourLanesGiveTheSameBitsAsTwo) {
   std::normal_distribution<double> n;
   Eigen::VectorXd values(base.num_unknowns());
   for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
-  Predictor four = compile_predictor(model, base, values), two = four;
-  four.four_lanes = true;
-  two.four_lanes = false;
+  const Predictor four = detail::with_four_lanes(compile_predictor(model, base, values), true);
+  const Predictor two = detail::with_four_lanes(four, false);
   PredictorData data4(four), data2(two);
   for (int i = 0; i < 200; ++i) {
     Eigen::VectorXd q(model.num_joints());

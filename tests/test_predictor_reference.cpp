@@ -28,6 +28,8 @@
 #include "massid/model.hpp"
 #include "massid/motion_predictor.hpp"
 #include "massid/predictor.hpp"
+#include "motion_predictor_plan.hpp"
+#include "predictor_plan.hpp"
 #include "ulps.hpp"
 #include "vector_paths.hpp"
 
@@ -82,8 +84,8 @@ std::vector<Row> predict_all(bool four_lanes) {
       o.offset = true;
       const BaseParameters base = find_base_parameters(model, o);
       const Eigen::VectorXd values = uniform(rng, base.num_unknowns(), -1.0, 1.0);
-      Predictor pred = compile_predictor(model, base, values);
-      pred.four_lanes = four_lanes;
+      const Predictor pred =
+          detail::with_four_lanes(compile_predictor(model, base, values), four_lanes);
       PredictorData data(pred);
       for (int k = 0; k < kSamples; ++k) {
         const Eigen::VectorXd q = uniform(rng, nj, -3.0, 3.0);
@@ -98,8 +100,8 @@ std::vector<Row> predict_all(bool four_lanes) {
       o.sensor_moving = true;
       const BaseParameters base = find_base_parameters(model, o);
       const Eigen::VectorXd values = uniform(rng, base.num_unknowns(), -1.0, 1.0);
-      MotionPredictor pred = compile_motion_predictor(model, base, values);
-      pred.four_lanes = four_lanes;
+      const MotionPredictor pred =
+          detail::with_four_lanes(compile_motion_predictor(model, base, values), four_lanes);
       MotionPredictorData data(pred);
       for (int k = 0; k < kSamples; ++k) {
         Eigen::VectorXd q(nj), qd(nj), qdd(nj);

@@ -120,6 +120,11 @@ double noise_dof(double samples, double leverage);
 
 // Throws IdentifiabilityError when the samples cannot determine every unknown,
 // naming them and the poses that would determine them.
+// \param[in] samples  q [N x model.num_joints()], gravity [N x 3], wrench
+//                     [N x 6]; each optional array (qd, qdd [N x joints], the
+//                     upstream ones, sensor_motion [N x 9], line, time, block
+//                     [N]) empty or of that shape: else ArgumentError naming it
+//                     (no wrench at all: InputError)
 IdentifySummary identify(const Model& model, const BaseParameters& base, const Samples& samples,
                          const IdentifyOptions& options = {});
 

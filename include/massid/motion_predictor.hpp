@@ -54,6 +54,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "massid/base_parameters.hpp"
@@ -63,36 +64,33 @@
 
 namespace massid {
 
-// Per-body arrays come in blocks of four bodies, structure of arrays within
-// a block: in an array of C components per body, component c of body k is at
-// [4 C (k / 4) + 4 c + k % 4]. Bodies 0..num_bodies-1, then padding to
-// `lanes` (a multiple of 4: no mass, the identity, no joint).
+namespace detail {
+struct MotionPredictorPlan;  // the compiled bodies (src/motion_predictor_plan.hpp)
+}
+
+// A compiled motion predictor: immutable, cheap to copy (copies share the
+// plan). Default-constructed it is empty: predict_motion() throws ArgumentError.
 struct MotionPredictor {
-  int num_joints = 0;
+  int num_joints = 0;              // q's size: the model's joints
   int num_bodies = 1;              // n + 1: the sensor body and one per movable joint
-  int lanes = 4;                   // num_bodies padded to a multiple of 4
-  std::vector<int> parent;         // [num_bodies] parent body p (-1 for body 0)
-  std::vector<int> axis;           // [num_bodies] 0, 1, 2: turns about that axis of p; 3: B_k
-  std::vector<char> general;       // [lanes / 4] 1: a block with a body k > 0 that uses B_k
-  std::vector<int> joint;          // [lanes] index into q of body k's joint (0: none)
-  std::vector<double> revolute;    // [lanes] sigma_k for a revolute joint, else 0
-  std::vector<double> prismatic;   // [lanes] sigma_k for a prismatic joint, else 0
-  std::vector<double> angle;       // [lanes] phi_k, added to theta_k (+ a mimic's offset)
-  std::vector<double> slide;       // [lanes] a prismatic mimic joint's offset, sigma_k b_k
-  std::vector<double> axes;        // [lanes x 9] A_k, row-major (axis e_m: only column 2, e_m)
-  std::vector<double> origin;      // [lanes x 3] t_k
-  std::vector<double> inertial;    // [lanes x 10] m, hx, hy, hz, ixx, ixy, ixz, iyy, iyz, izz
-  Wrench offset = Wrench::Zero();  // f_0, m_0 (zero without offsets)
-  bool four_lanes = false;         // AVX2 path (x86-64 CPUs that have it)
+  Wrench offset = Wrench::Zero();  // f_0, m_0 (zero without offsets; not added by predict_motion)
+  // The bodies' arrays in the SIMD paths' blocked layout (private to the
+  // library, which may change it).
+  std::shared_ptr<const detail::MotionPredictorPlan> plan;
 };
 
-// values: [num_unknowns] base parameters of a motion base (base.motion()),
-// then the six offsets when base.offset. InputError for a static base or a
-// wrong size.
+// \param[in] model   the model the parameters were identified for
+// \param[in] base    its dynamic base parameters (base.motion(); else InputError)
+// \param[in] values  (dim base.num_unknowns()) the base parameters, then the
+//                    six offsets when base.offset; another size: ArgumentError
 MotionPredictor compile_motion_predictor(const Model& model, const BaseParameters& base,
                                          const Eigen::Ref<const Eigen::VectorXd>& values);
 
-// Workspace of predict_motion(), sized once; [lanes x C] blocked as in MotionPredictor.
+// Workspace of predict_motion(), sized once from a predictor (and usable with
+// any predictor of the same model). Per-body arrays, [lanes x C] with C
+// components per body: the bodies padded to a multiple of four, in blocks of
+// four bodies with the blocks' components interleaved (component c of body k
+// at [4 C (k / 4) + 4 c + k % 4]).
 struct MotionPredictorData {
   explicit MotionPredictorData(const MotionPredictor& predictor);
   // Joint stage:
@@ -109,15 +107,31 @@ struct MotionPredictorData {
 };
 
 // The mechanism's wrench on the sensor (fx..mz, sensor frame, moment about its
-// origin), WITHOUT the offset: weight and motion. q, qd, qdd: [num_joints];
-// g: gravity in the sensor frame; sensor: the sensor frame's own motion.
+// origin), WITHOUT the offset: weight and motion.
+// \param[in] predictor  compiled by compile_motion_predictor (empty: ArgumentError)
+// \param[in,out] data   its workspace (made for another model: ArgumentError)
+// \param[in] q, qd, qdd (dim predictor.num_joints) joint positions, velocities,
+//                       accelerations (rad or m, per s, per s^2); a wrong size
+//                       throws ArgumentError
+// \param[in] g          (dim 3) gravity in the sensor frame, m/s^2
+// \param[in] sensor     the sensor frame's own motion (default: at rest)
+Wrench predict_motion(const MotionPredictor& predictor, MotionPredictorData& data,
+                      const Eigen::Ref<const Eigen::VectorXd>& q,
+                      const Eigen::Ref<const Eigen::VectorXd>& qd,
+                      const Eigen::Ref<const Eigen::VectorXd>& qdd, const Eigen::Vector3d& g,
+                      const FrameMotion& sensor = {});
+// The same from raw arrays (a C caller's, a log's row): q, qd, qdd must each
+// hold predictor.num_joints values, which cannot be checked here.
 Wrench predict_motion(const MotionPredictor& predictor, MotionPredictorData& data, const double* q,
                       const double* qd, const double* qdd, const Eigen::Vector3d& g,
                       const FrameMotion& sensor = {});
 
-// Batch form, the sensor at rest: row i of wrenches [N x 6] from row i of q,
-// qd, qdd [N x num_joints] and gravity [N x 3]; the same bits as single calls.
-// Does not allocate.
+// Batch form, the sensor at rest: row i of wrenches from row i of q, qd, qdd
+// and gravity; the same bits as single calls. Does not allocate.
+// \param[in] q, qd, qdd  (dim N x predictor.num_joints)
+// \param[in] gravity     (dim N x 3)
+// \param[out] wrenches   (dim N x 6)
+// A wrong size throws ArgumentError before anything is written.
 void predict_motion(const MotionPredictor& predictor, MotionPredictorData& data,
                     const Eigen::Ref<const Eigen::MatrixXd>& q,
                     const Eigen::Ref<const Eigen::MatrixXd>& qd,

@@ -29,6 +29,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "massid/base_parameters.hpp"
@@ -38,41 +39,30 @@ namespace massid {
 
 using Wrench = Eigen::Matrix<double, 6, 1>;  // fx fy fz mx my mz
 
-// One movable body k of the recursion (bodies numbered depth first, 0 the
-// sensor body; steps are stored for k = 1..n and run from n down to 1).
-struct PredictorStep {
-  int joint = 0;                                 // index into q
-  double joint_scale = 1.0, joint_offset = 0.0;  // the joint's position: scale q + offset (mimic)
-  int parent = 0;                                // parent body p
-  bool carry = false;                            // p == k - 1: S_p continues in registers
-  bool gathers = false;  // carry, and p has other children: add their sum, gathered[p]
-  double slide = 0.0;    // M_k for a prismatic joint, else 0 (c_k's q term)
-  // A_k (parent frame <- body frame, joint axis = z): axes[j] = column j, then 0.
-  double axes[3][4] = {};
-  // Row 2 of A_k as two lane pairs, (A_2x, A_2y) and (A_2y, -A_2x): B_k's row 2.
-  double row2[4] = {};
-  double constant[4] = {};  // M_k t_k, plus h_p when carry (added once, by p's first child)
-  double resume[4] = {};    // not carry: h_{k-1} (body k - 1 is a leaf), where S restarts
-};
+namespace detail {
+struct PredictorPlan;  // the compiled recursion (src/predictor_plan.hpp)
+}
 
+// A compiled gravity predictor: immutable, cheap to copy (copies share the
+// plan). Default-constructed it is empty: predict() throws ArgumentError.
 struct Predictor {
-  std::vector<PredictorStep> steps;             // [n], steps[k - 1] is body k
-  std::vector<Eigen::Vector3d> first_moment;    // [n + 1] h_b, body frame
-  std::vector<int> lane_joint;                  // [n, padded to 4] joint of body k (index k - 1)
-  std::vector<double> lane_revolute;            // [n, padded to 4] revolute of body k, 0 past n
-  std::vector<double> lane_scale, lane_offset;  // [n, padded to 4] theta = scale q + offset
-  double total_mass = 0.0;                      // M_t
-  Wrench offset = Wrench::Zero();               // f_0, m_0 (zero without offsets)
-  int num_joints = 0;
-  bool four_lanes = false;  // AVX2 path (x86-64 CPUs that have it); same bits as the two-lane path
-  int num_bodies() const { return static_cast<int>(first_moment.size()); }
+  int num_joints = 0;              // q's size: the model's joints
+  double total_mass = 0.0;         // M_t, kg
+  Wrench offset = Wrench::Zero();  // f_0, m_0 (zero without offsets)
+  // The recursion's steps and joint lanes, in the SIMD paths' layout (private
+  // to the library, which may change it).
+  std::shared_ptr<const detail::PredictorPlan> plan;
 };
 
-// values: [num_unknowns] base parameters, then the six offsets when base.offset.
+// \param[in] model   the model the parameters were identified for
+// \param[in] base    its static base parameters (not base.motion(): InputError)
+// \param[in] values  (dim base.num_unknowns()) the base parameters, then the
+//                    six offsets when base.offset; another size: ArgumentError
 Predictor compile_predictor(const Model& model, const BaseParameters& base,
                             const Eigen::Ref<const Eigen::VectorXd>& values);
 
-// Workspace of predict(), sized once.
+// Workspace of predict(), sized once from a predictor (and usable with any
+// predictor of the same model).
 struct PredictorData {
   explicit PredictorData(const Predictor& predictor);
   // Joint stage, per movable body k (index k - 1), padded to a multiple of 4:
@@ -83,12 +73,20 @@ struct PredictorData {
   std::vector<double> gathered;
 };
 
-// Gravity wrench at joint positions q [num_joints] and gravity g (sensor frame).
+// Gravity wrench, f_0 and m_0 included.
+// \param[in] predictor  compiled by compile_predictor (empty: ArgumentError)
+// \param[in,out] data   its workspace (made for another model: ArgumentError)
+// \param[in] q          (dim predictor.num_joints) joint positions, rad or m
+// \param[in] g          (dim 3) gravity in the sensor frame, m/s^2
+// A wrong size throws ArgumentError naming the argument (one comparison each).
 Wrench predict(const Predictor& predictor, PredictorData& data,
                const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Vector3d& g);
 
-// Batch form: row i of wrenches [N x 6] from row i of q [N x num_joints] and of
-// gravity [N x 3]. Does not allocate.
+// Batch form: row i of wrenches from row i of q and of gravity. Does not allocate.
+// \param[in] q          (dim N x predictor.num_joints)
+// \param[in] gravity    (dim N x 3)
+// \param[out] wrenches  (dim N x 6)
+// A wrong size throws ArgumentError before anything is written.
 void predict(const Predictor& predictor, PredictorData& data,
              const Eigen::Ref<const Eigen::MatrixXd>& q,
              const Eigen::Ref<const Eigen::MatrixXd>& gravity,
