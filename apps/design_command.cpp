@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 
+#include "hints.hpp"
 #include "massid/csv.hpp"
 #include "massid/design.hpp"
 #include "massid/errors.hpp"
@@ -308,7 +309,7 @@ int run_design(const DesignCommand& c) {
     const Samples plan = read_samples(model, table, WrenchColumns::Optional);
     if (!c.no_checks && !check_input(model, plan, table.header, false)) return 2;
     const DesignSummary s = evaluate_plan(model, base, plan, o);
-    std::cout << design_report(model, base, s, o, c.evaluate);
+    std::cout << design_report(model, base, s, o, c.evaluate, cli::spell);
     if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);
     return 0;
   }
@@ -317,7 +318,7 @@ int run_design(const DesignCommand& c) {
   const DesignSummary s = design(model, base, o);
   if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);
   write_plan(c.output, model, s.plan);
-  std::cout << design_report(model, base, s, o, "");
+  std::cout << design_report(model, base, s, o, "", cli::spell);
   std::cout << "wrote " << c.output << "\n";
   return 0;
 }

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "atomic_file.hpp"
+#include "hints.hpp"
 #include "massid/csv.hpp"
 #include "massid/emulator/emulation.hpp"
 #include "massid/errors.hpp"
@@ -198,7 +199,7 @@ int run_emulate(const EmulateCommand& c) {
                    {"first_stop_s", s.first_stop_s >= 0 ? nlohmann::ordered_json(s.first_stop_s)
                                                         : nlohmann::ordered_json()},
                    {"stop_reason", to_string(s.stop_reason)},
-                   {"stop_detail", describe_stop(s, o)}};
+                   {"stop_detail", describe_stop(s, o, cli::spell)}};
   }
   // The largest errors against the reference's excursion; in absolute terms
   // when the reference hardly moves (a light gripper on a heavy spacecraft:
@@ -221,7 +222,8 @@ int run_emulate(const EmulateCommand& c) {
                              names[r], relative(runs[r]));
     if (runs[r].supervisor_stops > 0)
       std::cout << fmt::format("; supervisor stopped at {:.3g} s ({}): {}", runs[r].first_stop_s,
-                               to_string(runs[r].stop_reason), describe_stop(runs[r], o));
+                               to_string(runs[r].stop_reason),
+                               describe_stop(runs[r], o, cli::spell));
     std::cout << "\n";
   }
   j["spacecraft_mass_kg"] = o.spacecraft.mass;

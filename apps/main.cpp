@@ -196,11 +196,11 @@ int run_identify(const Common& c, const std::string& data_path, const std::strin
   // The gravity note first (when gravity came from the force), then the warnings.
   for (std::size_t i = 0; i < ident.warnings.size(); ++i)
     std::cerr << (i == 0 && summary.gravity_from_force ? "massid: note: " : "massid: warning: ")
-              << ident.warnings[i] << "\n";
+              << cli::with_hints(ident.warnings[i].message, ident.warnings[i].hints) << "\n";
   write_file_atomically(out, params_json(ident.model, ident.base, &summary,
                                          ident.physical ? &*ident.physical : nullptr));
   std::cout << identify_report(ident.model, ident.base, summary, data_path);
-  if (ident.physical) std::cout << physical_report(ident.base, *ident.physical);
+  if (ident.physical) std::cout << physical_report(ident.base, *ident.physical, cli::spell);
   std::cout << "wrote " << out << "\n";
   if (!urdf_out.empty()) {
     const bool rest = ident.physical->static_layout;

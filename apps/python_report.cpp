@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "hints.hpp"
 #include "massid/errors.hpp"
 
 extern char** environ;
@@ -149,7 +150,7 @@ int run_identify_report(const Identification& ident, const std::string& report) 
     const std::string& path;
     ~Remove() { std::remove(path.c_str()); }
   } remove{record};
-  write_identification(record, ident);
+  write_identification(record, ident, spell);  // as the command printed them
   return run_report({"draw-identify", record, "-o", report});
 }
 

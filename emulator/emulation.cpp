@@ -175,7 +175,7 @@ SpacecraftSizing size_spacecraft(const Model& model, const EmulationOptions& opt
   return s;
 }
 
-std::string describe_stop(const EmulationSummary& s, const EmulationOptions& o) {
+std::string describe_stop(const EmulationSummary& s, const EmulationOptions& o, HintSpeller spell) {
   if (s.supervisor_stops == 0) return "";
   const StopDetail& d = s.stop_detail;
   constexpr double deg = 180.0 / std::numbers::pi;
@@ -214,24 +214,28 @@ std::string describe_stop(const EmulationSummary& s, const EmulationOptions& o) 
   }
   const double ws_m = o.geometry.workspace.max_translation.minCoeff();
   const double ws_deg = o.geometry.workspace.max_tilt * deg;
+  using Setting = Hint::Setting;
+  const std::string heavier =
+      fmt::format("a heavier spacecraft ({}, {})", spell({Setting::SpacecraftMass, ""}),
+                  spell({Setting::SpacecraftInertia, ""}));
+  const std::string trajectory = spell({Setting::Trajectory, ""});
+  const std::string larger = fmt::format("a larger platform ({})", spell({Setting::Platform, ""}));
   std::string fix;
   if (s.stop_reason == StopReason::TrackingError)
-    fix =
-        "the platform servo cannot follow: a slower --trajectory, a heavier spacecraft "
-        "(--spacecraft-mass, --spacecraft-inertia)";
+    fix = fmt::format("the platform servo cannot follow: a slower trajectory ({}), {}", trajectory,
+                      heavier);
   else if (s.reference_excursion_m > ws_m || s.reference_excursion_deg > ws_deg)
     fix = fmt::format(
         "the free-floating reference itself moves {:.3g} m and {:.3g} deg, more than the "
-        "workspace ({:.3g} m, {:.3g} deg): a heavier spacecraft (--spacecraft-mass, "
-        "--spacecraft-inertia), a gentler --trajectory or a larger platform (--platform)",
-        s.reference_excursion_m, s.reference_excursion_deg, ws_m, ws_deg);
+        "workspace ({:.3g} m, {:.3g} deg): {}, a gentler trajectory ({}) or {}",
+        s.reference_excursion_m, s.reference_excursion_deg, ws_m, ws_deg, heavier, trajectory,
+        larger);
   else
     fix = fmt::format(
         "the reference fits the workspace ({:.3g} m, {:.3g} deg of {:.3g} m, {:.3g} deg), so "
         "the emulation's own error drove the platform there: a wrong or missing gravity "
-        "model; else a heavier spacecraft (--spacecraft-mass, --spacecraft-inertia) or a "
-        "larger platform (--platform)",
-        s.reference_excursion_m, s.reference_excursion_deg, ws_m, ws_deg);
+        "model; else {} or {}",
+        s.reference_excursion_m, s.reference_excursion_deg, ws_m, ws_deg, heavier, larger);
   return fmt::format("{}; to fix: {}", what, fix);
 }
 

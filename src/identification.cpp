@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -62,15 +63,15 @@ Identification identify_log(Model model, const std::string& path, bool offset,
   return out;
 }
 
-std::vector<std::string> identification_notes(const IdentifySummary& summary,
-                                              const std::string& source) {
-  std::vector<std::string> out;
+std::vector<Warning> identification_notes(const IdentifySummary& summary,
+                                          const std::string& source) {
+  std::vector<Warning> out;
   if (summary.gravity_from_force)
-    out.push_back(fmt::format(
-        "{} has no gx,gy,gz columns: gravity is taken along the measured force (paper eq. 37), "
-        "|g| = {} m/s^2",
-        source, kStandardGravity));
-  for (std::string& w : identify_warnings(summary, source)) out.push_back(std::move(w));
+    out.push_back({fmt::format("{} has no gx,gy,gz columns: gravity is taken along the measured "
+                               "force (paper eq. 37), |g| = {} m/s^2",
+                               source, kStandardGravity),
+                   {}});
+  for (Warning& w : identify_warnings(summary, source)) out.push_back(std::move(w));
   return out;
 }
 
@@ -115,6 +116,59 @@ record_json rest_json(const RestWindows& w) {
   for (const RestWindow& r : w.windows) windows.push_back({r.first, r.last});
   return {{"continuous", w.continuous}, {"windows", windows}, {"rows", w.rows},
           {"samples", w.samples},       {"moving", w.moving}, {"criterion", w.criterion}};
+}
+
+// The settings by name, in the order of Hint::Setting (a record names them:
+// the enumeration may grow).
+constexpr const char* kSettingNames[] = {
+    "hold_joints",   "offset",       "checks",      "robust",          "drift",
+    "dynamic",       "cutoff",       "delay",       "min_height",      "limits",
+    "level_gravity", "tilt_max",     "physical",    "sensor_link",     "poses",
+    "sigma_force",   "sigma_moment", "level_poses", "spacecraft_mass", "spacecraft_inertia",
+    "trajectory",    "platform"};
+static_assert(std::size(kSettingNames) == static_cast<std::size_t>(Hint::Setting::Platform) + 1,
+              "a name for every setting");
+
+record_json warnings_json(const std::vector<Warning>& warnings, HintSpeller spell) {
+  record_json out = record_json::array();
+  for (const Warning& w : warnings) {
+    record_json hints = record_json::array();
+    std::string message = w.message;
+    if (spell && !w.hints.empty()) {  // as the caller prints it: cli::with_hints
+      message += " (";
+      for (std::size_t i = 0; i < w.hints.size(); ++i)
+        message += (i ? "; " : "") + spell(w.hints[i]);
+      message += ")";
+    } else {
+      for (const Hint& h : w.hints)
+        hints.push_back(
+            {{"setting", kSettingNames[static_cast<std::size_t>(h.setting)]}, {"value", h.value}});
+    }
+    out.push_back({{"message", message}, {"hints", hints}});
+  }
+  return out;
+}
+
+// Either form: {message, hints} or, in older records, the message alone.
+std::vector<Warning> warnings_of(const record_json& j) {
+  std::vector<Warning> out;
+  for (const record_json& w : j) {
+    if (w.is_string()) {
+      out.push_back({w.get<std::string>(), {}});
+      continue;
+    }
+    Warning warning{w.at("message").get<std::string>(), {}};
+    for (const record_json& h : w.at("hints")) {
+      const std::string name = h.at("setting").get<std::string>();
+      const auto* at = std::find(std::begin(kSettingNames), std::end(kSettingNames), name);
+      if (at == std::end(kSettingNames))
+        throw std::runtime_error(fmt::format("a warning's hint names no setting ('{}')", name));
+      warning.hints.push_back({static_cast<Hint::Setting>(at - std::begin(kSettingNames)),
+                               h.at("value").get<std::string>()});
+    }
+    out.push_back(std::move(warning));
+  }
+  return out;
 }
 
 RestWindows rest_of(const record_json& j) {
@@ -293,7 +347,7 @@ Samples samples_of(const record_json& j) {
 
 }  // namespace
 
-void write_identification(const std::string& path, const Identification& ident) {
+void write_identification(const std::string& path, const Identification& ident, HintSpeller spell) {
   const BaseParameters& b = ident.base;
   record_json held = record_json::array();
   for (const auto& [name, value] : ident.model.held) held.push_back({name, value});
@@ -319,7 +373,7 @@ void write_identification(const std::string& path, const Identification& ident) 
                    {"summary", summary_json(ident.summary)},
                    {"samples", samples_json(ident.samples)},
                    {"fitted", matrix(ident.fitted)},
-                   {"warnings", ident.warnings},
+                   {"warnings", warnings_json(ident.warnings, spell)},
                    {"motion",
                     {{"rows", m.rows},
                      {"derived", m.derived},
@@ -364,7 +418,7 @@ Identification read_identification(const std::string& path) {
     out.summary = summary_of(j.at("summary"));
     out.samples = samples_of(j.at("samples"));
     out.fitted = matrix_of(j.at("fitted"));
-    out.warnings = j.at("warnings").get<std::vector<std::string>>();
+    out.warnings = warnings_of(j.at("warnings"));
     const record_json& m = j.at("motion");
     out.motion.rows = m.at("rows");
     out.motion.derived = m.at("derived");

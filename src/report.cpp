@@ -113,14 +113,17 @@ Eigen::VectorXd parameter_scales(const Model& model, const BaseParameters& base,
   return out;
 }
 
-std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::string& source) {
-  std::vector<std::string> out;
+std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::string& source) {
+  using Setting = Hint::Setting;
+  std::vector<Warning> out;
   if (s.condition_number > 1e6)
-    out.push_back(fmt::format(
-        "{}: the plan hardly determines some parameters (condition number "
-        "{:.3g}, eq. 36): their standard deviations are large and any error in the data is "
-        "magnified; record more varied poses and tilts (massid design)",
-        source, s.condition_number));
+    out.push_back(
+        {fmt::format(
+             "{}: the plan hardly determines some parameters (condition number "
+             "{:.3g}, eq. 36): their standard deviations are large and any error in the data is "
+             "magnified; record more varied poses and tilts (massid design)",
+             source, s.condition_number),
+         {}});
   {
     // An estimated noise level with few residual degrees of freedom (many
     // unknowns against few samples) makes every std uncertain.
@@ -137,14 +140,16 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
     if (!axes.empty()) {
       const long unknowns = static_cast<long>(s.value.size() + s.drift_value.size());
       const long more = static_cast<long>(std::ceil(kFewResidualDof - fewest));
-      out.push_back(fmt::format(
-          "{}: {} samples for {} unknowns leave few degrees of freedom for the "
-          "noise estimate ({} of {} per axis; fewer than {:.0f}): the estimated sigma, and with "
-          "it every std, is uncertain by about {:.0f} % and errors beyond 2 std are more "
-          "frequent than the std say; record at least {} samples, or give the sensor's noise "
-          "(--sigma-force, --sigma-moment)",
-          source, s.samples, unknowns, axes, s.samples, kFewResidualDof,
-          100.0 / std::sqrt(2.0 * std::max(fewest, 0.5)), s.samples + more));
+      out.push_back(
+          {fmt::format(
+               "{}: {} samples for {} unknowns leave few degrees of freedom for the "
+               "noise estimate ({} of {} per axis; fewer than {:.0f}): the estimated sigma, and "
+               "with it every std, is uncertain by about {:.0f} % and errors beyond 2 std are "
+               "more frequent than the std say; record at least {} samples, or give the sensor's "
+               "noise",
+               source, s.samples, unknowns, axes, s.samples, kFewResidualDof,
+               100.0 / std::sqrt(2.0 * std::max(fewest, 0.5)), s.samples + more),
+           {{Setting::SigmaForce, ""}, {Setting::SigmaMoment, ""}}});
     }
   }
   // With gravity along the force the moments carry the force's direction
@@ -157,35 +162,37 @@ std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::
     for (int k = 0; k < 6; ++k) {
       const double scale = k < 3 && s.gravity_from_force ? s.sigma.head<3>().norm() : s.sigma[k];
       if (s.residual_max[k] > bound * scale)
-        out.push_back(fmt::format(
-            "{}: the largest {} residual is {:.3g} sigma (above {:.3g}, expected "
-            "with probability 1 %): some samples are implausible for the fitted noise; run "
-            "identify with --robust to find them by line and reject them",
-            source, kWrenchColumns[k], s.residual_max[k] / scale, bound));
+        out.push_back({fmt::format("{}: the largest {} residual is {:.3g} sigma (above {:.3g}, "
+                                   "expected with probability 1 %): some samples are implausible "
+                                   "for the fitted noise; the robust fit finds them by line and "
+                                   "rejects them",
+                                   source, kWrenchColumns[k], s.residual_max[k] / scale, bound),
+                       {{Setting::Robust, "on"}}});
     }
     return out;
   }
   if (s.outliers.empty()) return out;
   const double fraction = static_cast<double>(s.outliers.size()) / std::max(s.samples, 1);
   if (s.robust) {
-    out.push_back(
-        fmt::format("{}: rejected {} of {} samples ({:.2g} %) as outliers (standardised "
-                    "residual d above {:.3g}), at lines {}",
-                    source, s.outliers.size(), s.samples, 100 * fraction, s.outlier_threshold,
-                    line_list(s.outliers)));
+    out.push_back({fmt::format("{}: rejected {} of {} samples ({:.2g} %) as outliers (standardised "
+                               "residual d above {:.3g}), at lines {}",
+                               source, s.outliers.size(), s.samples, 100 * fraction,
+                               s.outlier_threshold, line_list(s.outliers)),
+                   {}});
     if (fraction > 0.2)
-      out.push_back(fmt::format(
-          "{}: more than 20 % of the samples rejected: the model or the set-up "
-          "is likely wrong (sign, frame, units, sensor link, a drifting offset: see --drift), "
-          "not the samples",
-          source));
+      out.push_back({fmt::format("{}: more than 20 % of the samples rejected: the model or the "
+                                 "set-up is likely wrong (sign, frame, units, sensor link, a "
+                                 "drifting offset), not the samples",
+                                 source),
+                     {{Setting::Drift, "linear"}}});
   } else {
-    out.push_back(fmt::format(
-        "{}: {} sample(s) have residuals implausible for the fitted noise "
-        "(standardised residual d above {:.3g}, expected with probability 1 %): lines {}. They "
-        "bias the estimate: check them (a bump, a cable, a transient), or run identify with "
-        "--robust to reject them",
-        source, s.outliers.size(), s.outlier_threshold, line_list(s.outliers)));
+    out.push_back(
+        {fmt::format("{}: {} sample(s) have residuals implausible for the fitted noise "
+                     "(standardised residual d above {:.3g}, expected with probability "
+                     "1 %): lines {}. They bias the estimate: check them (a bump, a "
+                     "cable, a transient), or let the robust fit reject them",
+                     source, s.outliers.size(), s.outlier_threshold, line_list(s.outliers)),
+         {{Setting::Robust, "on"}}});
   }
   return out;
 }
@@ -247,10 +254,11 @@ std::string identify_report(const Model& model, const BaseParameters& base,
   return out;
 }
 
-std::string physical_report(const BaseParameters& base, const PhysicalSummary& p) {
-  std::string out =
-      fmt::format("physically consistent parameters (--physical{}):\n",
-                  p.static_layout ? "; inertia about each centre of mass from the URDF" : "");
+std::string physical_report(const BaseParameters& base, const PhysicalSummary& p,
+                            HintSpeller spell) {
+  std::string out = fmt::format(
+      "physically consistent parameters ({}{}):\n", spell({Hint::Setting::Physical, "on"}),
+      p.static_layout ? "; inertia about each centre of mass from the URDF" : "");
   out += fmt::format("  {:<20} {:>11} {:>10} {:>10} {:>10} {:>11} {:>11} {:>11}  {}\n", "link",
                      "m [kg]", "cx [m]", "cy [m]", "cz [m]", "I1 [kg m^2]", "I2", "I3",
                      "consistent (min eig J)");
@@ -289,7 +297,9 @@ std::string prediction_report(const PredictionErrors& e, int samples) {
 }
 
 std::string design_report(const Model& model, const BaseParameters& base, const DesignSummary& s,
-                          const DesignOptions& o, const std::string& evaluated) {
+                          const DesignOptions& o, const std::string& evaluated, HintSpeller spell) {
+  using Setting = Hint::Setting;
+  const std::string no_clearance = spell({Setting::MinHeight, "none"});
   std::string out =
       evaluated.empty()
           ? fmt::format(
@@ -303,8 +313,8 @@ std::string design_report(const Model& model, const BaseParameters& base, const 
   if (evaluated.empty() && s.level_poses > 0)
     out += fmt::format(
         "level poses: {} of {} kept level, so that fz varies (it separates the total mass from "
-        "the fz offset); --level-poses 0 lets the optimiser tilt every pose\n",
-        s.level_poses, s.plan.size());
+        "the fz offset); {} lets the optimiser tilt every pose\n",
+        s.level_poses, s.plan.size(), spell({Setting::LevelPoses, "0"}));
   const std::string meshes =
       s.links_with_meshes > 0
           ? fmt::format(
@@ -315,27 +325,27 @@ std::string design_report(const Model& model, const BaseParameters& base, const 
   if (s.min_height_relaxed && evaluated.empty())
     out += fmt::format(
         "clearance: not applied: no pose keeps every moving point {:.3g} m above the platform "
-        "plane (through the sensor origin, normal to level gravity); --min-height H requires a "
-        "height\n",
-        o.min_height.value_or(kDefaultMinHeight));
+        "plane (through the sensor origin, normal to level gravity); {} requires a height\n",
+        o.min_height.value_or(kDefaultMinHeight), spell({Setting::MinHeight, ""}));
   else if (o.min_height && evaluated.empty())
     out += fmt::format(
         "clearance: every moving link origin, centre of mass and primitive collision shape at "
         "least {:.3g} m above the platform plane (through the sensor origin, normal to level "
-        "gravity){}; lowest {:.3g} m ('{}'); --min-height H sets it, --min-height none turns it "
-        "off\n",
-        *o.min_height, meshes, s.lowest_clearance, s.lowest_link);
+        "gravity){}; lowest {:.3g} m ('{}'); {} sets it, {} turns it off\n",
+        *o.min_height, meshes, s.lowest_clearance, s.lowest_link, spell({Setting::MinHeight, ""}),
+        no_clearance);
   else if (evaluated.empty())
-    out +=
-        "clearance: not constrained (--min-height none): poses may put links below the "
-        "platform plane\n";
+    out += fmt::format(
+        "clearance: not constrained ({}): poses may put links below the platform plane\n",
+        no_clearance);
   else if (std::isfinite(s.lowest_clearance))
     out += fmt::format(
         "clearance: the lowest moving link origin, centre of mass or primitive collision shape "
         "is {:.3g} m {} the platform plane ('{}'){}\n",
         std::abs(s.lowest_clearance), s.lowest_clearance < 0 ? "below" : "above", s.lowest_link,
         o.min_height && !s.min_height_relaxed && s.lowest_clearance < *o.min_height
-            ? fmt::format(", closer than --min-height {:.3g} m", *o.min_height)
+            ? fmt::format(", closer than {} m",
+                          spell({Setting::MinHeight, fmt::format("{:.3g}", *o.min_height)}))
             : "");
   out += fmt::format("condition number (eq. 36, moment rows): {:.4g}\n", s.condition_number);
   if (!s.identifiable) return out + "the plan does not determine every base parameter\n";

@@ -95,7 +95,7 @@ TEST_F(CliPhysical, DynamicIdentifyPrintsTheTableAndPredictUsesIt) {
   r = run({"identify", kUrUrdf, path("log.csv"), "--dynamic", "--offset", "--physical", "-o",
            path("params.json")});
   ASSERT_EQ(r.code, 0) << r;
-  EXPECT_NE(r.out.find("physically consistent parameters"), std::string::npos) << r;
+  EXPECT_NE(r.out.find("physically consistent parameters (--physical"), std::string::npos) << r;
   EXPECT_NE(r.out.find("forearm_link"), std::string::npos) << r;
   EXPECT_NE(r.out.find("worst base-parameter mismatch"), std::string::npos) << r;
   EXPECT_NE(r.out.find("within std"), std::string::npos) << r;

@@ -32,12 +32,28 @@ TEST_F(CliRobust, IdentifyWarnsAboutImplausibleSamplesByLine) {
   EXPECT_EQ(r.code, 0) << r;
   EXPECT_NE(r.err.find("massid: warning: "), std::string::npos) << r;
   EXPECT_NE(r.err.find("2 sample(s)"), std::string::npos) << r;
-  EXPECT_NE(r.err.find("--robust"), std::string::npos) << r;
+  // The library's words, the CLI's option as the hint.
+  EXPECT_NE(r.err.find("or let the robust fit reject them (--robust)\n"), std::string::npos) << r;
   for (const char* line : {"8 (d = ", "41 (d = "})
     EXPECT_NE(r.err.find(line), std::string::npos) << r;
   const auto j = nlohmann::json::parse(read_file(path("p.json")));
   EXPECT_EQ(j["outliers"]["method"], "reported");
   EXPECT_EQ(j["outliers"]["count"], 2);
+}
+
+// Ten samples for ten unknowns: the library's words, the CLI's options as the
+// hints (the library's text names none).
+TEST_F(CliRobust, FewSamplesAskForTheSensorsNoiseByItsOptions) {
+  Table t = read_table(puma_data({"--noise-force", "0.05", "--noise-moment", "0.005"}));
+  std::vector<std::vector<std::string>> every_third;
+  for (std::size_t r = 2; r < t.rows.size(); r += 3) every_third.push_back(t.rows[r]);
+  t.rows = every_third;
+  const Result r = run({"identify", kPumaUrdf, file("few.csv", to_csv(t)), "-o", path("p.json")});
+  EXPECT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.err.find("massid: warning: "), std::string::npos) << r;
+  EXPECT_NE(r.err.find("or give the sensor's noise (--sigma-force; --sigma-moment)\n"),
+            std::string::npos)
+      << r;
 }
 
 // A clean log is streamed without per-sample residuals: its params file says

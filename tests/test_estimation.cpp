@@ -407,7 +407,13 @@ TEST_F(ManyArms, FewResidualDegreesOfFreedomAreAWarning) {
   ASSERT_LT(r.residual_dof.segment<2>(3).maxCoeff(), kFewResidualDof);  // mx, my
   ASSERT_GE(r.residual_dof[5], kFewResidualDof);                        // mz: h x g ~ in xy
   std::string all;
-  for (const std::string& w : identify_warnings(r, "few.csv")) all += w;
+  bool noise_hints = false;
+  for (const Warning& w : identify_warnings(r, "few.csv")) {
+    all += w.message;
+    noise_hints |= w.hints == std::vector<Hint>{{Hint::Setting::SigmaForce, ""},
+                                                {Hint::Setting::SigmaMoment, ""}};
+  }
+  EXPECT_TRUE(noise_hints) << all;
   EXPECT_NE(all.find(fmt::format("few.csv: {} samples for {} unknowns leave few degrees of freedom",
                                  N, base.num_unknowns())),
             std::string::npos)

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "massid/csv.hpp"
@@ -183,6 +184,49 @@ TEST(Identification, HeldJointsAndTheSensorLinkComeBack) {
   const Identification back = read_identification(record);
   expect_same_identification(ident, back);
   EXPECT_EQ(back.model.num_joints(), model.num_joints());
+}
+
+// The warnings come back with their hints; written spelled (as the CLI printed
+// them) they come back as messages alone, as do the strings of older records.
+TEST(Identification, WarningsComeBackWithTheirHintsAndOldRecordsAsStrings) {
+  const test::Example ex = test::examples()[0];  // puma260
+  const Model model = load_urdf(ex.urdf);
+  Samples s = test::load_plan(model, ex.plan);
+  s.wrench = simulate_wrenches(model, s, {.noise_force = 0.05, .noise_moment = 0.005});
+  Identification ident = identify_log(model, write_log("warned.csv", model, s), false, {}, false);
+  using Setting = Hint::Setting;
+  ident.warnings = {
+      {"a note", {}},
+      {"implausible samples", {{Setting::Robust, "on"}}},
+      {"give the noise", {{Setting::SigmaForce, ""}, {Setting::SigmaMoment, ""}}},
+      {"held and level", {{Setting::HoldJoints, "a=1 b=2"}, {Setting::LevelPoses, "0"}}}};
+  const std::string record = scratch("warned.record").string();
+  write_identification(record, ident);
+  EXPECT_EQ(read_identification(record).warnings, ident.warnings);
+
+  write_identification(
+      record, ident, +[](const Hint& h) {
+        return "<" + std::to_string(static_cast<int>(h.setting)) + " " + h.value + ">";
+      });
+  const std::vector<Warning> spelled = read_identification(record).warnings;
+  ASSERT_EQ(spelled.size(), 4u);
+  EXPECT_EQ(spelled[0], (Warning{"a note", {}}));
+  EXPECT_EQ(spelled[1], (Warning{"implausible samples (<3 on>)", {}}));
+  EXPECT_EQ(spelled[2], (Warning{"give the noise (<15 >; <16 >)", {}}));
+  EXPECT_EQ(spelled[3], (Warning{"held and level (<0 a=1 b=2>; <17 0>)", {}}));
+
+  // An older record: the warnings as strings.
+  std::ifstream in(record, std::ios::binary);
+  nlohmann::json j =
+      nlohmann::json::from_cbor(std::vector<std::uint8_t>{std::istreambuf_iterator<char>(in), {}});
+  in.close();
+  j["warnings"] = {"old one", "old two (--robust)"};
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(j);
+  std::ofstream(record, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  EXPECT_EQ(read_identification(record).warnings,
+            (std::vector<Warning>{{"old one", {}}, {"old two (--robust)", {}}}));
 }
 
 TEST(Identification, WhatIsNotARecordIsAnInputErrorNamingTheFile) {

@@ -724,3 +724,30 @@ TEST(MimicPlant, MjcfHasTheMimicJointsAndTheirCoupling) {
 }
 
 }  // namespace
+
+namespace massid::emulator {
+namespace {
+
+std::string hint_placeholder(const Hint&) { return "<HINT>"; }
+
+// Why a run stopped names the settings that would help only through the
+// caller's speller (the CLI's options): no option in the library's text.
+TEST(DescribeStop, NamesTheSettingsThroughTheSpeller) {
+  const EmulationOptions o;
+  EmulationSummary s;
+  EXPECT_EQ(describe_stop(s, o, hint_placeholder), "");
+  s.supervisor_stops = 1;
+  s.stop_detail = {3, 0.5, 0.4};
+  for (const StopReason reason : {StopReason::Workspace, StopReason::TrackingError})
+    for (const double excursion : {0.0, 100.0}) {
+      s.stop_reason = reason;
+      s.reference_excursion_deg = excursion;
+      const std::string text = describe_stop(s, o, hint_placeholder);
+      EXPECT_NE(text.find("to fix: "), std::string::npos) << text;
+      EXPECT_NE(text.find("<HINT>"), std::string::npos) << text;
+      EXPECT_EQ(text.find("--"), std::string::npos) << text;
+    }
+}
+
+}  // namespace
+}  // namespace massid::emulator

@@ -7,11 +7,14 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <regex>
 #include <set>
 
 #include "massid/base_parameters.hpp"
+#include "massid/design.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
+#include "massid/physical.hpp"
 #include "massid/regressor.hpp"
 #include "massid/report.hpp"
 #include "massid/simulate.hpp"
@@ -258,12 +261,99 @@ TEST(Warnings, HugeConditionNumberIsWarnedAbout) {
   s.condition_number = 4.6;
   EXPECT_TRUE(identify_warnings(s, "data.csv").empty());
   s.condition_number = 3e7;
-  const std::vector<std::string> w = identify_warnings(s, "data.csv");
+  const std::vector<Warning> w = identify_warnings(s, "data.csv");
   ASSERT_EQ(w.size(), 1u);
-  EXPECT_NE(
-      w[0].find("data.csv: the plan hardly determines some parameters (condition number 3e+07"),
-      std::string::npos)
-      << w[0];
+  EXPECT_NE(w[0].message.find(
+                "data.csv: the plan hardly determines some parameters (condition number 3e+07"),
+            std::string::npos)
+      << w[0].message;
+}
+
+// Library text names no command-line option ("--robust"): the warnings say in
+// words what to change and carry the setting as a hint; the reports spell the
+// settings they mention with the caller's speller.
+bool names_an_option(const std::string& text) {
+  return std::regex_search(text, std::regex("--[A-Za-z]"));
+}
+
+std::string placeholder_speller(const Hint&) { return "<HINT>"; }
+
+TEST(Warnings, NameNoOptionAndCarryTheSettingsAsHints) {
+  using Setting = Hint::Setting;
+  const auto settings = [](const Warning& w) {
+    std::vector<Setting> out;
+    for (const Hint& h : w.hints) out.push_back(h.setting);
+    return out;
+  };
+  std::vector<Warning> all;
+  IdentifySummary s;
+  s.samples = 12;
+  s.sigma.setOnes();
+  s.residual_max.setZero();
+  s.value = Eigen::VectorXd::Zero(10);
+  // A huge condition number and few degrees of freedom for the noise estimate.
+  s.condition_number = 3e7;
+  s.residual_dof.setConstant(2.0);
+  std::vector<Warning> w = identify_warnings(s, "data.csv");
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_TRUE(w[0].hints.empty());
+  EXPECT_EQ(settings(w[1]), (std::vector<Setting>{Setting::SigmaForce, Setting::SigmaMoment}));
+  EXPECT_NE(w[1].message.find("or give the sensor's noise"), std::string::npos) << w[1].message;
+  all.insert(all.end(), w.begin(), w.end());
+  // A streamed log's implausible largest residual: the robust fit finds them.
+  s.condition_number = 10;
+  s.residual_dof.setConstant(1000.0);
+  s.samples = 100000;
+  s.residual_max[4] = 100.0;
+  w = identify_warnings(s, "data.csv");
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(settings(w[0]), (std::vector<Setting>{Setting::Robust}));
+  EXPECT_EQ(w[0].hints[0].value, "on");
+  all.insert(all.end(), w.begin(), w.end());
+  // Outliers reported: the robust fit rejects them.
+  s.residual_max.setZero();
+  s.samples = 30;
+  s.per_sample_test = true;
+  s.outlier_threshold = 4.0;
+  for (int i = 0; i < 10; ++i) s.outliers.push_back({i, 2 + i, 5.0 + i});
+  w = identify_warnings(s, "data.csv");
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(settings(w[0]), (std::vector<Setting>{Setting::Robust}));
+  all.insert(all.end(), w.begin(), w.end());
+  // Rejected, more than 20 %: a drifting offset is one suspect.
+  s.robust = true;
+  w = identify_warnings(s, "data.csv");
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_TRUE(w[0].hints.empty());
+  EXPECT_EQ(settings(w[1]), (std::vector<Setting>{Setting::Drift}));
+  all.insert(all.end(), w.begin(), w.end());
+  for (const Warning& x : all) EXPECT_FALSE(names_an_option(x.message)) << x.message;
+
+  // The reports: every branch that mentions a setting, with a placeholder speller.
+  const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf");
+  const BaseParameters base = find_base_parameters(model);
+  DesignSummary d;
+  d.identifiable = true;
+  d.predicted_std = Eigen::VectorXd::Zero(base.num_unknowns());
+  d.level_poses = 3;
+  d.lowest_clearance = 0.01;
+  d.lowest_link = "wrist";
+  d.plan.resize(12);
+  DesignOptions o;
+  std::vector<std::string> reports;
+  d.min_height_relaxed = true;
+  reports.push_back(design_report(model, base, d, o, "", placeholder_speller));
+  d.min_height_relaxed = false;
+  reports.push_back(design_report(model, base, d, o, "", placeholder_speller));
+  reports.push_back(design_report(model, base, d, o, "plan.csv", placeholder_speller));
+  o.min_height.reset();
+  reports.push_back(design_report(model, base, d, o, "", placeholder_speller));
+  PhysicalSummary p;
+  reports.push_back(physical_report(base, p, placeholder_speller));
+  for (const std::string& r : reports) {
+    EXPECT_FALSE(names_an_option(r)) << r;
+    EXPECT_NE(r.find("<HINT>"), std::string::npos) << r;
+  }
 }
 
 }  // namespace

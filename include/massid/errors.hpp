@@ -34,9 +34,30 @@ struct Hint {
     SigmaForce,    // the force noise, N
     SigmaMoment,   // the moment noise, N m
     LevelPoses,    // the share of level poses of a tilted design
+    // The emulator's (massid/emulator/emulation.hpp):
+    SpacecraftMass,     // the emulated spacecraft's mass, kg
+    SpacecraftInertia,  // its principal inertia, kg m^2
+    Trajectory,         // the joint trajectory to run
+    Platform,           // the platform's geometry
   };
   Setting setting;
   std::string value;  // empty: the setting itself
+  bool operator==(const Hint&) const = default;
+};
+
+// A hint spelled in the caller's terms: the CLI's cli::spell ("--robust"),
+// Python's ("robust=True"). Reports that mention settings in their prose take
+// one (report.hpp).
+using HintSpeller = std::string (*)(const Hint&);
+
+// A warning about a result: the message in words, naming no option, and the
+// settings that address it. Front ends print the message followed by the
+// hints in their own spelling, e.g. "... or give the sensor's noise
+// (--sigma-force; --sigma-moment)".
+struct Warning {
+  std::string message;  // one line, without a prefix ("massid: warning: ") or newline
+  std::vector<Hint> hints;
+  bool operator==(const Warning&) const = default;
 };
 
 // Base of massid's errors: a message and its hints.

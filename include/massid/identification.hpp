@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "massid/base_parameters.hpp"
+#include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
 #include "massid/motion_data.hpp"
@@ -23,12 +24,12 @@ struct Identification {
   Model model;
   BaseParameters base;
   IdentifySummary summary;
-  Samples samples;                    // every sample of the fit, as prepared (motion: filtered,
-                                      // decimated); the rejected ones too
-  Eigen::MatrixXd fitted;             // [N x 6] fitted_wrenches(model, base, samples, summary)
-  std::vector<std::string> warnings;  // one line each, without "massid: warning: "
-  MotionDataReport motion;            // dynamic: how the log became samples
-  MotionDataOptions motion_options;   // dynamic: cutoff and root gravity as given
+  Samples samples;                   // every sample of the fit, as prepared (motion: filtered,
+                                     // decimated); the rejected ones too
+  Eigen::MatrixXd fitted;            // [N x 6] fitted_wrenches(model, base, samples, summary)
+  std::vector<Warning> warnings;     // identification_notes: messages and hints
+  MotionDataReport motion;           // dynamic: how the log became samples
+  MotionDataOptions motion_options;  // dynamic: cutoff and root gravity as given
   // Physically consistent standard parameters (IdentifyOptions::physical).
   std::optional<PhysicalSummary> physical;
 };
@@ -43,18 +44,24 @@ Identification identify_log(Model model, const std::string& path, bool offset,
                             const MotionDataOptions& motion_options = {}, bool keep_samples = true);
 
 // What a fit has to say beyond its figures, one line each without a prefix:
-// gravity taken from the force (eq. 37), then identify_warnings (report.hpp).
-std::vector<std::string> identification_notes(const IdentifySummary& summary,
-                                              const std::string& source);
+// gravity taken from the force (eq. 37; no hints), then identify_warnings
+// (report.hpp). Each front end prints a warning's hints its own way.
+std::vector<Warning> identification_notes(const IdentifySummary& summary,
+                                          const std::string& source);
 
 // The identification as one file (CBOR, matrices as raw little-endian
 // doubles: every value bit for bit) for another process on this machine: the
 // model by its URDF path (absolute), sensor link and held joints; the base
 // parameters by their reduction options (find_base_parameters is
-// deterministic). read_identification loads the URDF again and checks that
-// the base parameters come out the same; InputError naming the file
-// otherwise or for a file that is not such a record.
-void write_identification(const std::string& path, const Identification& ident);
+// deterministic); the warnings as {message, hints: [{setting, value}]}, or,
+// with `spell`, each as the caller prints it (its hints spelled into the
+// message, none kept: the CLI's report lists them as the command printed
+// them). read_identification loads the URDF again and checks that the base
+// parameters come out the same; InputError naming the file otherwise or for a
+// file that is not such a record. It reads warnings stored as strings (older
+// records) as messages without hints.
+void write_identification(const std::string& path, const Identification& ident,
+                          HintSpeller spell = nullptr);
 Identification read_identification(const std::string& path);
 
 }  // namespace massid

@@ -8,6 +8,7 @@
 
 #include "massid/base_parameters.hpp"
 #include "massid/design.hpp"
+#include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
 #include "massid/physical.hpp"
@@ -40,23 +41,29 @@ Eigen::VectorXd parameter_scales(const Model& model, const BaseParameters& base,
                                  const IdentifySummary* summary);
 // A parameter is poorly determined when its std exceeds this part of its scale.
 constexpr double kPoorStdOfScale = 0.01;
-// Warnings about an identification, one line each starting with the source
-// and without a prefix or newline (the CLI prints "massid: warning: "):
-// an estimated noise level with fewer than kFewResidualDof residual degrees of
-// freedom on an axis, samples whose residuals are implausible for the fitted
-// noise (reported, or rejected with --robust), and the largest residuals of a
-// streamed log.
-std::vector<std::string> identify_warnings(const IdentifySummary& s, const std::string& source);
+// Warnings about an identification, each message one line starting with the
+// source and without a prefix or newline (the CLI prints "massid: warning: "
+// and the hints as options): a huge condition number, an estimated noise level
+// with fewer than kFewResidualDof residual degrees of freedom on an axis
+// (hints: the sensor's noise), samples whose residuals are implausible for the
+// fitted noise (reported, with the robust fit as hint, or rejected by it), and
+// the largest residuals of a streamed log.
+std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::string& source);
 
 std::string identify_report(const Model& model, const BaseParameters& base,
                             const IdentifySummary& summary, const std::string& data_source);
-// identify --physical: per link m, centre of mass, principal moments about it
-// and consistency (J's smallest eigenvalue), then the worst base-parameter
-// mismatch in std and the solver's figures.
-std::string physical_report(const BaseParameters& base, const PhysicalSummary& p);
+// The physically consistent parameters (IdentifyOptions::physical): per link
+// m, centre of mass, principal moments about it and consistency (J's smallest
+// eigenvalue), then the worst base-parameter mismatch in std and the solver's
+// figures. `spell` names the setting in the caller's terms (errors.hpp).
+std::string physical_report(const BaseParameters& base, const PhysicalSummary& p,
+                            HintSpeller spell);
 std::string prediction_report(const PredictionErrors& errors, int samples);
-// `evaluated` names the file for --evaluate, empty for a new plan.
+// `evaluated` names the evaluated plan's file, empty for a new plan. `spell`
+// names the settings the prose mentions (level poses, the clearance) in the
+// caller's terms (errors.hpp): the CLI's options, Python's keywords.
 std::string design_report(const Model& model, const BaseParameters& base, const DesignSummary& s,
-                          const DesignOptions& options, const std::string& evaluated);
+                          const DesignOptions& options, const std::string& evaluated,
+                          HintSpeller spell);
 
 }  // namespace massid

@@ -377,6 +377,7 @@ def design(
     level_gravity: Sequence[float] = (0.0, 0.0, -9.80665),
     seed: int = 1,
     candidates: int = 0,
+    level_poses: Optional[int] = None,
 ) -> Plan: ...
 
 def read_csv(path: PathType) -> dict[str, np.ndarray]:

@@ -6,6 +6,7 @@
 
 #include "bindings.hpp"
 #include "convert.hpp"
+#include "hints.hpp"
 #include "massid/errors.hpp"
 #include "massid/report.hpp"
 
@@ -22,7 +23,7 @@ Plan run_design(const py::object& robot, int poses, std::optional<std::string> s
                 std::optional<std::map<std::string, std::pair<double, double>>> limits,
                 std::optional<double> min_height, const std::string& criterion, double noise_force,
                 double noise_moment, std::vector<double> level_gravity, std::uint64_t seed,
-                int candidates) {
+                int candidates, std::optional<int> level_poses) {
   Plan out;
   out.model = model_of(robot, sensor, fixed);
   BaseParameterOptions bopts;
@@ -43,6 +44,10 @@ Plan run_design(const py::object& robot, int poses, std::optional<std::string> s
     for (const auto& [x, y] : *tilts_deg) o.tilts.push_back({x * kDeg, y * kDeg});
   if (limits) o.limits = *limits;
   o.min_height = min_height;
+  if (level_poses) {
+    if (*level_poses < 0) throw InputError("level_poses must be >= 0");
+    o.level_poses = *level_poses;
+  }
   if (criterion == "cond")
     o.criterion = Criterion::Cond;
   else if (criterion == "d-opt")
@@ -133,7 +138,9 @@ void bind_design(py::module_& m) {
           py::arg("path"), "Writes the plan CSV (as massid design -o).")
       .def(
           "report",
-          [](const Plan& p) { return design_report(p.model, p.base, p.summary, p.options, ""); },
+          [](const Plan& p) {
+            return design_report(p.model, p.base, p.summary, p.options, "", spell);
+          },
           "The text report that massid design prints.")
       .def("__len__", [](const Plan& p) { return p.summary.plan.size(); })
       .def("__repr__", [](const Plan& p) {
@@ -148,14 +155,14 @@ void bind_design(py::module_& m) {
         py::arg("min_height") = kDefaultMinHeight, py::arg("criterion") = "cond",
         py::arg("noise_force") = 0.05, py::arg("noise_moment") = 0.005,
         py::arg("level_gravity") = std::vector<double>{0.0, 0.0, -kStandardGravity},
-        py::arg("seed") = 1, py::arg("candidates") = 0,
+        py::arg("seed") = 1, py::arg("candidates") = 0, py::arg("level_poses") = py::none(),
         R"(Chooses static poses that determine the base parameters well (massid design).
 
 tilt_max_deg: any platform tilt up to this angle (with tilt_groups shared tilts, 0: one
 per pose); tilts_deg: or only these (x, y) tilts; neither: level only. limits: joint ->
 (lo, hi) narrowed range; min_height: every moving link origin, centre of mass and primitive collision shape at least
 this far above the platform plane, m (default 0.05; None: no constraint); with tilts, a quarter
-of the poses are kept level; criterion:
+of the poses are kept level (level_poses: how many; 0: the optimiser chooses every tilt); criterion:
 'cond' (paper eq. 36) or 'd-opt'; noise_*: per-axis noise for the predicted std.)");
 }
 

@@ -24,20 +24,23 @@ namespace massid::python {
 namespace {
 
 // The set-up checks (setup_checks.hpp): errors raise InputError with every
-// error on its own line; warnings are returned.
-std::vector<std::string> run_checks(const Model& model, const py::handle& data,
-                                    const Samples* samples, const std::vector<std::string>& header,
-                                    bool motion, const SampleOptions& read = {}) {
+// error on its own line; warnings are returned, with their hints.
+std::vector<Warning> run_checks(const Model& model, const py::handle& data, const Samples* samples,
+                                const std::vector<std::string>& header, bool motion,
+                                const SampleOptions& read = {}) {
   SetupCheckOptions o;
   o.read = read;              // the root gravity (a file read here)
   o.constant_joints = false;  // left to the identifiability diagnosis (exit 3), as the CLI
   o.motion = motion;          // the force is not the weight alone
   const std::vector<SetupFinding> findings =
       samples ? check_setup(model, *samples, header, o) : check_setup_file(model, path_of(data), o);
-  std::vector<std::string> errors, warnings;
+  std::vector<std::string> errors;
+  std::vector<Warning> warnings;
   for (const SetupFinding& f : findings)
-    (f.severity == SetupFinding::Severity::Error ? errors : warnings)
-        .push_back(with_hints(f.message, f.hints));
+    if (f.severity == SetupFinding::Severity::Error)
+      errors.push_back(with_hints(f.message, f.hints));
+    else
+      warnings.push_back({f.message, f.hints});
   if (!errors.empty()) throw InputError(fmt::format("{}", fmt::join(errors, "\n")));
   return warnings;
 }
@@ -92,7 +95,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   if (is_path(data)) {
     // As massid identify [--dynamic] (identification.hpp): streamed where it can be.
     const std::string path = path_of(data);
-    std::vector<std::string> notes;
+    std::vector<Warning> notes;
     if (checks)
       notes = run_checks(out.model, data, nullptr, {}, dynamic,
                          motion_data_options(cutoff, root_gravity).samples);
@@ -105,7 +108,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   } else {
     // Columns in memory: the same steps on the samples.
     std::vector<std::string> header;
-    std::vector<std::string> notes;
+    std::vector<Warning> notes;
     RestWindows rest_windows;
     DelayEstimate delay_applied;
     if (dynamic) {
@@ -135,12 +138,12 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
         out.physical = fit_physical(out.model, out.base, out.summary, *opts.physical);
     }
     out.warnings = notes;
-    for (std::string& w : identification_notes(out.summary, out.samples.source))
+    for (Warning& w : identification_notes(out.summary, out.samples.source))
       out.warnings.push_back(std::move(w));
   }
   const py::object warn = py::module_::import("warnings").attr("warn");
   const py::object category = py::module_::import("massid").attr("MassidWarning");
-  for (const std::string& w : out.warnings) warn(w, category, 3);
+  for (const Warning& w : out.warnings) warn(with_hints(w.message, w.hints), category, 3);
   return out;
 }
 
@@ -381,7 +384,14 @@ void bind_identify(py::module_& m) {
       .def_readonly("physical", &I::physical,
                     "physical=True: the physically consistent parameters (PhysicalSummary), "
                     "else None")
-      .def_readonly("warnings", &I::warnings)
+      .def_property_readonly(
+          "warnings",
+          [](const I& i) {
+            std::vector<std::string> out;
+            for (const Warning& w : i.warnings) out.push_back(with_hints(w.message, w.hints));
+            return out;
+          },
+          "The fit's warnings (MassidWarning), one line each, the hints as keywords.")
       .def(
           "report",
           [sum](const I& i) { return identify_report(i.model, i.base, sum(i), i.samples.source); },

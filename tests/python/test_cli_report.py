@@ -5,6 +5,7 @@ import base64
 import pathlib
 import re
 import subprocess
+from html import escape as html_escape
 
 from conftest import massid_cli
 
@@ -44,6 +45,11 @@ def test_identify_and_predict_reports(tmp_path):
     assert r.stderr == plain.stderr, "the report repeats no warning"
     assert "line 11" in r.stderr or "lines 11" in r.stderr or "11 (d =" in r.stderr
     html = (tmp_path / "fit.html").read_text()
+    # The report lists the warning as the command printed it: the CLI's option as the hint.
+    warned = [w[len("massid: warning: "):] for w in r.stderr.splitlines()
+              if w.startswith("massid: warning: ") and "implausible" in w]
+    assert len(warned) == 1 and warned[0].endswith("(--robust)"), r.stderr
+    assert html_escape(warned[0], quote=True) in html
     pngs = images(html)
     assert len(pngs) >= 5 and all(p.startswith(b"\x89PNG\r\n\x1a\n") for p in pngs)
     for name in ("p1", "p9", "M"):

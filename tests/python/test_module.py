@@ -7,6 +7,7 @@ Run: PYTHONPATH=<build>/python /usr/bin/python3 -m pytest tests/python
 import ast
 import json
 import pathlib
+import re
 import subprocess
 import warnings
 import xml.etree.ElementTree as ET
@@ -258,6 +259,21 @@ def test_design_saves_the_clis_plan(tmp_path):
     np.testing.assert_allclose(np.column_stack([cols["gx"], cols["gy"], cols["gz"]]), plan.gravity)
     np.testing.assert_allclose(np.linalg.norm(plan.gravity, axis=1), 9.80665, rtol=1e-12)
     assert "condition number" in plan.report()
+    # The report's prose names settings as keywords where the CLI's names options.
+    report = plan.report()
+    assert "level_poses=0 lets the optimiser tilt every pose" in report, report
+    assert "min_height=H requires a height" in report, report  # the PUMA's sensor link is low
+    assert not re.search(r"--[A-Za-z]", report), report
+    cli = run_cli("design", PUMA, "--poses", "12", "--tilt-max", "20", "--seed", "5", "-o", theirs)
+    assert "--level-poses 0 lets the optimiser tilt every pose" in cli.stdout, cli.stdout
+    assert "--min-height H requires a height" in cli.stdout, cli.stdout
+    # level_poses as the CLI's --level-poses.
+    flat = massid.design(PUMA, 12, tilt_max_deg=20, seed=5, level_poses=0)
+    flat.save(mine)
+    run_cli("design", PUMA, "--poses", "12", "--tilt-max", "20", "--seed", "5", "--level-poses", "0",
+            "-o", theirs)
+    assert mine.read_text() == theirs.read_text()
+    assert "level poses:" not in flat.report()
 
 
 def test_design_simulate_identify_recovers_the_urdf():
@@ -322,10 +338,15 @@ def test_a_spoiled_sample_is_warned_about_and_rejected_by_robust():
     plan = massid.design(model, 30, tilt_max_deg=25, seed=4)
     cols = massid.simulate(model, plan, noise_force=0.05, noise_moment=0.005, seed=8, repeat=4)
     cols["fz"][7] += 3.0  # a bump of 60 sigma
-    with pytest.warns(massid.MassidWarning, match="implausible"):
+    with pytest.warns(massid.MassidWarning, match="implausible") as caught:
         plain = massid.identify(model, cols)
     assert [o.sample for o in plain.outliers] == [7]
     assert plain.used.all()
+    # The hint in this module's keywords, not the CLI's options.
+    implausible = [w for w in plain.warnings if "implausible" in w]
+    assert len(implausible) == 1 and implausible[0].endswith("(robust=True)"), plain.warnings
+    assert any(str(w.message) == implausible[0] for w in caught)
+    assert not any(re.search(r"--[A-Za-z]", w) for w in plain.warnings), plain.warnings
     with pytest.warns(massid.MassidWarning, match="rejected 1 of 120"):
         robust = massid.identify(model, cols, robust=True)
     assert robust.robust and not robust.used[7] and robust.used.sum() == 119

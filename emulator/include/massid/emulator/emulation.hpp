@@ -10,6 +10,7 @@
 #include "massid/emulator/controller.hpp"
 #include "massid/emulator/joint_trajectory.hpp"
 #include "massid/emulator/mujoco_plant.hpp"
+#include "massid/errors.hpp"
 #include "massid/model.hpp"
 
 namespace massid::emulator {
@@ -77,8 +78,10 @@ SpacecraftSizing size_spacecraft(const Model& model, const EmulationOptions& opt
                                  double fraction = 0.5);
 
 // One line on why a run stopped: which limit (workspace axis, leg, tracking),
-// the value against the limit, and the options that would help. "" when the
-// run did not stop.
-std::string describe_stop(const EmulationSummary& summary, const EmulationOptions& options);
+// the value against the limit, and the settings that would help, named by
+// `spell` in the caller's terms (massid/errors.hpp: the CLI's options). ""
+// when the run did not stop.
+std::string describe_stop(const EmulationSummary& summary, const EmulationOptions& options,
+                          HintSpeller spell);
 
 }  // namespace massid::emulator
