@@ -939,9 +939,10 @@ def _fit_figures(doc: _Doc, figs: _Figures, measured: np.ndarray, model: np.ndar
     doc.add(f'<h2 id="residuals">{_e(residual_label.capitalize())}</h2>')
     doc.add("<p>Good residuals look like noise: centred on zero, of even spread, without "
             "trends, steps or curves against the sample index or against any joint. A trend "
-            "against time points to sensor drift (<code>--drift</code>); a curve against a "
-            "joint points to a model error (a joint offset, wrong link frames, a cable); a "
-            "few isolated large values are outliers (<code>--robust</code>).</p>")
+            "against time points to sensor drift (<code>--drift</code>, in Python "
+            "<code>drift=</code>); a curve against a joint points to a model error (a joint "
+            "offset, wrong link frames, a cable); a few isolated large values are outliers "
+            "(<code>--robust</code>, in Python <code>robust=True</code>).</p>")
     doc.figure(figs.against_index(residual, idx, rejected, outlier,
                                   f"{residual_label} against sample index", sigma),
                f"{residual_label} against sample index",
@@ -995,7 +996,8 @@ def _dynamic_fit_figures(doc: _Doc, figs: _Figures, measured: np.ndarray, model:
     doc.add("<p>Good residuals look like noise: centred on zero, of even spread, without "
             "trends against time, without peaks in the spectrum and without curves against "
             "any joint's position or velocity. A slope or steps along time point to sensor "
-            "drift (<code>--drift</code>); peaks in the spectrum at the trajectory's "
+            "drift (<code>--drift</code>, in Python <code>drift=</code>); peaks in the "
+            "spectrum at the trajectory's "
             "frequencies, or a curve against a joint velocity, to motion the model does not "
             "explain: a time lag between the joint and wrench signals, motor rotors spinning "
             "faster than their joints (their inertia is not in the rigid-body model), a cable "
@@ -1182,7 +1184,7 @@ def _identify_html(ident: Any, title: Optional[str], figs: _Figures) -> str:
                 f"{_e(_fmt(threshold, 3))} (clean data exceed it with 1 % "
                 "probability over the whole file), worst first"
                 + (". They were rejected." if robust
-                   else ". Check them, or run with --robust to reject them.") + "</p>")
+                   else ". Check them, or reject them with --robust (Python: robust=True).") + "</p>")
         rows = sorted(outliers, key=lambda o: -float(o.score))
         shown = rows[:50]
         doc.add('<table class="outliers"><tr><th>line</th><th>sample</th><th>score d</th>'
