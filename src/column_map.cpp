@@ -102,6 +102,8 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
   m.time = find(header, "t");
   m.block = find(header, "block");
   m.gravity = all_or_none(header, where, {"gx", "gy", "gz"});
+  m.tilt = all_or_none(header, where, {"tilt_x_deg", "tilt_y_deg"});
+  for (BoundColumn& b : m.tilt) b.scale = std::numbers::pi / 180.0;
   if (!m.gravity.empty())
     m.gravity_from = GravityFrom::Columns;
   else if (!m.q_upstream.empty())

@@ -17,6 +17,10 @@
 //                             without them gravity comes from the upstream
 //                             joints (and the root gravity), else along the
 //                             measured force (paper eq. 37)
+//   tilt_x_deg tilt_y_deg     the platform's tilt as design's plans write it,
+//                             degrees (read in rad): both or none; compensate
+//                             turns the level gravity by it when there is no
+//                             gx,gy,gz; the other readers carry it through
 //   t                         time, s
 //   block                     an integer: the sensor re-zeroed between blocks
 // Other columns are ignored.
@@ -52,6 +56,7 @@ struct ColumnMap {
   ColumnGroup qd_upstream, qdd_upstream;  // [num_upstream] (only with q_upstream; both or neither)
   ColumnGroup wrench;                     // [6] fx fy fz mx my mz
   ColumnGroup gravity;                    // [3] gx gy gz
+  ColumnGroup tilt;                       // [2] tilt_x_deg tilt_y_deg, scale pi/180
   int time = -1, block = -1;              // columns t, block; -1 when absent
   GravityFrom gravity_from = GravityFrom::Columns;
 };

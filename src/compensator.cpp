@@ -4,7 +4,6 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -114,20 +113,15 @@ void Compensator::init(const Model& model, const BaseParameters& base,
           where, w));
 
   // Gravity: gx,gy,gz, else the upstream joints, else the platform's tilt.
-  const int tx = find(header, "tilt_x_deg"), ty = find(header, "tilt_y_deg");
-  if ((tx < 0) != (ty < 0))
-    throw InputError(fmt::format("{}: column '{}' missing (the header has '{}': give both tilts)",
-                                 where, tx < 0 ? "tilt_x_deg" : "tilt_y_deg",
-                                 tx < 0 ? "tilt_y_deg" : "tilt_x_deg"));
   if (c.gravity_from_upstream) {
     m.gravity_from = GravityFrom::Upstream;
-    if (tx >= 0)
+    if (!c.tilt.empty())
       throw InputError(fmt::format(
           "{}: tilt_x_deg,tilt_y_deg and the joints above sensor link '{}' both turn gravity: give "
           "gx,gy,gz (sensor frame) instead",
           where, model.sensor_link()));
   } else if (c.gravity_from_force) {
-    if (tx < 0)
+    if (c.tilt.empty())
       throw InputError(fmt::format(
           "{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame), or tilt_x_deg,tilt_y_deg "
           "(the platform's tilt){}; compensate does not take gravity from the measured force",
@@ -136,9 +130,8 @@ void Compensator::init(const Model& model, const BaseParameters& base,
                                           : ""));
     m.gravity_from = GravityFrom::Tilt;
     c.gravity_from_force = false;
-    const double rad = std::numbers::pi / 180.0;
-    m.tilt = detail::bind_value(c, tx, rad);
-    detail::bind_value(c, ty, rad);
+    m.tilt = detail::bind_value(c, c.tilt[0].column, c.tilt[0].scale);
+    detail::bind_value(c, c.tilt[1].column, c.tilt[1].scale);
   }
 
   std::vector<std::string> notes;

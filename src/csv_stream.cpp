@@ -110,6 +110,7 @@ SampleColumns bind(const Model& model, std::string_view text, const std::string&
   c.motion = motion;
   c.gravity_from_upstream = map.gravity_from == GravityFrom::UpstreamJoints;
   c.gravity_from_force = map.gravity_from == GravityFrom::Force;
+  c.tilt = map.tilt;
 
   // Values, in read_samples' order of groups.
   c.target.assign(c.header.size(), -1);

@@ -22,6 +22,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "column_map.hpp"
 #include "massid/model.hpp"
 #include "massid/samples.hpp"
 
@@ -77,6 +78,7 @@ struct SampleColumns {
   int sensor = -1;                         // [9] wx wy wz dwx dwy dwz ax ay az
   int q_up = -1, qd_up = -1, qdd_up = -1;  // [num_upstream]
   int time = -1, block = -1;               // t, block
+  ColumnGroup tilt;  // [2 or 0] tilt_x_deg, tilt_y_deg (map_columns), not laid out: bind_value them
   int wrench_value() const { return wrench; }
   int gravity_value() const { return gravity; }
 };

@@ -517,7 +517,7 @@ TEST_F(CliCompensate, BadHeaderIsExit2NamingTheColumn) {
   e = run_header("joint1,joint2,joint3,fx,fy,fz,mx,my,mz");
   EXPECT_NE(e.find("no gravity: add columns gx,gy,gz"), std::string::npos) << e;
   e = run_header("joint1,joint2,joint3,tilt_x_deg,fx,fy,fz,mx,my,mz");
-  EXPECT_NE(e.find("column 'tilt_y_deg' missing"), std::string::npos) << e;
+  EXPECT_NE(e.find("column(s) tilt_y_deg missing"), std::string::npos) << e;
   e = run_header("joint1,joint2,joint3,gx,gy,gz,fx,fy,fz,mx,my,mz,fz_comp");
   EXPECT_NE(e.find("column 'fz_comp' is already in the header"), std::string::npos) << e;
   // Comment lines before the header count: the header is line 3.

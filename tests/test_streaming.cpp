@@ -482,6 +482,8 @@ TEST_F(StreamingTest, BadCsvInputGivesReadCsvMessages) {
       {"no_wrench", "joint1,joint2,joint3,gx,gy,gz\n1,2,3,0,0,1\n"},
       {"some_wrench", "joint1,joint2,joint3,fx,fy,gx,gy,gz\n1,2,3,0,0,1,0,0\n"},
       {"some_gravity", "joint1,joint2,joint3,fx,fy,fz,mx,my,mz,gx\n1,2,3,0,0,1,0,0,0,0\n"},
+      {"one_tilt",
+       "joint1,joint2,joint3,fx,fy,fz,mx,my,mz,gx,gy,gz,tilt_x_deg\n1,2,3,0,0,1,0,0,0,0,0,1,5\n"},
       {"no_joint", "joint1,joint3,fx,fy,fz,mx,my,mz\n1,3,0,0,1,0,0,0\n"},
       {"twice", "joint1,joint1,joint3\n1,2,3\n"},
       {"empty_name", "joint1,,joint3\n1,2,3\n"},
