@@ -185,14 +185,6 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
   return out;
 }
 
-MotionPredictor detail::with_four_lanes(const MotionPredictor& predictor, bool four_lanes) {
-  MotionPredictor out = predictor;
-  auto plan = std::make_shared<MotionPredictorPlan>(*predictor.plan);
-  plan->four_lanes = four_lanes && detail::cpu_has_avx2();
-  out.plan = std::move(plan);
-  return out;
-}
-
 namespace {
 
 const MotionPredictorPlan& plan_of(const char* function, const MotionPredictor& predictor) {
@@ -550,6 +542,16 @@ void run_any(const MotionPredictorPlan& p, int num_joints, MotionPredictorData& 
   run_two_lanes(p, d, q, qd, qdd, stride, g, sensor, out);
 }
 
+// One sample from contiguous q, qd, qdd.
+Wrench run_one(const MotionPredictorPlan& p, int num_joints, MotionPredictorData& d,
+               const double* q, const double* qd, const double* qdd, const Eigen::Vector3d& g,
+               const FrameMotion& sensor) {
+  static const Eigen::Index kUnitStride[3] = {1, 1, 1};
+  Wrench w;
+  run_any(p, num_joints, d, q, qd, qdd, kUnitStride, g, sensor, w.data());
+  return w;
+}
+
 }  // namespace
 
 Wrench predict_motion(const MotionPredictor& predictor, MotionPredictorData& d, const double* q,
@@ -557,10 +559,7 @@ Wrench predict_motion(const MotionPredictor& predictor, MotionPredictorData& d, 
                       const FrameMotion& sensor) {
   const MotionPredictorPlan& p = plan_of("predict_motion", predictor);
   check_data("predict_motion", p, d);
-  static const Eigen::Index kUnitStride[3] = {1, 1, 1};
-  Wrench w;
-  run_any(p, predictor.num_joints, d, q, qd, qdd, kUnitStride, g, sensor, w.data());
-  return w;
+  return run_one(p, predictor.num_joints, d, q, qd, qdd, g, sensor);
 }
 
 Wrench predict_motion(const MotionPredictor& predictor, MotionPredictorData& data,
@@ -568,12 +567,13 @@ Wrench predict_motion(const MotionPredictor& predictor, MotionPredictorData& dat
                       const Eigen::Ref<const Eigen::VectorXd>& qd,
                       const Eigen::Ref<const Eigen::VectorXd>& qdd, const Eigen::Vector3d& g,
                       const FrameMotion& sensor) {
-  check_data("predict_motion", plan_of("predict_motion", predictor), data);
+  const MotionPredictorPlan& p = plan_of("predict_motion", predictor);
+  check_data("predict_motion", p, data);
   const Eigen::Index n = predictor.num_joints;
   detail::check_size("predict_motion", "q", q.size(), n, "the model's joints");
   detail::check_size("predict_motion", "qd", qd.size(), n, "the model's joints");
   detail::check_size("predict_motion", "qdd", qdd.size(), n, "the model's joints");
-  return predict_motion(predictor, data, q.data(), qd.data(), qdd.data(), g, sensor);
+  return run_one(p, predictor.num_joints, data, q.data(), qd.data(), qdd.data(), g, sensor);
 }
 
 void predict_motion(const MotionPredictor& predictor, MotionPredictorData& d,

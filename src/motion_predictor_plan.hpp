@@ -31,8 +31,4 @@ struct MotionPredictorPlan {
   bool four_lanes = false;        // AVX2 path (x86-64 CPUs that have it)
 };
 
-// A copy of `predictor` that takes the four-lane path (AVX2; only where the
-// CPU has it) or the two-lane path: for the tests that compare the two.
-MotionPredictor with_four_lanes(const MotionPredictor& predictor, bool four_lanes);
-
 }  // namespace massid::detail

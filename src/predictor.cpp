@@ -124,14 +124,6 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
   return out;
 }
 
-Predictor detail::with_four_lanes(const Predictor& predictor, bool four_lanes) {
-  Predictor out = predictor;
-  auto plan = std::make_shared<PredictorPlan>(*predictor.plan);
-  plan->four_lanes = four_lanes && detail::cpu_has_avx2();
-  out.plan = std::move(plan);
-  return out;
-}
-
 namespace {
 
 const PredictorPlan& plan_of(const char* function, const Predictor& predictor) {

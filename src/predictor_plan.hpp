@@ -37,9 +37,4 @@ struct PredictorPlan {
   bool four_lanes = false;  // AVX2 path (x86-64 CPUs that have it); same bits as the two-lane path
 };
 
-// A copy of `predictor` that takes the four-lane path (AVX2; only where the
-// CPU has it) or the two-lane path: for the tests and benchmarks that compare
-// the two.
-Predictor with_four_lanes(const Predictor& predictor, bool four_lanes);
-
 }  // namespace massid::detail

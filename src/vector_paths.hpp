@@ -9,6 +9,8 @@
 #pragma once
 
 #include <cstring>
+#include <memory>
+#include <type_traits>
 
 #if defined(__x86_64__)
 #define MASSID_X86 1
@@ -25,6 +27,18 @@ inline bool cpu_has_avx2() {
 #else
   return false;
 #endif
+}
+
+// A copy of a compiled predictor (Predictor, MotionPredictor; the plan's
+// definition, *_plan.hpp, included) that takes the four-lane path (only where
+// cpu_has_avx2()) or the two-lane path: for the tests that compare the two.
+template <class Predictor>
+Predictor with_four_lanes(const Predictor& predictor, bool four_lanes) {
+  Predictor out = predictor;
+  auto plan = std::make_shared<std::remove_cvref_t<decltype(*predictor.plan)>>(*predictor.plan);
+  plan->four_lanes = four_lanes && cpu_has_avx2();
+  out.plan = std::move(plan);
+  return out;
 }
 
 // A double, or a vector of lanes of doubles, loaded from and stored to

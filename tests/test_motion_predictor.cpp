@@ -14,6 +14,7 @@
 #include "massid/regressor.hpp"
 #include "motion_predictor_plan.hpp"
 #include "test_support.hpp"
+#include "vector_paths.hpp"
 
 namespace massid {
 namespace {
