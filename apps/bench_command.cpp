@@ -15,8 +15,10 @@
 #include "massid/csv.hpp"
 #include "massid/motion_predictor.hpp"
 #include "massid/predictor.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
+#include "massid/urdf.hpp"
 #include "options.hpp"
 
 namespace massid::cli {

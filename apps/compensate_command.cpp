@@ -16,10 +16,11 @@
 #include <string_view>
 #include <vector>
 
+#include "latency_histogram.hpp"
 #include "massid/compensator.hpp"
 #include "massid/errors.hpp"
-#include "massid/latency_histogram.hpp"
 #include "massid/params_file.hpp"
+#include "massid/urdf.hpp"
 #include "options.hpp"
 
 namespace massid::cli {

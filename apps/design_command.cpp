@@ -12,7 +12,9 @@
 #include "massid/design.hpp"
 #include "massid/errors.hpp"
 #include "massid/excitation.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/report.hpp"
+#include "massid/urdf.hpp"
 #include "options.hpp"
 
 namespace massid::cli {

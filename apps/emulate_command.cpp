@@ -13,7 +13,9 @@
 #include "massid/emulator/emulation.hpp"
 #include "massid/errors.hpp"
 #include "massid/params_file.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/regressor.hpp"
+#include "massid/urdf.hpp"
 #include "options.hpp"
 
 namespace massid::cli {
@@ -53,6 +55,22 @@ void add_emulate_command(CLI::App& app, EmulateCommand& c) {
 }
 
 namespace {
+
+// The emulator's settings as this command's options.
+std::string spell_setting(massid::emulator::EmulatorSetting s) {
+  using massid::emulator::EmulatorSetting;
+  switch (s) {
+    case EmulatorSetting::SpacecraftMass:
+      return "--spacecraft-mass";
+    case EmulatorSetting::SpacecraftInertia:
+      return "--spacecraft-inertia";
+    case EmulatorSetting::Trajectory:
+      return "--trajectory";
+    case EmulatorSetting::Platform:
+      return "--platform";
+  }
+  return "";
+}
 
 // A t, joint... CSV through a clamped cubic spline (joint_trajectory.hpp).
 JointTrajectory trajectory_from_csv(const Model& model, const std::string& path) {
@@ -199,7 +217,7 @@ int run_emulate(const EmulateCommand& c) {
                    {"first_stop_s", s.first_stop_s >= 0 ? nlohmann::ordered_json(s.first_stop_s)
                                                         : nlohmann::ordered_json()},
                    {"stop_reason", to_string(s.stop_reason)},
-                   {"stop_detail", describe_stop(s, o, cli::spell)}};
+                   {"stop_detail", describe_stop(s, o, spell_setting)}};
   }
   // The largest errors against the reference's excursion; in absolute terms
   // when the reference hardly moves (a light gripper on a heavy spacecraft:
@@ -223,7 +241,7 @@ int run_emulate(const EmulateCommand& c) {
     if (runs[r].supervisor_stops > 0)
       std::cout << fmt::format("; supervisor stopped at {:.3g} s ({}): {}", runs[r].first_stop_s,
                                to_string(runs[r].stop_reason),
-                               describe_stop(runs[r], o, cli::spell));
+                               describe_stop(runs[r], o, spell_setting));
     std::cout << "\n";
   }
   j["spacecraft_mass_kg"] = o.spacecraft.mass;

@@ -59,14 +59,6 @@ std::string spell(const Hint& hint) {
       return "--sigma-moment";
     case Hint::Setting::LevelPoses:
       return "--level-poses " + or_placeholder(v, "N");
-    case Hint::Setting::SpacecraftMass:
-      return "--spacecraft-mass";
-    case Hint::Setting::SpacecraftInertia:
-      return "--spacecraft-inertia";
-    case Hint::Setting::Trajectory:
-      return "--trajectory";
-    case Hint::Setting::Platform:
-      return "--platform";
   }
   return "";
 }

@@ -39,6 +39,7 @@
 #include "massid/model.hpp"
 #include "massid/motion_predictor.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 
 namespace {
 

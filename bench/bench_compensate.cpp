@@ -13,6 +13,7 @@
 #include "massid/compensator.hpp"
 #include "massid/csv.hpp"
 #include "massid/parameters.hpp"
+#include "massid/urdf.hpp"
 
 namespace {
 

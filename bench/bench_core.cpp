@@ -16,6 +16,7 @@
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 
 namespace {
 

@@ -7,6 +7,7 @@
 #include "massid/emulator/controller.hpp"
 #include "massid/emulator/emulation.hpp"
 #include "massid/regressor.hpp"
+#include "massid/urdf.hpp"
 
 namespace {
 

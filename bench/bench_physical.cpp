@@ -12,6 +12,7 @@
 #include "massid/motion_data.hpp"
 #include "massid/physical.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid::bench {
 namespace {

@@ -19,6 +19,7 @@
 #include "massid/motion_data.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
+#include "massid/urdf.hpp"
 
 namespace {
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "massid/model.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid::bench {
 

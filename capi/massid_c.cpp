@@ -21,6 +21,7 @@
 #include "massid/motion_predictor.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
+#include "massid/urdf.hpp"
 
 namespace {
 

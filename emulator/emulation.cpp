@@ -175,7 +175,8 @@ SpacecraftSizing size_spacecraft(const Model& model, const EmulationOptions& opt
   return s;
 }
 
-std::string describe_stop(const EmulationSummary& s, const EmulationOptions& o, HintSpeller spell) {
+std::string describe_stop(const EmulationSummary& s, const EmulationOptions& o,
+                          EmulatorSpeller spell) {
   if (s.supervisor_stops == 0) return "";
   const StopDetail& d = s.stop_detail;
   constexpr double deg = 180.0 / std::numbers::pi;
@@ -214,12 +215,12 @@ std::string describe_stop(const EmulationSummary& s, const EmulationOptions& o, 
   }
   const double ws_m = o.geometry.workspace.max_translation.minCoeff();
   const double ws_deg = o.geometry.workspace.max_tilt * deg;
-  using Setting = Hint::Setting;
+  using Setting = EmulatorSetting;
   const std::string heavier =
-      fmt::format("a heavier spacecraft ({}, {})", spell({Setting::SpacecraftMass, ""}),
-                  spell({Setting::SpacecraftInertia, ""}));
-  const std::string trajectory = spell({Setting::Trajectory, ""});
-  const std::string larger = fmt::format("a larger platform ({})", spell({Setting::Platform, ""}));
+      fmt::format("a heavier spacecraft ({}, {})", spell(Setting::SpacecraftMass),
+                  spell(Setting::SpacecraftInertia));
+  const std::string trajectory = spell(Setting::Trajectory);
+  const std::string larger = fmt::format("a larger platform ({})", spell(Setting::Platform));
   std::string fix;
   if (s.stop_reason == StopReason::TrackingError)
     fix = fmt::format("the platform servo cannot follow: a slower trajectory ({}), {}", trajectory,

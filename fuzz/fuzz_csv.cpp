@@ -12,6 +12,7 @@
 #include "fuzz_support.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 #include "massid/streaming.hpp"
 

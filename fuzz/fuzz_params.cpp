@@ -8,6 +8,7 @@
 #include "massid/base_parameters.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
+#include "massid/urdf.hpp"
 
 using namespace massid;
 

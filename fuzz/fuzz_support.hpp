@@ -20,6 +20,7 @@
 
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid::fuzz {
 

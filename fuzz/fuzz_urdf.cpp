@@ -8,9 +8,11 @@
 #include "fuzz_support.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/params_file.hpp"
+#include "massid/params_json.hpp"
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
 #include "massid/report.hpp"
+#include "massid/urdf.hpp"
 
 using namespace massid;
 

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "massid/errors.hpp"
+#include "massid/read_samples.hpp"
 
 namespace massid::detail {
 namespace {

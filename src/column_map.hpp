@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "massid/model.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 
 namespace massid::detail {

@@ -10,10 +10,11 @@
 #include "csv_fields.hpp"
 #include "csv_stream.hpp"
 #include "massid/base_parameters.hpp"
-#include "massid/design.hpp"
 #include "massid/errors.hpp"
+#include "massid/gravity.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/motion_predictor.hpp"
+#include "massid/read_samples.hpp"
 
 namespace massid {
 

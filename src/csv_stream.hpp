@@ -24,6 +24,7 @@
 
 #include "column_map.hpp"
 #include "massid/model.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 
 namespace massid::detail {

@@ -11,6 +11,7 @@
 #include "axis_least_squares.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
+#include "massid/read_samples.hpp"
 #include "median.hpp"
 
 namespace massid {

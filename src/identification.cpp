@@ -17,7 +17,8 @@
 #include "massid/csv.hpp"
 #include "massid/delay.hpp"
 #include "massid/errors.hpp"
-#include "massid/report.hpp"
+#include "massid/read_samples.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid {
 
@@ -121,12 +122,10 @@ record_json rest_json(const RestWindows& w) {
 // The settings by name, in the order of Hint::Setting (a record names them:
 // the enumeration may grow).
 constexpr const char* kSettingNames[] = {
-    "hold_joints",   "offset",       "checks",      "robust",          "drift",
-    "dynamic",       "cutoff",       "delay",       "min_height",      "limits",
-    "level_gravity", "tilt_max",     "physical",    "sensor_link",     "poses",
-    "sigma_force",   "sigma_moment", "level_poses", "spacecraft_mass", "spacecraft_inertia",
-    "trajectory",    "platform"};
-static_assert(std::size(kSettingNames) == static_cast<std::size_t>(Hint::Setting::Platform) + 1,
+    "hold_joints", "offset",      "checks",     "robust",      "drift",         "dynamic",
+    "cutoff",      "delay",       "min_height", "limits",      "level_gravity", "tilt_max",
+    "physical",    "sensor_link", "poses",      "sigma_force", "sigma_moment",  "level_poses"};
+static_assert(std::size(kSettingNames) == static_cast<std::size_t>(Hint::Setting::LevelPoses) + 1,
               "a name for every setting");
 
 record_json warnings_json(const std::vector<Warning>& warnings, HintSpeller spell) {

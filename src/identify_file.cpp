@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "massid/csv.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/rest_windows.hpp"
 #include "massid/setup_checks.hpp"
 #include "massid/streaming.hpp"

@@ -13,6 +13,7 @@
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
 #include "massid/motion_data.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 
 namespace massid {

@@ -5,6 +5,7 @@
 #include "massid/base_regressor.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
+#include "massid/read_samples.hpp"
 
 namespace massid {
 

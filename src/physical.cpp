@@ -384,4 +384,10 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
   return out;
 }
 
+bool PhysicalSummary::consistent() const {
+  for (const PhysicalLink& l : links)
+    if (!l.consistent) return false;
+  return true;
+}
+
 }  // namespace massid

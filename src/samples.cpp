@@ -9,6 +9,7 @@
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/kinematics.hpp"
+#include "massid/read_samples.hpp"
 
 namespace massid {
 

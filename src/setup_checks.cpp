@@ -26,6 +26,7 @@
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/kinematics.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/simulate.hpp"
 #include "median.hpp"
 

@@ -28,6 +28,7 @@
 #include "massid/errors.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/motion_filter.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/regressor.hpp"
 #include "massid/streaming.hpp"
 #include "motion_rows.hpp"

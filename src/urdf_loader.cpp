@@ -17,6 +17,7 @@
 
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid {
 namespace {

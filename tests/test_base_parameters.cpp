@@ -11,6 +11,7 @@
 #include "massid/base_regressor.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/regressor.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -11,6 +11,7 @@
 
 #include "cli_support.hpp"
 #include "massid/model.hpp"
+#include "massid/urdf.hpp"
 
 namespace {
 

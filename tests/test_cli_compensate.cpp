@@ -16,7 +16,7 @@
 #include <thread>
 
 #include "cli_support.hpp"
-#include "massid/latency_histogram.hpp"
+#include "latency_histogram.hpp"
 
 namespace massid_cli_test {
 namespace {

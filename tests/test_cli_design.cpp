@@ -17,6 +17,7 @@
 #include "cli_support.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/model.hpp"
+#include "massid/urdf.hpp"
 
 namespace {
 

@@ -10,6 +10,7 @@
 #include "cli_support.hpp"
 #include "massid/model.hpp"
 #include "massid/parameters.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid_cli_test {
 namespace {

@@ -7,6 +7,7 @@
 
 #include "cli_support.hpp"
 #include "massid/model.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid_cli_test {
 namespace {

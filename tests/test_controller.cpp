@@ -7,6 +7,7 @@
 #include "massid/emulator/controller.hpp"
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid::emulator {

@@ -11,6 +11,7 @@
 #include "massid/errors.hpp"
 #include "massid/excitation.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -13,6 +13,7 @@
 #include "massid/kinematics.hpp"
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -14,10 +14,12 @@
 #include "massid/base_parameters.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
+#include "massid/identification.hpp"
 #include "massid/regressor.hpp"
 #include "massid/report.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

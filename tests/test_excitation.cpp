@@ -17,6 +17,7 @@
 #include "massid/excitation.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -16,8 +16,10 @@
 #include "massid/excitation.hpp"
 #include "massid/identification.hpp"
 #include "massid/kinematics.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/report.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "summary_support.hpp"
 #include "test_support.hpp"
 

@@ -13,9 +13,12 @@
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/params_file.hpp"
+#include "massid/params_json.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/regressor.hpp"
 #include "massid/samples.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {
@@ -172,10 +175,9 @@ TEST(ParamsFile, RoundTripsThroughJson) {
 
 std::string params_error(const std::string& text) {
   // One file per test: ctest runs the tests of this suite in parallel processes.
-  const fs::path path =
-      fs::temp_directory_path() /
-      (std::string("massid_params_error_") +
-       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".json");
+  const fs::path path = fs::temp_directory_path() /
+                        (std::string("massid_params_error_") +
+                         ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".json");
   write_file_atomically(path.string(), text);
   std::string what = "no error";
   try {

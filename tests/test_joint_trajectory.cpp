@@ -10,6 +10,7 @@
 #include "massid/emulator/joint_trajectory.hpp"
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid::emulator {
 namespace {

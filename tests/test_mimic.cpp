@@ -20,6 +20,7 @@
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "mimic_support.hpp"
 
 namespace massid {

@@ -4,6 +4,7 @@
 
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
+#include "massid/urdf.hpp"
 
 TEST(Model, LoadsPuma) {
   const auto m = massid::load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");

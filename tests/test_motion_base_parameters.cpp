@@ -19,6 +19,7 @@
 #include "massid/base_parameters.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/regressor.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -16,7 +16,9 @@
 #include "massid/estimation.hpp"
 #include "massid/excitation.hpp"
 #include "massid/motion_data.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -12,6 +12,7 @@
 #include "massid/motion_predictor.hpp"
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
+#include "massid/urdf.hpp"
 #include "motion_predictor_plan.hpp"
 #include "test_support.hpp"
 #include "vector_paths.hpp"

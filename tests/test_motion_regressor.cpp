@@ -54,9 +54,11 @@
 #include "massid/kinematics.hpp"
 #include "massid/model.hpp"
 #include "massid/parameters.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/regressor.hpp"
 #include "massid/samples.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "motion_support.hpp"
 #include "test_support.hpp"
 

@@ -26,10 +26,12 @@
 #include "massid/identification.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/motion_data.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/regressor.hpp"
 #include "massid/setup_checks.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
+#include "massid/urdf.hpp"
 #include "summary_support.hpp"
 #include "test_support.hpp"
 

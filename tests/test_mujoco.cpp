@@ -53,8 +53,10 @@
 
 #include "massid/csv.hpp"
 #include "massid/model.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "massid/urdf_inertials.hpp"
 #include "mujoco_support.hpp"
 

@@ -63,6 +63,7 @@
 #include "massid/model.hpp"
 #include "massid/parameters.hpp"
 #include "massid/regressor.hpp"
+#include "massid/urdf.hpp"
 #include "motion_support.hpp"
 #include "mujoco_support.hpp"
 

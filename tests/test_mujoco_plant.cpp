@@ -37,9 +37,11 @@
 #include "massid/emulator/stewart_platform.hpp"
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/regressor.hpp"
 #include "massid/samples.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "mimic_support.hpp"
 
 namespace {
@@ -728,7 +730,7 @@ TEST(MimicPlant, MjcfHasTheMimicJointsAndTheirCoupling) {
 namespace massid::emulator {
 namespace {
 
-std::string hint_placeholder(const Hint&) { return "<HINT>"; }
+std::string hint_placeholder(EmulatorSetting) { return "<HINT>"; }
 
 // Why a run stopped names the settings that would help only through the
 // caller's speller (the CLI's options): no option in the library's text.

@@ -14,6 +14,7 @@
 #include "massid/motion_predictor.hpp"
 #include "massid/predictor.hpp"
 #include "massid/regressor.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 extern "C" {

@@ -26,6 +26,7 @@
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

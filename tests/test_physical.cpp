@@ -17,8 +17,10 @@
 #include "massid/identification.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/params_file.hpp"
+#include "massid/params_json.hpp"
 #include "massid/physical.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

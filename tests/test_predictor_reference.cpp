@@ -28,6 +28,7 @@
 #include "massid/model.hpp"
 #include "massid/motion_predictor.hpp"
 #include "massid/predictor.hpp"
+#include "massid/urdf.hpp"
 #include "motion_predictor_plan.hpp"
 #include "predictor_plan.hpp"
 #include "ulps.hpp"

@@ -9,6 +9,7 @@
 
 #include "massid/kinematics.hpp"
 #include "massid/regressor.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -15,8 +15,10 @@
 #include "identify_file.hpp"
 #include "massid/csv.hpp"
 #include "massid/estimation.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/rest_windows.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -19,8 +19,10 @@
 
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/setup_checks.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

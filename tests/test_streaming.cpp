@@ -17,9 +17,11 @@
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/regressor.hpp"
 #include "massid/simulate.hpp"
 #include "massid/streaming.hpp"
+#include "massid/urdf.hpp"
 #include "summary_support.hpp"
 #include "test_support.hpp"
 

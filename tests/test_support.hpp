@@ -14,6 +14,7 @@
 #include "massid/estimation.hpp"
 #include "massid/model.hpp"
 #include "massid/predictor.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/regressor.hpp"
 #include "massid/samples.hpp"
 

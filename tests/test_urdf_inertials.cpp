@@ -9,6 +9,7 @@
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
 #include "massid/parameters.hpp"
+#include "massid/urdf.hpp"
 #include "massid/urdf_inertials.hpp"
 
 namespace massid {

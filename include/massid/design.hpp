@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "massid/base_parameters.hpp"
+#include "massid/gravity.hpp"
 #include "massid/model.hpp"
 #include "massid/predictor.hpp"
 #include "massid/samples.hpp"
@@ -36,15 +37,6 @@ namespace massid {
 
 enum class Criterion { Cond, DOpt };
 
-// Platform tilt: rotation about the sensor x axis by `x`, then about the
-// (rotated) y axis by `y`, radians: R = Rx(x) Ry(y). Gravity in the tilted
-// sensor frame is R^T g_level.
-struct Tilt {
-  double x = 0.0, y = 0.0;
-};
-Eigen::Vector3d tilted_gravity(const Eigen::Vector3d& level, const Tilt& tilt);
-// Angle between tilted and level gravity, radians.
-double tilt_angle(const Eigen::Vector3d& level, const Tilt& tilt);
 // `count` tilts evenly spread on the rim of the cone of half-angle tilt_max
 // (rad) around level: where design's tilt groups start, and the blocks of
 // design --dynamic --tilt-max.

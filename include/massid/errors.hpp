@@ -34,11 +34,6 @@ struct Hint {
     SigmaForce,    // the force noise, N
     SigmaMoment,   // the moment noise, N m
     LevelPoses,    // the share of level poses of a tilted design
-    // The emulator's (massid/emulator/emulation.hpp):
-    SpacecraftMass,     // the emulated spacecraft's mass, kg
-    SpacecraftInertia,  // its principal inertia, kg m^2
-    Trajectory,         // the joint trajectory to run
-    Platform,           // the platform's geometry
   };
   Setting setting;
   std::string value;  // empty: the setting itself

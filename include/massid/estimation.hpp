@@ -151,4 +151,16 @@ double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd
 // The condition number of A with its columns scaled to unit norm.
 double scaled_condition_number(const Eigen::MatrixXd& A);
 
+// What a base parameter's std is judged against: its part of the robot's
+// gravity wrench at full scale, M L^k for a parameter in kg m^k (k = 0 mass,
+// 1 first moment, 2 inertia), with M the identified total mass (else the
+// URDF's) and L the robot's reach (kinematics.hpp). A std of 1 % of it moves
+// the predicted moments by about 1 % of the largest the robot makes, whatever
+// the parameter's own value: a combination that is zero by symmetry is judged
+// as well determined as its neighbours. [num_mass]; NaN when M or L is 0.
+Eigen::VectorXd parameter_scales(const Model& model, const BaseParameters& base,
+                                 const IdentifySummary* summary);
+// A parameter is poorly determined when its std exceeds this part of its scale.
+constexpr double kPoorStdOfScale = 0.01;
+
 }  // namespace massid

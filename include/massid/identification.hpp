@@ -43,6 +43,15 @@ Identification identify_log(Model model, const std::string& path, bool offset,
                             const IdentifyOptions& options, bool dynamic,
                             const MotionDataOptions& motion_options = {}, bool keep_samples = true);
 
+// Warnings about an identification, each message one line starting with the
+// source and without a prefix or newline (the CLI prints "massid: warning: "
+// and the hints as options): a huge condition number, an estimated noise level
+// with fewer than kFewResidualDof residual degrees of freedom on an axis
+// (hints: the sensor's noise), samples whose residuals are implausible for the
+// fitted noise (reported, with the robust fit as hint, or rejected by it), and
+// the largest residuals of a streamed log.
+std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::string& source);
+
 // What a fit has to say beyond its figures, one line each without a prefix:
 // gravity taken from the force (eq. 37; no hints), then identify_warnings
 // (report.hpp). Each front end prints a warning's hints its own way.

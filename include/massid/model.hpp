@@ -110,19 +110,10 @@ struct Model {
   double nominal_total_mass() const;  // sum of the URDF link masses
 };
 
-// Loads a URDF file. `sensor_link` empty means the URDF root link. Throws
-// InputError (file:line) for unreadable or malformed files, unsupported joints
-// (floating, planar) below the sensor link, a mimic joint whose master is a
-// mimic joint too, fixed, or above the sensor link, swapped limits
-// (lower > upper), and unknown sensor links (with the closest names).
-Model load_urdf(const std::string& path, const std::string& sensor_link = "");
 // The model with some joints held still at the given positions (rad or m):
 // they become fixed joints, so the base parameters are those such an
 // experiment can determine (the paper held the PUMA's wrist). InputError for a
 // name that is not a movable joint of the model.
 Model hold_joints(Model model, const std::vector<std::pair<std::string, double>>& held);
-
-Model load_urdf_string(const std::string& xml, const std::string& sensor_link = "",
-                       const std::string& source = "<string>");
 
 }  // namespace massid

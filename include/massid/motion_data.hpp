@@ -14,6 +14,7 @@
 #include "massid/model.hpp"
 #include "massid/motion_filter.hpp"
 #include "massid/motion_predictor.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 
 namespace massid {

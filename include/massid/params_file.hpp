@@ -7,12 +7,13 @@
 #include <vector>
 
 #include "massid/base_parameters.hpp"
-#include "massid/estimation.hpp"
 #include "massid/model.hpp"
-#include "massid/physical.hpp"
 #include "massid/predictor.hpp"
 
 namespace massid {
+
+// The "format" of every params file.
+inline constexpr const char* kParamsFormat = "massid-params-1";
 
 struct ParamsFile {
   struct NamedTerm {
@@ -52,11 +53,6 @@ struct ParamsFile {
   };
   std::vector<PhysicalEntry> physical;
 };
-
-// JSON text of an identification (values omitted when summary is null, as
-// `model --json` prints), with a "physical" section when `physical` is given.
-std::string params_json(const Model& model, const BaseParameters& base,
-                        const IdentifySummary* summary, const PhysicalSummary* physical = nullptr);
 
 // Reads and checks a params file; InputError names file:line:column.
 ParamsFile read_params(const std::string& path);

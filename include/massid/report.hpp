@@ -30,26 +30,6 @@ PredictionErrors prediction_errors(const Eigen::MatrixXd& measured,
 
 std::string model_report(const Model& model, const BaseParameters& base);
 
-// What a base parameter's std is judged against: its part of the robot's
-// gravity wrench at full scale, M L^k for a parameter in kg m^k (k = 0 mass,
-// 1 first moment, 2 inertia), with M the identified total mass (else the
-// URDF's) and L the robot's reach (kinematics.hpp). A std of 1 % of it moves
-// the predicted moments by about 1 % of the largest the robot makes, whatever
-// the parameter's own value: a combination that is zero by symmetry is judged
-// as well determined as its neighbours. [num_mass]; NaN when M or L is 0.
-Eigen::VectorXd parameter_scales(const Model& model, const BaseParameters& base,
-                                 const IdentifySummary* summary);
-// A parameter is poorly determined when its std exceeds this part of its scale.
-constexpr double kPoorStdOfScale = 0.01;
-// Warnings about an identification, each message one line starting with the
-// source and without a prefix or newline (the CLI prints "massid: warning: "
-// and the hints as options): a huge condition number, an estimated noise level
-// with fewer than kFewResidualDof residual degrees of freedom on an axis
-// (hints: the sensor's noise), samples whose residuals are implausible for the
-// fitted noise (reported, with the robust fit as hint, or rejected by it), and
-// the largest residuals of a streamed log.
-std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::string& source);
-
 std::string identify_report(const Model& model, const BaseParameters& base,
                             const IdentifySummary& summary, const std::string& data_source);
 // The physically consistent parameters (IdentifyOptions::physical): per link

@@ -28,6 +28,7 @@
 
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 
 namespace massid {

@@ -15,7 +15,9 @@
 #include "massid/delay.hpp"
 #include "massid/errors.hpp"
 #include "massid/params_file.hpp"
+#include "massid/params_json.hpp"
 #include "massid/physical.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/report.hpp"
 #include "massid/setup_checks.hpp"
 

@@ -11,8 +11,10 @@
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
 #include "massid/params_file.hpp"
+#include "massid/params_json.hpp"
 #include "massid/regressor.hpp"
 #include "massid/report.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid::python {
 

@@ -9,6 +9,7 @@
 #include "convert.hpp"
 #include "massid/errors.hpp"
 #include "massid/excitation.hpp"
+#include "massid/read_samples.hpp"
 
 namespace massid::python {
 

@@ -16,6 +16,7 @@
 #include "massid/motion_predictor.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/simulate.hpp"
 
 namespace massid::python {

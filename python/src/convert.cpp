@@ -5,6 +5,8 @@
 #include <pybind11/stl.h>
 
 #include "massid/errors.hpp"
+#include "massid/read_samples.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid::python {
 

@@ -18,6 +18,7 @@
 
 #include "massid/csv.hpp"
 #include "massid/model.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 
 namespace massid::python {

@@ -51,14 +51,6 @@ const char* keyword(Hint::Setting s) {
       return "sigma_moment";
     case Hint::Setting::LevelPoses:
       return "level_poses";
-    case Hint::Setting::SpacecraftMass:  // the emulator's: not in this module
-      return "spacecraft_mass";
-    case Hint::Setting::SpacecraftInertia:
-      return "spacecraft_inertia";
-    case Hint::Setting::Trajectory:
-      return "trajectory";
-    case Hint::Setting::Platform:
-      return "platform";
   }
   return "";
 }

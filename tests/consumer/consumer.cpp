@@ -13,6 +13,9 @@
 #include <massid/samples.hpp>
 #include <massid/version.hpp>
 
+#include "massid/read_samples.hpp"
+#include "massid/urdf.hpp"
+
 int main(int argc, char** argv) {
   if (argc != 4) {
     std::fprintf(stderr, "usage: consumer ROBOT.urdf PARAMS.json MEASUREMENTS.csv\n");

@@ -77,11 +77,21 @@ struct SpacecraftSizing {
 SpacecraftSizing size_spacecraft(const Model& model, const EmulationOptions& options,
                                  double fraction = 0.5);
 
+// The emulator's settings that describe_stop names as fixes, spelled by the
+// caller in its own terms (the CLI: its options), as the library's hints are
+// (massid/errors.hpp).
+enum class EmulatorSetting {
+  SpacecraftMass,     // the emulated spacecraft's mass, kg
+  SpacecraftInertia,  // its principal inertia, kg m^2
+  Trajectory,         // the joint trajectory to run
+  Platform,           // the platform's geometry
+};
+using EmulatorSpeller = std::string (*)(EmulatorSetting);
+
 // One line on why a run stopped: which limit (workspace axis, leg, tracking),
 // the value against the limit, and the settings that would help, named by
-// `spell` in the caller's terms (massid/errors.hpp: the CLI's options). ""
-// when the run did not stop.
+// `spell`. "" when the run did not stop.
 std::string describe_stop(const EmulationSummary& summary, const EmulationOptions& options,
-                          HintSpeller spell);
+                          EmulatorSpeller spell);
 
 }  // namespace massid::emulator

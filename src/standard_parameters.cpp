@@ -2,10 +2,10 @@
 // that reading a params file does not bring in Ceres): the base parameters
 // they give, the pseudo-inertia, and one link's mass, centre of mass and
 // inertia about it. The fit itself is in physical.cpp.
+#include "massid/standard_parameters.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <cmath>
-
-#include "massid/physical.hpp"
 
 namespace massid {
 
@@ -49,12 +49,6 @@ PhysicalLink physical_link(const std::string& name, const Eigen::Ref<const Eigen
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(J, Eigen::EigenvaluesOnly).eigenvalues()[0];
   out.consistent = out.mass > 0.0 && out.min_eigenvalue >= -1e-12 * std::abs(J.trace());
   return out;
-}
-
-bool PhysicalSummary::consistent() const {
-  for (const PhysicalLink& l : links)
-    if (!l.consistent) return false;
-  return true;
 }
 
 }  // namespace massid

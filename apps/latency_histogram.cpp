@@ -1,4 +1,4 @@
-#include "massid/latency_histogram.hpp"
+#include "latency_histogram.hpp"
 
 #include <algorithm>
 #include <bit>
