@@ -637,8 +637,8 @@ TEST_F(Cli, EveryDoorGivesTheSameCompensatedWrenchToTheBit) {
     a.insert(a.end(), b.begin(), b.end());
     return a;
   };
-  // Static: the PUMA's plan with an offset, identified with --offset.
-  Result r = run(with({"simulate", kPumaUrdf, kPumaPlan, "-o", path("static.csv"), "--offset",
+  // Static: the PUMA at 200 poses tilted in every direction, with an offset.
+  Result r = run(with({"simulate", kPumaUrdf, kHoldout, "-o", path("static.csv"), "--offset",
                        offset, "--seed", "3"},
                       noise));
   ASSERT_EQ(r.code, 0) << r;
