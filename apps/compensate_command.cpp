@@ -21,6 +21,7 @@
 #include "massid/errors.hpp"
 #include "massid/params_file.hpp"
 #include "massid/urdf.hpp"
+#include "massid/identified_model.hpp"
 #include "options.hpp"
 
 namespace massid::cli {
@@ -201,7 +202,7 @@ class UdpLines {
 using Clock = std::chrono::steady_clock;
 
 template <class Lines>
-int run_stream(const CompensateCommand& c, const Model& model, const ParamsFile& params,
+int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
                const CompensatorOptions& options, Lines& lines) {
   // The header: the first line that is neither blank nor a comment.
   std::string_view line;
@@ -215,7 +216,7 @@ int run_stream(const CompensateCommand& c, const Model& model, const ParamsFile&
     text += '\n';
   }
   text += line;
-  Compensator comp(model, params, text, lines.name(), options);
+  Compensator comp(identified, text, lines.name(), options);
   if (!comp.note().empty()) std::cerr << "massid: note: " << comp.note() << std::flush;
   if (!write_all(1, comp.output_header().data(), comp.output_header().size())) return 0;
 
@@ -249,8 +250,7 @@ int run_stream(const CompensateCommand& c, const Model& model, const ParamsFile&
 
 int run_compensate(const CompensateCommand& c) {
   if (c.reply && c.udp_port < 0) throw InputError("--reply goes with --udp PORT");
-  const ParamsFile params = read_params(c.params);
-  const Model model = hold_joints(load_urdf(c.urdf, params.sensor_link), params.held);
+  const IdentifiedModel identified = IdentifiedModel::load(c.urdf, c.params);
   CompensatorOptions options;
   if (!c.root_gravity.empty())
     options.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");
@@ -261,10 +261,10 @@ int run_compensate(const CompensateCommand& c) {
     UdpLines lines(c.udp_port, c.reply);
     std::cerr << fmt::format("massid: compensate: listening on udp 127.0.0.1:{}\n", lines.port())
               << std::flush;
-    return run_stream(c, model, params, options, lines);
+    return run_stream(c, identified, options, lines);
   }
   StdinLines lines;
-  return run_stream(c, model, params, options, lines);
+  return run_stream(c, identified, options, lines);
 }
 
 }  // namespace massid::cli

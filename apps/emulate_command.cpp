@@ -12,6 +12,7 @@
 #include "massid/csv.hpp"
 #include "massid/emulator/emulation.hpp"
 #include "massid/errors.hpp"
+#include "massid/identified_model.hpp"
 #include "massid/params_file.hpp"
 #include "massid/read_samples.hpp"
 #include "massid/regressor.hpp"
@@ -121,18 +122,19 @@ std::vector<std::string> pose_cells(const Eigen::Isometry3d& pose) {
 }  // namespace
 
 int run_emulate(const EmulateCommand& c) {
+  // The identified model, static or dynamic (a dynamic fit compensates with
+  // its mass part: the motion predictor at rest gives exactly the weight).
   const ParamsFile params = read_params(c.params);
-  const Model model = hold_joints(load_urdf(c.urdf, params.sensor_link), params.held);
+  const IdentifiedModel identified = IdentifiedModel::load(c.urdf, params);
+  const Model& model = identified.model();
   const Model plant =
       c.plant.empty() ? model : hold_joints(load_urdf(c.plant, params.sensor_link), params.held);
   check_same_kinematics(model, plant, c.plant);
-  BaseParameterOptions bo;
-  bo.offset = params.has_offset;
-  const BaseParameters base = find_base_parameters(model, bo);
-  const Predictor identified = compile_predictor(model, base, values_in_basis(params, model, base));
-  Eigen::VectorXd nominal_values = Eigen::VectorXd::Zero(base.num_unknowns());
-  nominal_values.head(base.num_mass()) = base.K * nominal_standard_parameters(model);
-  const Predictor nominal = compile_predictor(model, base, nominal_values);
+  // The URDF's own inertials, as static base parameters of the same model.
+  BaseParameters static_base = find_base_parameters(model);
+  Eigen::VectorXd nominal_values = static_base.K * nominal_standard_parameters(model);
+  const IdentifiedModel nominal = IdentifiedModel::from_values(
+      model, std::move(static_base), std::move(nominal_values), {}, {}, c.urdf);
 
   EmulationOptions o;
   o.duration = c.duration;

@@ -21,6 +21,7 @@
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/identification.hpp"
+#include "massid/identified_model.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/motion_predictor.hpp"
 #include "massid/params_file.hpp"
@@ -230,18 +231,15 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   if (!report.empty() && physical)
     throw InputError("predict --report draws the identified base parameters: drop --physical");
   if (!report.empty()) check_report_tools();  // before any work
-  const ParamsFile params = read_params(params_path);
-  const Model model = hold_joints(load_urdf(urdf, params.sensor_link), params.held);
-  const BaseParameters base = find_base_parameters(model, base_parameter_options(params));
   // The identified base parameters, or with --physical K pi of the physical ones.
-  const Eigen::VectorXd values = physical ? physical_values_in_basis(params, model, base)
-                                          : values_in_basis(params, model, base);
+  IdentifiedModelOptions iopts;
+  iopts.physical = physical;
+  const IdentifiedModel identified = IdentifiedModel::load(urdf, params_path, iopts);
+  const Model& model = identified.model();
 
   CsvTable table = read_csv(data_path);
   Samples samples;
-  Eigen::MatrixXd P;  // what the sensor reads: the mechanism's wrench plus the offsets
-  Wrench offset = Wrench::Zero();
-  if (params.dynamic) {
+  if (identified.dynamic()) {
     // The full wrench, weight and motion, from the dynamic base parameters.
     MotionDataReport mr;
     MotionDataOptions mopts = motion.data();
@@ -256,41 +254,32 @@ int run_predict(const std::string& urdf, const std::string& params_path,
           mr.kernels.cutoff, mr.kernels.half_width);
       table = keep_lines(std::move(table), samples.line);
     }
-    // The full wrench, offsets included as the static predictor does (with
-    // level data they hold the weight the offsets absorbed).
-    const MotionPredictor predictor = compile_motion_predictor(model, base, values);
-    MotionPredictorData data(predictor);
-    P = predict_samples(predictor, data, samples);
-    offset = predictor.offset;
   } else {
-    const Predictor predictor = compile_predictor(model, base, values);
-    offset = predictor.offset;
-    PredictorData data(predictor);
     samples = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
     if (checks && !check_input(model, samples, table.header, false)) return 2;
-    P.resize(samples.size(), 6);
-    for (int i = 0; i < samples.size(); ++i)
-      P.row(i) =
-          predict(predictor, data, samples.q.row(i).transpose(), samples.gravity.row(i).transpose())
-              .transpose();
   }
+  // The mechanism's wrench alone (_pred); what the sensor reads adds the offset.
+  IdentifiedModelData data(identified);
+  const Eigen::MatrixXd P = identified.predict_samples(data, samples);
   if (!out.empty()) {
     OutputTable t(table);
     // _pred: the mechanism's wrench alone; _comp: measured - predicted - offset.
-    for (int k = 0; k < 6; ++k)
-      t.set_column(std::string(kWrenchColumns[k]) + "_pred",
-                   (P.col(k).array() - offset[k]).matrix());
-    if (samples.has_wrench())
-      for (int k = 0; k < 6; ++k)
-        t.set_column(std::string(kWrenchColumns[k]) + "_comp", samples.wrench.col(k) - P.col(k));
+    for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_pred", P.col(k));
+    if (samples.has_wrench()) {
+      const Eigen::MatrixXd C = identified.compensate_rows(samples.wrench, P);
+      for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_comp", C.col(k));
+    }
     write_csv(out, t.header, t.rows);
   }
   std::cout << fmt::format("predicted {} samples of {} with {}{} (sensor link '{}'{})\n",
                            samples.size(), data_path, params_path,
                            physical ? "'s physical parameters" : "", model.sensor_link(),
                            samples.gravity_from_force ? ", gravity from the measured force" : "");
-  if (samples.has_wrench())
-    std::cout << prediction_report(prediction_errors(samples.wrench, P), samples.size());
+  if (samples.has_wrench()) {
+    // Against what the sensor reads: the prediction plus the identified offset.
+    std::cout << prediction_report(
+        prediction_errors(samples.wrench, identified.sensor_reading_rows(P)), samples.size());
+  }
   if (!out.empty()) std::cout << "wrote " << out << "\n";
   if (!report.empty()) {
     std::vector<std::string> a{"predict", urdf, params_path, data_path, "-o", report};

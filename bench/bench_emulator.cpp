@@ -18,7 +18,8 @@ void BM_ControlStep(benchmark::State& state) {
   const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");
   const BaseParameters base = find_base_parameters(model);
   EmulatorModel em;
-  em.predictor = compile_predictor(model, base, base.K * nominal_standard_parameters(model));
+  em.identified =
+      IdentifiedModel::from_values(model, base, base.K * nominal_standard_parameters(model));
   em.spacecraft.mass = 50.0;
   em.spacecraft.inertia = Eigen::Vector3d(6.0, 7.0, 5.0).asDiagonal();
   em.geometry = default_geometry();
@@ -39,8 +40,8 @@ BENCHMARK(BM_ControlStep);
 void BM_EmulationTwoSeconds(benchmark::State& state) {
   const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");
   const BaseParameters base = find_base_parameters(model);
-  const Predictor truth =
-      compile_predictor(model, base, base.K * nominal_standard_parameters(model));
+  const IdentifiedModel truth =
+      IdentifiedModel::from_values(model, base, base.K * nominal_standard_parameters(model));
   EmulationOptions o;
   o.duration = 2.0;
   o.spacecraft.mass = 50.0;

@@ -1,6 +1,7 @@
-// The C interface (include/massid.h) over the library: loading as `massid
-// predict` does (params_file.hpp, model.hpp), predicting with the static
-// predictor (predictor.hpp) or the motion predictor (motion_predictor.hpp).
+// The C interface (include/massid.h): a thin adapter over the identified
+// model every door shares (identified_model.hpp): loading as `massid predict`
+// does, predicting the mechanism's wrench (static or dynamic parameters)
+// without the offset.
 // Every entry point catches everything: no exception crosses the C boundary.
 #include <Eigen/Core>
 #include <cmath>
@@ -14,11 +15,10 @@
 #include <vector>
 
 #include "massid.h"
-#include "massid/base_parameters.hpp"
 #include "massid/errors.hpp"
+#include "massid/identified_model.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/model.hpp"
-#include "massid/motion_predictor.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
 #include "massid/urdf.hpp"
@@ -26,24 +26,6 @@
 namespace {
 
 using massid::Wrench;
-
-// The static predictor compiled WITHOUT the offset (Predictor::offset zeroed
-// after it was kept in the handle), so that predict() gives the mechanism's
-// wrench alone, to the bit what it computes before adding the offset.
-struct StaticPart {
-  massid::Predictor predictor;
-  massid::PredictorData data;  // predict()'s workspace
-  explicit StaticPart(massid::Predictor p) : predictor(std::move(p)), data(predictor) {}
-};
-
-// The motion predictor (its predict_motion never adds the offset).
-struct MotionPart {
-  massid::MotionPredictor predictor;
-  massid::MotionPredictorData data;  // predict_motion()'s workspace
-  std::vector<double> zeros;         // [num_joints] qd = qdd = 0 for massid_predict
-  explicit MotionPart(massid::MotionPredictor p)
-      : predictor(std::move(p)), data(predictor), zeros(predictor.num_joints, 0.0) {}
-};
 
 // Writes msg into the caller's buffer, truncated to fit, NUL-terminated.
 void copy_message(const char* msg, char* error, size_t error_size) {
@@ -82,25 +64,30 @@ struct LoadError {
 
 struct massid_predictor {
   std::vector<std::string> joint_names;  // [num_joints] Model::joints, the order of q
-  // The model at the sensor link: its chain from the URDF root (Model::upstream,
-  // upstream_joints) turns root gravity into the sensor frame (upstream_kinematics).
-  massid::Model model;
+  // The model, parameters and compiled predictor (identified_model.hpp): its
+  // Model's chain from the URDF root (Model::upstream, upstream_joints) turns
+  // root gravity into the sensor frame (upstream_kinematics).
+  massid::IdentifiedModel identified;
   std::string sensor_link;
-  Wrench offset = Wrench::Zero();  // the identified offsets, zero without
-  bool has_offset = false;
-  bool sensor_moving = false;  // identified with the sensor frame moving (dynamic)
-  // One of the two, by the params file's model; mutable: the workspace is
-  // written by every predict call through the C API's const handle.
-  mutable std::optional<StaticPart> rest;
-  mutable std::optional<MotionPart> motion;
+  // The workspace, mutable: written by every predict call through the C API's
+  // const handle (a clone copies it: each handle has its own).
+  mutable massid::IdentifiedModelData data;
 
+  explicit massid_predictor(massid::IdentifiedModel m)
+      : identified(std::move(m)), sensor_link(identified.model().sensor_link()), data(identified) {
+    for (const massid::Joint& j : identified.model().joints) joint_names.push_back(j.name);
+  }
   int num_joints() const { return static_cast<int>(joint_names.size()); }
+  const massid::Model& model() const { return identified.model(); }
 };
 
 namespace {
 
-// massid predict's loading (apps/main.cpp run_predict): the params file, the
-// URDF at its sensor link with its held joints, its values in this model's basis.
+// The one loading of every door (IdentifiedModel::load, as `massid predict`):
+// the params file, the URDF at its sensor link with its held joints, its
+// values in this model's basis. A params file that cannot be read is a file
+// error; a URDF that loads at its root but does not fit the file is another
+// robot.
 std::unique_ptr<massid_predictor> load(const char* urdf_path, const char* params_path) {
   massid::ParamsFile params;
   try {
@@ -108,11 +95,9 @@ std::unique_ptr<massid_predictor> load(const char* urdf_path, const char* params
   } catch (const massid::InputError& e) {
     throw LoadError{MASSID_ERROR_FILE, e.what()};
   }
-  massid::Model model;
   try {
-    model = massid::load_urdf(urdf_path, params.sensor_link);
+    return std::make_unique<massid_predictor>(massid::IdentifiedModel::load(urdf_path, params));
   } catch (const massid::InputError& e) {
-    // A URDF that loads at its root but lacks the file's sensor link is another robot.
     int code = MASSID_ERROR_FILE;
     try {
       (void)massid::load_urdf(urdf_path);
@@ -121,30 +106,6 @@ std::unique_ptr<massid_predictor> load(const char* urdf_path, const char* params
     }
     throw LoadError{code, e.what()};
   }
-  auto p = std::make_unique<massid_predictor>();
-  try {
-    model = massid::hold_joints(std::move(model), params.held);
-    const massid::BaseParameters base =
-        massid::find_base_parameters(model, massid::base_parameter_options(params));
-    const Eigen::VectorXd values = massid::values_in_basis(params, model, base);
-    if (params.dynamic) {
-      p->motion.emplace(massid::compile_motion_predictor(model, base, values));
-      p->offset = p->motion->predictor.offset;
-    } else {
-      massid::Predictor predictor = massid::compile_predictor(model, base, values);
-      p->offset = predictor.offset;
-      predictor.offset = Wrench::Zero();
-      p->rest.emplace(std::move(predictor));
-    }
-    p->has_offset = base.offset;
-    p->sensor_moving = params.sensor_moving;
-  } catch (const massid::InputError& e) {
-    throw LoadError{MASSID_ERROR_MODEL_MISMATCH, e.what()};
-  }
-  for (const massid::Joint& j : model.joints) p->joint_names.push_back(j.name);
-  p->sensor_link = model.sensor_link();
-  p->model = std::move(model);
-  return p;
 }
 
 // The checks every predict call makes; MASSID_OK when the call may go on.
@@ -163,8 +124,8 @@ int predict_motion(const massid_predictor* p, const double* q, const double* qd,
                    const double* gravity, const double* sensor_motion, double* wrench) noexcept {
   try {
     int code = check_inputs(p, q, qd, qdd, gravity, sensor_motion, wrench);
-    if (code == MASSID_OK && !p->motion) code = MASSID_ERROR_STATIC_PARAMS;
-    if (code == MASSID_OK && sensor_motion && !p->sensor_moving)
+    if (code == MASSID_OK && !p->identified.dynamic()) code = MASSID_ERROR_STATIC_PARAMS;
+    if (code == MASSID_OK && sensor_motion && !p->identified.sensor_moving())
       for (int k = 0; k < 9; ++k)
         if (sensor_motion[k] != 0.0) code = MASSID_ERROR_SENSOR_MOTION;
     if (code != MASSID_OK) {
@@ -177,11 +138,8 @@ int predict_motion(const massid_predictor* p, const double* q, const double* qd,
       frame.omega_dot = Eigen::Vector3d(sensor_motion + 3);
       frame.accel = Eigen::Vector3d(sensor_motion + 6);
     }
-    MotionPart& m = *p->motion;
-    const int n = p->num_joints();
     Eigen::Map<Wrench>{wrench} =
-        massid::predict_motion(m.predictor, m.data, joint_array(q, n), joint_array(qd, n),
-                               joint_array(qdd, n), Eigen::Vector3d(gravity), frame);
+        p->identified.predict(p->data, q, qd, qdd, Eigen::Vector3d(gravity), frame);
     return MASSID_OK;
   } catch (...) {
     fill_nan(wrench);
@@ -195,7 +153,7 @@ int predict_motion(const massid_predictor* p, const double* q, const double* qd,
 int sensor_frame(const massid_predictor* p, const double* qu, const double* qdu, const double* qddu,
                  const double* root_gravity, double* gravity, double* sensor_motion) {
   if (!p || !root_gravity) return MASSID_ERROR_INVALID_ARGUMENT;
-  const int nu = p->model.num_upstream_joints();
+  const int nu = p->model().num_upstream_joints();
   const bool moving = sensor_motion != nullptr;
   if (nu > 0 && (!qu || (moving && (!qdu || !qddu)))) return MASSID_ERROR_INVALID_ARGUMENT;
   if (!finite(root_gravity, 3) || !finite(qu, nu) ||
@@ -204,7 +162,7 @@ int sensor_frame(const massid_predictor* p, const double* qu, const double* qdu,
   using Vector = Eigen::Map<const Eigen::VectorXd>;
   const Vector none(kNoJoints, 0);
   const massid::SensorPose pose = massid::upstream_kinematics(
-      p->model, Vector(joint_array(qu, nu), nu), moving ? Vector(joint_array(qdu, nu), nu) : none,
+      p->model(), Vector(joint_array(qu, nu), nu), moving ? Vector(joint_array(qdu, nu), nu) : none,
       moving ? Vector(joint_array(qddu, nu), nu) : none);
   Eigen::Map<Eigen::Vector3d>{gravity} = pose.rotation.transpose() * Eigen::Vector3d(root_gravity);
   if (moving) {
@@ -312,34 +270,31 @@ const char* massid_predictor_sensor_link(const massid_predictor* p) {
 }
 
 int massid_predictor_is_dynamic(const massid_predictor* p) {
-  return p ? (p->motion ? 1 : 0) : MASSID_ERROR_INVALID_ARGUMENT;
+  return p ? (p->identified.dynamic() ? 1 : 0) : MASSID_ERROR_INVALID_ARGUMENT;
 }
 
 int massid_predictor_has_offset(const massid_predictor* p) {
-  return p ? (p->has_offset ? 1 : 0) : MASSID_ERROR_INVALID_ARGUMENT;
+  return p ? (p->identified.has_offset() ? 1 : 0) : MASSID_ERROR_INVALID_ARGUMENT;
 }
 
 int massid_predictor_offset(const massid_predictor* p, double offset[6]) {
   if (!p || !offset) return MASSID_ERROR_INVALID_ARGUMENT;
-  Eigen::Map<Wrench>{offset} = p->offset;
+  Eigen::Map<Wrench>{offset} = p->identified.offset();
   return MASSID_OK;
 }
 
 int massid_predict(const massid_predictor* p, const double* q, const double gravity[3],
                    double wrench[6]) {
   try {
-    if (p && p->motion) {
-      const double* zeros = p->motion->zeros.data();
-      return predict_motion(p, q, zeros, zeros, gravity, nullptr, wrench);
-    }
+    // Static and dynamic alike: the weight (dynamic: at zero joint velocity
+    // and acceleration), without the offset.
     const int code = check_inputs(p, q, q, q, gravity, nullptr, wrench);
     if (code != MASSID_OK) {
       fill_nan(wrench);
       return code;
     }
-    StaticPart& s = *p->rest;
-    const Eigen::Map<const Eigen::VectorXd> qv(joint_array(q, p->num_joints()), p->num_joints());
-    Eigen::Map<Wrench>{wrench} = massid::predict(s.predictor, s.data, qv, Eigen::Vector3d(gravity));
+    Eigen::Map<Wrench>{wrench} = p->identified.predict_gravity(
+        p->data, joint_array(q, p->num_joints()), Eigen::Vector3d(gravity));
     return MASSID_OK;
   } catch (...) {
     fill_nan(wrench);
@@ -359,12 +314,12 @@ int massid_predict_motion_sensor(const massid_predictor* p, const double* q, con
 }
 
 int massid_predictor_num_upstream_joints(const massid_predictor* p) {
-  return p ? p->model.num_upstream_joints() : MASSID_ERROR_INVALID_ARGUMENT;
+  return p ? p->model().num_upstream_joints() : MASSID_ERROR_INVALID_ARGUMENT;
 }
 
 const char* massid_predictor_upstream_joint_name(const massid_predictor* p, int i) {
-  if (!p || i < 0 || i >= p->model.num_upstream_joints()) return nullptr;
-  return p->model.upstream_joints[static_cast<size_t>(i)].name.c_str();
+  if (!p || i < 0 || i >= p->model().num_upstream_joints()) return nullptr;
+  return p->model().upstream_joints[static_cast<size_t>(i)].name.c_str();
 }
 
 int massid_predict_upstream(const massid_predictor* p, const double* qu,

@@ -31,7 +31,7 @@ const char* to_string(StopReason reason) {
   return "?";
 }
 
-EmulatorData::EmulatorData(const EmulatorModel& model) : predictor(model.predictor) {
+EmulatorData::EmulatorData(const EmulatorModel& model) : identified(model.identified) {
   reset(model, *this);
 }
 
@@ -103,14 +103,22 @@ StopReason violation(const EmulatorModel& model, const Eigen::Isometry3d& pose,
 
 namespace {
 
-// w_g = predict(q, R_ws^T g_w): the gravity wrench in the current sensor frame.
+// w_g = predict_gravity(q, R_ws^T g_w): the mechanism's gravity wrench in the
+// current sensor frame (without the offset).
 void gravity_wrench(const EmulatorModel& model, EmulatorData& data,
                     const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Isometry3d& platform) {
   const Eigen::Matrix3d R_ws = platform.linear() * model.platform_T_sensor.linear();
   data.gravity_sensor = R_ws.transpose() * model.gravity_world;
-  data.gravity_wrench = model.compensate_gravity
-                            ? predict(model.predictor, data.predictor, q, data.gravity_sensor)
-                            : Wrench::Zero();
+  data.gravity_wrench = model.compensate_gravity ? model.identified.predict_gravity(
+                                                       data.identified, q, data.gravity_sensor)
+                                                 : Wrench::Zero();
+}
+
+// What is left of the measured wrench: measured - w_g - offset (the identified
+// model's compensate), or the raw wrench without compensation.
+Wrench left_over(const EmulatorModel& model, const EmulatorData& data, const Wrench& measured) {
+  return model.compensate_gravity ? model.identified.compensate(measured, data.gravity_wrench)
+                                  : measured;
 }
 
 }  // namespace
@@ -118,7 +126,7 @@ void gravity_wrench(const EmulatorModel& model, EmulatorData& data,
 void tare(const EmulatorModel& model, EmulatorData& data, const Wrench& measured,
           const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Isometry3d& platform) {
   gravity_wrench(model, data, q, platform);
-  data.tare = measured - data.gravity_wrench;
+  data.tare = left_over(model, data, measured);
 }
 
 void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& measured,
@@ -127,7 +135,7 @@ void control_step(const EmulatorModel& model, EmulatorData& data, const Wrench& 
 
   // Gravity compensation with gravity rotated into the current sensor frame.
   gravity_wrench(model, data, q, platform);
-  data.compensated = measured - data.gravity_wrench - data.tare;
+  data.compensated = left_over(model, data, measured) - data.tare;
 
   if (data.state == SupervisorState::Running) {
     // Tracking: the platform must follow the previous command.

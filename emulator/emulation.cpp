@@ -69,12 +69,12 @@ Excursion excursion_of(const std::vector<Eigen::Isometry3d>& poses,
 
 }  // namespace
 
-EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
+EmulationSummary run_emulation(const Model& model, const IdentifiedModel& identified,
                                const EmulationOptions& o, bool compensate,
                                std::vector<TraceRow>* trace) {
   const auto start = std::chrono::steady_clock::now();
   EmulatorModel em;
-  em.predictor = predictor;
+  em.identified = identified;
   em.spacecraft = o.spacecraft;
   em.geometry = o.geometry;
   em.platform_T_sensor = o.platform_T_sensor;

@@ -33,18 +33,14 @@ enum class GravityFrom { Columns, Upstream, Tilt };
 }  // namespace
 
 struct Compensator::Impl {
-  Model model;
+  IdentifiedModel identified;
+  std::optional<IdentifiedModelData> data;  // identified's workspace
   detail::SampleColumns columns;
   GravityFrom gravity_from = GravityFrom::Columns;
   int tilt = -1;  // value index of tilt_x_deg (read in rad), then tilt_y_deg
   CompensatorOptions options;
   bool dynamic = false;
-  bool upstream_motion = false;  // the sensor frame's motion from the upstream joints' rates
-  std::optional<Predictor> predictor;
-  std::optional<PredictorData> predictor_data;
-  std::optional<MotionPredictor> motion_predictor;
-  std::optional<MotionPredictorData> motion_data;
-  Wrench offset = Wrench::Zero();       // added to predict_motion's wrench (predict() includes it)
+  bool upstream_motion = false;         // the sensor frame's motion from the upstream joints' rates
   std::vector<double> values;           // [columns.num_values] the line's values, binding order
   std::string header, note;             // output header; notes on the columns
   std::string line_out;                 // the output line, reused (capacity kept)
@@ -67,6 +63,7 @@ Eigen::Vector3d Compensator::Impl::gravity(FrameMotion& sensor) const {
   if (gravity_from == GravityFrom::Upstream || upstream_motion) {
     const VectorMap qu(v + c.q_up, c.num_upstream);
     const VectorMap none(v, 0);
+    const Model& model = identified.model();
     const SensorPose pose =
         upstream_motion ? upstream_kinematics(model, qu, VectorMap(v + c.qd_up, c.num_upstream),
                                               VectorMap(v + c.qdd_up, c.num_upstream))
@@ -78,28 +75,29 @@ Eigen::Vector3d Compensator::Impl::gravity(FrameMotion& sensor) const {
   return Eigen::Vector3d(v[c.gravity], v[c.gravity + 1], v[c.gravity + 2]);
 }
 
-Compensator::Compensator(const Model& model, const ParamsFile& params, std::string_view text,
+Compensator::Compensator(const IdentifiedModel& identified, std::string_view text,
                          const std::string& source, const CompensatorOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  const BaseParameters base = find_base_parameters(model, base_parameter_options(params));
-  init(model, base, values_in_basis(params, model, base), text, source, options, params.source);
+  init(identified, text, source, options);
 }
+
+Compensator::Compensator(const Model& model, const ParamsFile& params, std::string_view text,
+                         const std::string& source, const CompensatorOptions& options)
+    : Compensator(IdentifiedModel::from_params(model, params), text, source, options) {}
 
 Compensator::Compensator(const Model& model, const BaseParameters& base,
                          const Eigen::Ref<const Eigen::VectorXd>& values, std::string_view text,
                          const std::string& source, const CompensatorOptions& options)
-    : impl_(std::make_unique<Impl>()) {
-  init(model, base, values, text, source, options, "the parameters");
-}
+    : Compensator(IdentifiedModel::from_values(model, base, values), text, source, options) {}
 
-void Compensator::init(const Model& model, const BaseParameters& base,
-                       const Eigen::Ref<const Eigen::VectorXd>& values, std::string_view text,
-                       const std::string& source, const CompensatorOptions& options,
-                       const std::string& params_name) {
+void Compensator::init(const IdentifiedModel& identified, std::string_view text,
+                       const std::string& source, const CompensatorOptions& options) {
   Impl& m = *impl_;
-  m.model = model;
+  m.identified = identified;
+  const Model& model = identified.model();
+  const std::string& params_name = identified.source();
   m.options = options;
-  m.dynamic = base.motion();
+  m.dynamic = identified.dynamic();
   SampleOptions read;
   read.root_gravity = options.root_gravity;
   m.columns = detail::bind_header(model, text, source, read, m.dynamic);
@@ -154,12 +152,7 @@ void Compensator::init(const Model& model, const BaseParameters& base,
       notes.push_back(
           "the joints above the sensor link have no _vel,_acc columns (and there are no wx..az): "
           "the sensor frame is taken at rest");
-    m.motion_predictor.emplace(compile_motion_predictor(model, base, values));
-    m.motion_data.emplace(*m.motion_predictor);
-    m.offset = m.motion_predictor->offset;
   } else {
-    m.predictor.emplace(compile_predictor(model, base, values));
-    m.predictor_data.emplace(*m.predictor);
     if (model.num_joints() > 0 && find(header, model.joints.front().name + "_vel") >= 0)
       notes.push_back(fmt::format(
           "{} is a static fit: the weight is compensated, not the inertial forces of the "
@@ -167,6 +160,7 @@ void Compensator::init(const Model& model, const BaseParameters& base,
           params_name));
   }
   for (const std::string& n : notes) m.note += n + "\n";
+  m.data.emplace(identified);
 
   m.values.assign(c.num_values, 0.0);
   // The header's own text (line ends and surrounding blank lines dropped).
@@ -203,22 +197,17 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
 
   FrameMotion sensor;
   const Eigen::Vector3d g = m.gravity(sensor);
-  Wrench predicted;
-  if (m.dynamic) {
-    if (c.sensor >= 0) {
-      const double* s = v + c.sensor;
-      sensor.omega = Eigen::Vector3d(s[0], s[1], s[2]);
-      sensor.omega_dot = Eigen::Vector3d(s[3], s[4], s[5]);
-      sensor.accel = Eigen::Vector3d(s[6], s[7], s[8]);
-    }
-    const double* qd = c.qd >= 0 ? v + c.qd : v;  // no joints: never read
-    const double* qdd = c.qdd >= 0 ? v + c.qdd : v;
-    predicted =
-        predict_motion(*m.motion_predictor, *m.motion_data, v, qd, qdd, g, sensor) + m.offset;
-  } else {
-    predicted = predict(*m.predictor, *m.predictor_data, VectorMap(v, c.num_joints), g);
+  if (m.dynamic && c.sensor >= 0) {
+    const double* s = v + c.sensor;
+    sensor.omega = Eigen::Vector3d(s[0], s[1], s[2]);
+    sensor.omega_dot = Eigen::Vector3d(s[3], s[4], s[5]);
+    sensor.accel = Eigen::Vector3d(s[6], s[7], s[8]);
   }
-  m.compensated = Eigen::Map<const Wrench>(v + c.wrench) - predicted;
+  const double* qd = c.qd >= 0 ? v + c.qd : v;  // static, or no joints: never read
+  const double* qdd = c.qdd >= 0 ? v + c.qdd : v;
+  // The mechanism's wrench; measured - predicted - offset (identified_model.hpp).
+  const Wrench predicted = m.identified.predict(*m.data, v, qd, qdd, g, sensor);
+  m.compensated = m.identified.compensate(Eigen::Map<const Wrench>(v + c.wrench), predicted);
 
   // The input text, then the six values as format_number writes them.
   std::string& out = m.line_out;

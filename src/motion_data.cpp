@@ -79,7 +79,6 @@ Eigen::MatrixXd predict_samples(const MotionPredictor& predictor, MotionPredicto
                      .transpose();
     }
   }
-  P.rowwise() += predictor.offset.transpose();
   return P;
 }
 

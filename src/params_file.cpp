@@ -135,7 +135,17 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
       Kf(i, layout.index(l, k)) += t.coef;
     }
   }
-  // K = A Kf: solve A^T from Kf^T A^T = K^T, then check the fit.
+  // The file's own basis (a file of this model, written by params_json: its
+  // terms are K's rows to the bit): its values as they are, so that a params
+  // file predicts the same bits as the identification it was written from.
+  Eigen::VectorXd v(base.num_unknowns());
+  if (base.offset) v.tail(6) = params.offset;
+  if (Kf.rows() == base.K.rows() && Kf.cols() == base.K.cols() && Kf == base.K) {
+    v.head(base.num_mass()) = vf;
+    return v;
+  }
+  // Another basis of the same space: K = A Kf: solve A^T from Kf^T A^T = K^T,
+  // then check the fit.
   const Eigen::MatrixXd At = Kf.transpose().colPivHouseholderQr().solve(base.K.transpose());
   const double misfit = (Kf.transpose() * At - base.K.transpose()).norm();
   if (!(misfit <= 1e-6 * std::max(1.0, base.K.norm())))
@@ -143,9 +153,7 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
         "{}: its base parameters do not span those of {} with sensor link '{}' (identified for "
         "another robot, sensor link or URDF version?)",
         params.source, model.source, model.sensor_link()));
-  Eigen::VectorXd v(base.num_unknowns());
   v.head(base.num_mass()) = At.transpose() * vf;
-  if (base.offset) v.tail(6) = params.offset;
   return v;
 }
 

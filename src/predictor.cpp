@@ -298,8 +298,8 @@ Wrench predict(const Predictor& pred, PredictorData& data,
   detail::check_size("predict", "q", q.size(), pred.num_joints, "the model's joints");
   const Eigen::Vector3d H = first_moment(plan, data, q.data(), 1);
   Wrench w;
-  w.head<3>() = pred.total_mass * g + pred.offset.head<3>();
-  w.tail<3>() = H.cross(g) + pred.offset.tail<3>();
+  w.head<3>() = pred.total_mass * g;
+  w.tail<3>() = H.cross(g);
   return w;
 }
 
@@ -317,8 +317,8 @@ void predict(const Predictor& pred, PredictorData& data, const Eigen::Ref<const 
     const Eigen::Vector3d g = gravity.row(i).transpose();
     const Eigen::Vector3d H =
         first_moment(plan, data, q.cols() > 0 ? q.data() + i : nullptr, q.outerStride());
-    wrenches.row(i).head<3>() = (pred.total_mass * g + pred.offset.head<3>()).transpose();
-    wrenches.row(i).tail<3>() = (H.cross(g) + pred.offset.tail<3>()).transpose();
+    wrenches.row(i).head<3>() = (pred.total_mass * g).transpose();
+    wrenches.row(i).tail<3>() = H.cross(g).transpose();
   }
 }
 

@@ -17,6 +17,10 @@
 
 #include "cli_support.hpp"
 #include "latency_histogram.hpp"
+#include "massid/read_samples.hpp"
+#include "massid/csv.hpp"
+#include "massid/identified_model.hpp"
+#include "massid/motion_data.hpp"
 
 namespace massid_cli_test {
 namespace {
@@ -618,6 +622,83 @@ TEST_F(Cli, CompensateInMotionWithADynamicFit) {
   for (size_t i = 0; i < wout.rows.size(); ++i)
     for (const char* w : kWrench)
       EXPECT_NEAR(wout.num(i, std::string(w) + "_comp"), 0.0, 1e-6) << w << " row " << i;
+}
+
+// One log with an identified offset through every door of the library's
+// identified model: `predict -o` (fx_comp..), `compensate` on stdin, and the
+// library's IdentifiedModel (what Python's Predictor and the C interface wrap:
+// tests/python/test_ctypes.py checks those two against the same figures):
+// the same compensated wrench to the bit, static and in motion. The CLI
+// writes shortest round-trip numbers: parsed back they are the doubles.
+TEST_F(Cli, EveryDoorGivesTheSameCompensatedWrenchToTheBit) {
+  const std::string ur = example("ur_like/ur_like.urdf");
+  const std::string offset = "1.5,-2,0.5,0.1,-0.2,0.05";
+  const std::vector<std::string> noise = {"--noise-force", "0.05", "--noise-moment", "0.005"};
+  auto with = [](std::vector<std::string> a, const std::vector<std::string>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+  // Static: the PUMA at 200 poses tilted in every direction, with an offset.
+  Result r = run(with({"simulate", kPumaUrdf, kHoldout, "-o", path("static.csv"), "--offset",
+                       offset, "--seed", "3"},
+                      noise));
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"identify", kPumaUrdf, path("static.csv"), "--offset", "-o", path("static.json")});
+  ASSERT_EQ(r.code, 0) << r;
+  // Motion: the UR-like arm along an exciting trajectory, tilting.
+  r = run({"design", ur, "--dynamic", "-o", path("traj.csv"), "--duration", "6", "--rate", "100",
+           "--seed", "2", "--evaluations", "200", "--tilt-max", "20"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run(with({"simulate", ur, path("traj.csv"), "-o", path("motion.csv"), "--dynamic", "--offset",
+                offset, "--seed", "4"},
+               noise));
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"identify", ur, path("motion.csv"), "--dynamic", "--offset", "--sigma-force", "0.05",
+           "--sigma-moment", "0.005", "-o", path("motion.json")});
+  ASSERT_EQ(r.code, 0) << r;
+
+  for (const auto& [urdf, name] : {std::pair{kPumaUrdf, std::string("static")}, {ur, "motion"}}) {
+    SCOPED_TRACE(name);
+    const std::string log = path(name + ".csv"), params = path(name + ".json");
+    r = run({"predict", urdf, params, log, "-o", path(name + "_pred.csv")});
+    ASSERT_EQ(r.code, 0) << r;
+    Live live({"compensate", urdf, params});
+    live.send(read_file(log));
+    live.close_input();
+    ASSERT_EQ(live.wait(), 0) << live.err;
+    write_file(path(name + "_comp.csv"), live.out);
+    const Table pred = read_table(path(name + "_pred.csv"));
+    const Table comp = read_table(path(name + "_comp.csv"));
+
+    // The library, as the doors use it.
+    const massid::IdentifiedModel model = massid::IdentifiedModel::load(urdf, params);
+    EXPECT_EQ(model.dynamic(), name == "motion");
+    EXPECT_TRUE(model.has_offset());
+    massid::Samples s =
+        massid::read_samples(model.model(), massid::read_csv(log), massid::WrenchColumns::Required);
+    if (model.dynamic()) s = massid::prepare_motion_samples(model.model(), std::move(s), {});
+    massid::IdentifiedModelData data(model);
+    const Eigen::MatrixXd P = model.predict_samples(data, s);
+    const Eigen::MatrixXd C = model.compensate_rows(s.wrench, P);
+
+    ASSERT_EQ(pred.rows.size(), static_cast<size_t>(s.size()));
+    ASSERT_EQ(comp.rows.size(), static_cast<size_t>(s.size()));
+    double largest = 0.0;  // the offset matters: without it fx_comp would be about 1.5
+    for (size_t i = 0; i < pred.rows.size(); ++i)
+      for (int k = 0; k < 6; ++k) {
+        const std::string c = std::string(kWrench[k]) + "_comp";
+        const double from_predict = pred.num(i, c), from_compensate = comp.num(i, c);
+        const double from_library = C(static_cast<Eigen::Index>(i), k);
+        EXPECT_EQ(from_predict, from_library) << c << " row " << i;
+        EXPECT_EQ(from_compensate, from_library) << c << " row " << i;
+        EXPECT_EQ(pred.num(i, std::string(kWrench[k]) + "_pred"),
+                  P(static_cast<Eigen::Index>(i), k))
+            << kWrench[k] << "_pred row " << i;
+        largest = std::max(largest, std::abs(from_library));
+      }
+    // measured - predicted - offset: the noise (and the fit's error), small.
+    EXPECT_LT(largest, 0.5);
+  }
 }
 
 }  // namespace

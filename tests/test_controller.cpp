@@ -21,7 +21,7 @@ struct PumaOnPlatform {
   EmulatorModel em;
   PumaOnPlatform() {
     Eigen::VectorXd truth = base.K * nominal_standard_parameters(model);
-    em.predictor = compile_predictor(model, base, truth);
+    em.identified = IdentifiedModel::from_values(model, base, truth);
     em.spacecraft.mass = 50.0;
     em.spacecraft.inertia = Eigen::Vector3d(6.0, 7.0, 5.0).asDiagonal();
     em.spacecraft.body_T_interface.translation() << 0.0, 0.0, 0.4;

@@ -343,9 +343,10 @@ double relative_attitude(const EmulationSummary& s) {
   return s.attitude_error_max_deg / s.reference_excursion_deg;
 }
 
-Predictor predictor_of(const Model& model, const Eigen::VectorXd& standard) {
-  const BaseParameters base = find_base_parameters(model);
-  return compile_predictor(model, base, base.K * standard);
+IdentifiedModel predictor_of(const Model& model, const Eigen::VectorXd& standard) {
+  BaseParameters base = find_base_parameters(model);
+  Eigen::VectorXd values = base.K * standard;
+  return IdentifiedModel::from_values(model, std::move(base), std::move(values));
 }
 
 // The admittance model against MuJoCo, open loop: fed the wrench that the
@@ -392,7 +393,7 @@ TEST(Emulation, ReferenceSensorDrivesTheAdmittanceModelOntoTheReference) {
 // left: one-tick delay, servo lag, integration. It must be far below the 5 %.
 TEST(Emulation, WithTheTrueGravityModelTheErrorIsATenthOfAPercent) {
   const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");
-  const Predictor truth = predictor_of(model, nominal_standard_parameters(model));
+  const IdentifiedModel truth = predictor_of(model, nominal_standard_parameters(model));
   EmulationOptions o = puma_options(10.0);
   o.tare = false;
   const EmulationSummary s = run_emulation(model, truth, o, true);
@@ -435,8 +436,8 @@ TEST(Emulation, IdentifiedParametersMeetTheFivePercentTarget) {
   data.line.assign(static_cast<std::size_t>(data.q.rows()), 0);
   const BaseParameters base = find_base_parameters(model);
   const IdentifySummary id = identify(model, base, data);
-  const Predictor identified = compile_predictor(model, base, id.value);
-  const Predictor nominal = predictor_of(model, nominal_standard_parameters(model));
+  const IdentifiedModel identified = IdentifiedModel::from_values(model, base, id.value);
+  const IdentifiedModel nominal = predictor_of(model, nominal_standard_parameters(model));
 
   const EmulationOptions o = puma_options(10.0);
   const EmulationSummary with = run_emulation(as_built, identified, o, true);

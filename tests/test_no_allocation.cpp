@@ -166,7 +166,8 @@ TEST(NoAllocation, EmulatorControlStep) {
   const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");
   const BaseParameters base = find_base_parameters(model);
   emulator::EmulatorModel em;
-  em.predictor = compile_predictor(model, base, base.K * nominal_standard_parameters(model));
+  em.identified =
+      IdentifiedModel::from_values(model, base, base.K * nominal_standard_parameters(model));
   em.spacecraft.mass = 50.0;
   em.spacecraft.inertia = Eigen::Vector3d(5.0, 5.0, 5.0).asDiagonal();
   emulator::EmulatorData data(em);

@@ -1,4 +1,5 @@
-// The compiled predictor against the base regressor (w = Y_b pi_b + offset)
+// The compiled predictor against the base regressor (w + offset = Y_b pi_b +
+// offset: predict() gives the mechanism's wrench, the offset kept beside it)
 // for arbitrary parameter values, and against the URDF truth once identified.
 #include <gtest/gtest.h>
 
@@ -41,7 +42,8 @@ TEST_P(PredictorTest, EqualsTheBaseRegressorForAnyParameters) {
       const Eigen::Vector3d g(n(rng), n(rng), n(rng));
       base_regressor(model, base, reg, q, g);
       const Wrench expected = reg.base * values;
-      EXPECT_LT((predict(pred, data, q, g) - expected).norm(), 1e-12 * (1 + expected.norm()));
+      EXPECT_LT((predict(pred, data, q, g) + pred.offset - expected).norm(),
+                1e-12 * (1 + expected.norm()));
     }
   }
 }

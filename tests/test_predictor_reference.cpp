@@ -91,7 +91,10 @@ std::vector<Row> predict_all(bool four_lanes) {
       for (int k = 0; k < kSamples; ++k) {
         const Eigen::VectorXd q = uniform(rng, nj, -3.0, 3.0);
         const Eigen::Vector3d g = uniform(rng, 3, -9.81, 9.81);
-        rows.push_back({robot.name, "static", k, predict(pred, data, q, g)});
+        // The reference holds what the sensor reads (offsets added): predict()
+        // gives the mechanism's wrench, the offset added here as the reference
+        // was computed (one addition per component, the same bits).
+        rows.push_back({robot.name, "static", k, predict(pred, data, q, g) + pred.offset});
       }
     }
     {  // motion: the dynamic base parameters of a moving sensor, q, qd, qdd, g, the sensor's motion

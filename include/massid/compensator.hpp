@@ -22,6 +22,7 @@
 #include <string_view>
 
 #include "massid/base_parameters.hpp"
+#include "massid/identified_model.hpp"
 #include "massid/model.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
@@ -40,6 +41,13 @@ struct CompensatorOptions {
 
 class Compensator {
  public:
+  // Binds the stream's header to an identified model (identified_model.hpp:
+  // static or dynamic; its compensate() gives fx_comp..mz_comp). `text` ends
+  // with the header line, the lines before it blank or comments (they count
+  // for line numbers); `source` names the stream in messages ("stdin").
+  // InputError naming the column, as below.
+  Compensator(const IdentifiedModel& identified, std::string_view text, const std::string& source,
+              const CompensatorOptions& options = {});
   // Binds the stream's header. `text` ends with the header line, the lines
   // before it blank or comments (they count for line numbers); `source` names
   // the stream in messages ("stdin"). `model` is the URDF loaded as the params
@@ -79,11 +87,8 @@ class Compensator {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  // params_name: what messages call the parameters (the params file's path).
-  void init(const Model& model, const BaseParameters& base,
-            const Eigen::Ref<const Eigen::VectorXd>& values, std::string_view text,
-            const std::string& source, const CompensatorOptions& options,
-            const std::string& params_name);
+  void init(const IdentifiedModel& identified, std::string_view text, const std::string& source,
+            const CompensatorOptions& options);
 };
 
 }  // namespace massid

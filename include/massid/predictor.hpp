@@ -1,7 +1,7 @@
 // Real-time prediction of the gravity wrench from identified base parameters
 // alone (never from the URDF's inertials):
 //
-//   f = M_t g + f_0,   m = H(q) x g + m_0,                      (paper eqs. 15, 29)
+//   f = M_t g,   m = H(q) x g                (paper eqs. 15, 29, without f_0, m_0)
 //   H(q) = sum_b (m_b p_b(q) + R_b(q) h_b)
 //
 // H is the first moment of the measured bodies in the sensor frame. Links joined
@@ -48,7 +48,7 @@ struct PredictorPlan;  // the compiled recursion (src/predictor_plan.hpp)
 struct Predictor {
   int num_joints = 0;              // q's size: the model's joints
   double total_mass = 0.0;         // M_t, kg
-  Wrench offset = Wrench::Zero();  // f_0, m_0 (zero without offsets)
+  Wrench offset = Wrench::Zero();  // f_0, m_0 (zero without offsets; not added by predict)
   // The recursion's steps and joint lanes, in the SIMD paths' layout (private
   // to the library, which may change it).
   std::shared_ptr<const detail::PredictorPlan> plan;
@@ -73,7 +73,8 @@ struct PredictorData {
   std::vector<double> gathered;
 };
 
-// Gravity wrench, f_0 and m_0 included.
+// The mechanism's gravity wrench, WITHOUT the offset f_0, m_0 (what the sensor
+// reads and the compensated wrench: IdentifiedModel, identified_model.hpp).
 // \param[in] predictor  compiled by compile_predictor (empty: ArgumentError)
 // \param[in,out] data   its workspace (made for another model: ArgumentError)
 // \param[in] q          (dim predictor.num_joints) joint positions, rad or m

@@ -141,7 +141,12 @@ class Predictor:
     model: Model
     joint_names: list[str]
     dynamic: bool  # dynamic parameters: the full wrench in motion
-    offset: Optional[np.ndarray]  # [6] identified offsets (included in the predictions)
+    offset: Optional[np.ndarray]  # [6] identified offsets (never in the predictions)
+    has_offset: bool  # the offsets were identified
+    def compensate(self, measured: npt.ArrayLike, predicted: npt.ArrayLike) -> np.ndarray:
+        """(measured - predicted) - offset, [N, 6] or [6]: massid predict's fx_comp, to the bit."""
+    def sensor_reading(self, predicted: npt.ArrayLike) -> np.ndarray:
+        """predicted + offset, [N, 6] or [6]: what the sensor reads."""
     def predict(
         self,
         q: npt.ArrayLike,
@@ -283,6 +288,13 @@ class Params:
     physical: Optional[dict[str, dict[str, float]]]  # "physical" links: name -> {m, mx, ..., izz}
 
 def load_params(path: PathType) -> Params: ...
+def load_predictor(
+    robot: Optional[Union[PathType, Model]],
+    params: Union[PathType, Params, Identification],
+    *,
+    physical: bool = False,
+) -> Predictor:
+    """Predictor(robot, params, physical=physical): the identified model every door loads."""
 def predict(
     robot: Union[PathType, Model],
     params: Union[PathType, Params, Identification],

@@ -12,6 +12,7 @@
 #include "convert.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
+#include "massid/identified_model.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/motion_predictor.hpp"
 #include "massid/params_file.hpp"
@@ -38,36 +39,30 @@ Model model_for(const py::handle& robot, const std::string& sensor_link,
   return model_of(robot, sensor_link, held_dict(held));
 }
 
-// massid.Predictor: the static gravity predictor (predictor.hpp) or, for
-// dynamic parameters, the motion predictor (motion_predictor.hpp).
+// massid.Predictor: a thin adapter over the identified model every door
+// shares (identified_model.hpp), static or dynamic, with its workspace.
 struct PyPredictor {
-  Model model;
+  IdentifiedModel identified;
+  Model model;  // identified.model(), for Python
   bool dynamic = false;
-  Predictor predictor;  // static
-  std::unique_ptr<PredictorData> data;
-  MotionPredictor motion;  // dynamic
-  std::unique_ptr<MotionPredictorData> motion_data;
+  std::unique_ptr<IdentifiedModelData> data;
   std::optional<Eigen::Vector3d> level_gravity;  // dynamic, identified at one gravity
   std::optional<Wrench> offset;                  // the identified offsets
 
-  PyPredictor(Model m, Predictor p, bool has_offset)
-      : model(std::move(m)), predictor(std::move(p)) {
-    data = std::make_unique<PredictorData>(predictor);
-    if (has_offset) offset = predictor.offset;
-  }
-  PyPredictor(Model m, const BaseParameters& base, const Eigen::VectorXd& values)
-      : model(std::move(m)), dynamic(true) {
-    motion = compile_motion_predictor(model, base, values);
-    motion_data = std::make_unique<MotionPredictorData>(motion);
-    if (base.fixed_gravity) level_gravity = base.gravity;
-    if (base.offset) offset = values.tail<6>();
+  explicit PyPredictor(IdentifiedModel m)
+      : identified(std::move(m)),
+        model(identified.model()),
+        dynamic(identified.dynamic()),
+        data(std::make_unique<IdentifiedModelData>(identified)),
+        level_gravity(identified.fixed_gravity()) {
+    if (identified.has_offset()) offset = identified.offset();
   }
 
-  // [N x 6] the full wrench (weight and motion) plus the identified offsets
-  // at every sample, as `massid predict` computes it (motion_data.hpp).
+  // [N x 6] the mechanism's wrench (weight and motion, no offset) at every
+  // sample, as `massid predict` computes it.
   Eigen::MatrixXd predict_samples(const Samples& s) {
     py::gil_scoped_release release;
-    return massid::predict_samples(motion, *motion_data, s);
+    return identified.predict_samples(*data, s);
   }
 
   py::object operator()(const py::object& q, const py::object& gravity, const py::object& qd,
@@ -81,8 +76,10 @@ struct PyPredictor {
             "alone: qd, qdd, sensor_motion, t and cutoff go with dynamic parameters");
       if (gravity.is_none()) throw InputError("gravity (gx, gy, gz) is needed");
       const auto [Q, G] = poses_of(model, q, gravity);
-      Eigen::MatrixXd W(Q.rows(), 6);
-      predict(predictor, *data, Q, G, W);
+      Samples s;
+      s.q = Q;
+      s.gravity = G;
+      const Eigen::MatrixXd W = predict_samples(s);
       const bool single = ndim(q).cast<int>() == 1 && ndim(gravity).cast<int>() == 1;
       return single ? py::cast(Eigen::VectorXd(W.row(0).transpose())) : py::cast(std::move(W));
     }
@@ -159,6 +156,8 @@ struct PyPredictor {
 
 std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::object& params,
                                             bool physical = false) {
+  IdentifiedModelOptions options;
+  options.physical = physical;
   if (py::isinstance<Identification>(params)) {
     const auto& id = params.cast<const Identification&>();
     if (!robot.is_none()) {
@@ -167,30 +166,21 @@ std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::o
         throw InputError(
             fmt::format("robot '{}' is not the identified robot '{}'", check.name, id.model.name));
     }
-    Eigen::VectorXd values = id.summary.value;
-    if (physical) {
-      if (!id.physical)
-        throw InputError("physical=True needs an identification made with physical=True");
-      values.head(id.base.num_mass()) =
-          base_values_of_standard(id.model, id.base, id.physical->standard);
-    }
-    if (id.base.motion()) return std::make_unique<PyPredictor>(id.model, id.base, values);
-    return std::make_unique<PyPredictor>(id.model, compile_predictor(id.model, id.base, values),
-                                         id.base.offset);
+    if (physical && !id.physical)
+      throw InputError("physical=True needs an identification made with physical=True");
+    return std::make_unique<PyPredictor>(IdentifiedModel::from_identification(id, options));
   }
   const ParamsFile file = py::isinstance<ParamsFile>(params) ? params.cast<ParamsFile>()
                           : is_path(params)                  ? read_params(path_of(params))
                                                              : throw InputError(
                                                                    "params: expected a params file path, "
                                                                                     "massid.Params or massid.Identification");
-  Model model = model_for(robot, file.sensor_link, file.held);
-  const BaseParameters base = find_base_parameters(model, base_parameter_options(file));
-  const Eigen::VectorXd values =
-      physical ? physical_values_in_basis(file, model, base) : values_in_basis(file, model, base);
-  if (file.dynamic) return std::make_unique<PyPredictor>(std::move(model), base, values);
-  Predictor predictor = compile_predictor(model, base, values);
-  return std::make_unique<PyPredictor>(std::move(model), std::move(predictor), file.has_offset);
+  return std::make_unique<PyPredictor>(
+      IdentifiedModel::from_params(model_for(robot, file.sensor_link, file.held), file, options));
 }
+
+// [N x 6] or [6] as numpy gives them, as a matrix of six columns.
+Eigen::MatrixXd wrenches_of(const py::object& w, const char* what) { return to_matrix(w, 6, what); }
 
 std::optional<Wrench> optional_wrench(bool present, const Wrench& w) {
   return present ? std::optional<Wrench>(w) : std::nullopt;
@@ -274,8 +264,10 @@ void bind_predict(py::module_& m) {
   const char* predict_doc =
       "[N, 6] wrenches for q [N, num_joints] (rad or m) and gravity [N, 3] (m/s^2, sensor "
       "frame); [6] for single vectors.\n"
-      "Dynamic parameters: the full wrench (weight and motion, plus the identified offsets, as "
-      "massid predict) from q, qd and qdd [N, num_joints] (and sensor_motion [N, 9]: wx wy wz, "
+      "Never the identified sensor offset (as massid predict's fx_pred..mz_pred): "
+      "compensate(measured, predicted) subtracts it.\n"
+      "Dynamic parameters: the full wrench (weight and motion) from q, qd and qdd [N, num_joints] "
+      "(and sensor_motion [N, 9]: wx wy wz, "
       "dwx dwy dwz, ax ay az); gravity may be omitted for parameters identified at one "
       "gravity. Or from q and t [N] alone: qd and qdd derived by the zero-phase low-pass of "
       "massid predict (cutoff Hz; q and gravity smoothed alike), NaN in the rows at each end "
@@ -293,8 +285,36 @@ void bind_predict(py::module_& m) {
       .def_readonly("model", &PyPredictor::model)
       .def_readonly("dynamic", &PyPredictor::dynamic, "dynamic parameters (predicts in motion)")
       .def_readonly("offset", &PyPredictor::offset,
-                    "[6] the identified sensor offsets (None without): included in the "
-                    "predictions (as massid predict)")
+                    "[6] the identified sensor offsets (None without): never in the predictions; "
+                    "compensate() and sensor_reading() apply them")
+      .def_property_readonly("has_offset",
+                             [](const PyPredictor& p) { return p.identified.has_offset(); })
+      .def(
+          "compensate",
+          [](const PyPredictor& p, const py::object& measured, const py::object& predicted) {
+            const py::object ndim = py::module_::import("numpy").attr("ndim");
+            const Eigen::MatrixXd C =
+                p.identified.compensate_rows(wrenches_of(measured, "measured (fx..mz)"),
+                                             wrenches_of(predicted, "predicted (fx..mz)"));
+            if (C.rows() == 1 && ndim(measured).cast<int>() == 1)
+              return py::cast(Eigen::VectorXd(C.row(0).transpose()));
+            return py::cast(C);
+          },
+          py::arg("measured"), py::arg("predicted"),
+          "The compensated wrench: (measured - predicted) - offset, [N, 6] or [6], as massid "
+          "predict's fx_comp..mz_comp and massid compensate (predicted: this predictor's "
+          "output)")
+      .def(
+          "sensor_reading",
+          [](const PyPredictor& p, const py::object& predicted) {
+            const py::object ndim = py::module_::import("numpy").attr("ndim");
+            const Eigen::MatrixXd R =
+                p.identified.sensor_reading_rows(wrenches_of(predicted, "predicted (fx..mz)"));
+            if (R.rows() == 1 && ndim(predicted).cast<int>() == 1)
+              return py::cast(Eigen::VectorXd(R.row(0).transpose()));
+            return py::cast(R);
+          },
+          py::arg("predicted"), "What the sensor reads: predicted + offset, [N, 6] or [6]")
       .def_property_readonly("joint_names",
                              [](const PyPredictor& p) { return joint_names(p.model); })
       .def("predict", &PyPredictor::operator(), py::arg("q"), py::arg("gravity") = py::none(),
@@ -311,6 +331,15 @@ void bind_predict(py::module_& m) {
       });
 
   m.def(
+      "load_predictor",
+      [](const py::object& robot, const py::object& params, bool physical) {
+        return make_predictor(robot, params, physical);
+      },
+      py::arg("robot"), py::arg("params"), py::kw_only(), py::arg("physical") = false,
+      "massid.Predictor(robot, params, physical=physical): the identified model of a params "
+      "file (static or dynamic) or an Identification, as every door loads it.");
+
+  m.def(
       "predict",
       [](const py::object& robot, const py::object& params, const py::object& data,
          std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity,
@@ -321,10 +350,7 @@ void bind_predict(py::module_& m) {
         if (!p->dynamic) {
           if (cutoff) throw InputError("cutoff goes with dynamic parameters");
           const Samples s = samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts);
-          Eigen::MatrixXd W(s.size(), 6);
-          predict(p->predictor, *p->data, s.q, s.gravity, W);
-          if (p->offset) W.rowwise() -= p->offset->transpose();  // fx_pred: without the offset
-          return W;
+          return p->predict_samples(s);
         }
         // As massid predict: derivatives from the columns, else derived (every
         // filtered row kept); rows the filter drops are NaN.
@@ -335,8 +361,7 @@ void bind_predict(py::module_& m) {
         MotionDataOptions o = motion_data_options(cutoff, root_gravity);
         o.filter.decimation = 1;
         const Samples s = prepare_motion_samples(p->model, std::move(raw), o);
-        Eigen::MatrixXd W = p->predict_samples(s);
-        if (p->offset) W.rowwise() -= p->offset->transpose();  // fx_pred: without the offset
+        const Eigen::MatrixXd W = p->predict_samples(s);
         return PyPredictor::spread_rows(W, s.line, rows, from_file ? &table.line : nullptr);
       },
       py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),

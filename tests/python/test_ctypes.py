@@ -184,8 +184,8 @@ def test_static_params_predict_the_urdfs_wrench(lib: ctypes.CDLL, massid: Any,
         W = p.predict(Q, G)
         # the URDF's inertials (simulate, another code path) at 100 poses the fit never had
         np.testing.assert_allclose(W, wrench(holdout), rtol=0, atol=1e-9)
-        # the Python module: its Predictor adds the offset, massid.predict does not
-        np.testing.assert_allclose(W + p.offset(), py.predict(Q, G), rtol=0, atol=1e-12)
+        # the Python module: neither its Predictor nor massid.predict adds the offset
+        np.testing.assert_allclose(W, py.predict(Q, G), rtol=0, atol=1e-12)
         np.testing.assert_allclose(W, massid.predict(str(urdf), str(params), holdout),
                                    rtol=0, atol=1e-12)
 
@@ -258,18 +258,18 @@ def test_dynamic_params_predict_the_urdfs_wrench_in_motion(lib: ctypes.CDLL, mas
         W = p.predict_motion(Q, QD, QDD, G, S)
         # the URDF's inertials through simulate (forward kinematics and the regressor)
         np.testing.assert_allclose(W, wrench(data)[rows] - OFFSET, rtol=0, atol=1e-7)
-        # the Python module's motion predictor (the offset included there)
-        np.testing.assert_allclose(W + p.offset(), py.predict(Q, G, QD, QDD, sensor_motion=S),
+        # the Python module's motion predictor (the offset not included there either)
+        np.testing.assert_allclose(W, py.predict(Q, G, QD, QDD, sensor_motion=S),
                                    rtol=0, atol=1e-12)
 
         # the sensor frame at rest
         Wr = p.predict_motion(Q, QD, QDD, G)
-        np.testing.assert_allclose(Wr + p.offset(), py.predict(Q, G, QD, QDD), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(Wr, py.predict(Q, G, QD, QDD), rtol=0, atol=1e-12)
         assert np.abs(Wr - W).max() > 0.1  # the platform's motion shows
 
         # at rest: massid_predict is the motion predictor at zero rates
         Z = np.zeros_like(Q)
-        np.testing.assert_allclose(p.predict(Q, G) + p.offset(), py.predict(Q, G, Z, Z), rtol=0,
+        np.testing.assert_allclose(p.predict(Q, G), py.predict(Q, G, Z, Z), rtol=0,
                                    atol=1e-12)
     finally:
         p.close()
@@ -355,3 +355,87 @@ def test_errors(lib: ctypes.CDLL, puma_static: dict[str, Any], tmp_path: Path) -
         p.close()
     lib.massid_predictor_free(None)
     assert lib.massid_version().decode() == __import__("massid").__version__
+
+
+# --------------------------------------------------------------------------
+# Every door: one log with an identified offset through massid predict -o,
+# massid compensate (stdin), the Python Predictor and the C interface.
+
+
+def _doors_log(massid: Any, data: dict[str, np.ndarray], names: list[str], path: Path) -> Path:
+    """data with noise on the wrench and every joint in radians, as a CSV all four doors read."""
+    from conftest import write_csv
+
+    rng = np.random.default_rng(11)
+    cols = {}
+    for k, v in data.items():
+        if k.endswith("_deg") and k[:-4] in names:
+            cols[k[:-4]] = np.radians(v)
+        else:
+            cols[k] = np.asarray(v, dtype=float)
+    for k, sigma in zip(AXES, (0.05,) * 3 + (0.005,) * 3):
+        cols[k] = cols[k] + sigma * rng.standard_normal(len(cols[k]))
+    return write_csv(path, cols)
+
+
+def _comp_of(table: dict[str, np.ndarray]) -> np.ndarray:
+    return np.column_stack([table[a + "_comp"] for a in AXES])
+
+
+@pytest.mark.parametrize("kind", ["static", "dynamic"])
+def test_every_door_gives_the_same_compensated_wrench_to_the_bit(
+        kind: str, lib: ctypes.CDLL, massid: Any, puma_static: dict[str, Any],
+        ur_dynamic: dict[str, Any], tmp_path: Path) -> None:
+    import subprocess
+
+    from conftest import massid_cli
+
+    if kind == "static":
+        urdf, params = puma_static["urdf"], puma_static["params"]
+        data = massid.simulate(str(urdf), str(PUMA / "holdout.csv"), offset=OFFSET)
+    else:
+        urdf, params, data = UR, ur_dynamic["params"], ur_dynamic["data"]
+    py = massid.Predictor(str(urdf), str(params))
+    assert py.dynamic == (kind == "dynamic") and py.offset is not None
+    log = _doors_log(massid, data, py.joint_names, tmp_path / "log.csv")
+    cols = massid.read_csv(str(log))
+    names = py.joint_names
+    Q, G = columns(cols, names), columns(cols, ["gx", "gy", "gz"])
+    M = np.ascontiguousarray(wrench(cols))
+
+    # 1. massid predict -o
+    cli = massid_cli()
+    subprocess.run([cli, "predict", str(urdf), str(params), str(log), "-o",
+                    str(tmp_path / "pred.csv")], check=True, capture_output=True)
+    by_predict = _comp_of(massid.read_csv(str(tmp_path / "pred.csv")))
+    # 2. massid compensate, the log on stdin
+    with open(log, "rb") as f:
+        out = subprocess.run([cli, "compensate", str(urdf), str(params)], stdin=f, check=True,
+                             capture_output=True).stdout
+    (tmp_path / "comp.csv").write_bytes(out)
+    by_compensate = _comp_of(massid.read_csv(str(tmp_path / "comp.csv")))
+    # 3. the Python Predictor: the mechanism's wrench, then compensate
+    c = ctypes_predictor = CPredictor(lib, urdf, params)
+    try:
+        if kind == "static":
+            P = py(Q, G)
+            W = c.predict(Q, G)
+        else:
+            QD, QDD = columns(cols, names, "_vel"), columns(cols, names, "_acc")
+            S = columns(cols, ["wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az"])
+            P = py(Q, G, QD, QDD, sensor_motion=S)
+            W = c.predict_motion(Q, QD, QDD, G, S)
+        by_python = py.compensate(M, P)
+        # 4. the C interface: measured - wrench - offset, as massid.h documents it
+        by_c = (M - W) - c.offset()
+    finally:
+        ctypes_predictor.close()
+
+    assert by_predict.shape == by_compensate.shape == by_python.shape == by_c.shape == M.shape
+    np.testing.assert_array_equal(by_predict, by_python)
+    np.testing.assert_array_equal(by_compensate, by_python)
+    np.testing.assert_array_equal(by_c, by_python)
+    np.testing.assert_array_equal(W, P)  # the C and Python predictions themselves
+    # the offset is in play: without it the force would be off by OFFSET
+    assert np.abs(by_python[:, :3]).max() < 0.5
+    assert np.abs((M - P)[:, 0] - OFFSET[0]).max() < 0.5

@@ -320,14 +320,15 @@ def test_predict_dynamic_equals_the_cli(massid: Any, cli_fits: dict[str, Any], t
     names = pr.joint_names
     q, qd, qdd, g = (joint_matrix(data, names), joint_matrix(data, names, "_vel"),
                      joint_matrix(data, names, "_acc"), gravity_of(data))
-    # massid.predict (fx_pred) is the mechanism's wrench; a Predictor gives what
-    # the sensor reads, the identified offsets included
-    np.testing.assert_allclose(pr(q, g, qd, qdd), P + pr.offset, rtol=1e-12, atol=1e-10)
+    # massid.predict (fx_pred) and a Predictor both give the mechanism's wrench;
+    # sensor_reading adds the identified offsets (what the sensor reads)
+    np.testing.assert_allclose(pr(q, g, qd, qdd), P, rtol=1e-12, atol=1e-10)
+    np.testing.assert_array_equal(pr.sensor_reading(pr(q, g, qd, qdd)), pr(q, g, qd, qdd) + pr.offset)
     # level: gravity defaults to the fit's (here its smoothed -9.80665, to rounding)
-    np.testing.assert_allclose(pr.predict(q, None, qd, qdd), P + pr.offset, rtol=1e-12, atol=1e-10)
+    np.testing.assert_allclose(pr.predict(q, None, qd, qdd), P, rtol=1e-12, atol=1e-10)
     np.testing.assert_array_equal(pr(q[5], g[5], qd[5], qdd[5]), pr(q, g, qd, qdd)[5])
     assert pr(q[5], g[5], qd[5], qdd[5]).shape == (6,)
-    np.testing.assert_allclose(pr(q, g, t=data["t"]), Pd + pr.offset, rtol=1e-12, atol=1e-10)
+    np.testing.assert_allclose(pr(q, g, t=data["t"]), Pd, rtol=1e-12, atol=1e-10)
     # On a level platform the offsets took the weight and some constant moments; the
     # fit's data had MOTION_OFFSET, the holdout none.
     W = wrench_of(data)

@@ -1,8 +1,8 @@
 // The space emulator's control step (the paper's Figure 4): each tick
 //
 //   g_s   = R_ws^T g_w                       gravity in the current sensor frame
-//   w_g   = predict(q, g_s)                  identified gravity wrench (core predictor)
-//   w_c   = w_measured - w_g                 the robot's dynamic wrench on its base
+//   w_g   = predict_gravity(q, g_s)          identified gravity wrench (IdentifiedModel)
+//   w_c   = w_measured - w_g - offset        the robot's dynamic wrench on its base
 //   x    <- RK4 step of the spacecraft under w_c at the interface (= sensor frame)
 //   T_cmd = T_interface(x) * sensor_T_platform,   l = IK(T_cmd)
 //   with the command's twist and acceleration for the platform servo's feed-forward
@@ -19,7 +19,7 @@
 
 #include "massid/emulator/spacecraft.hpp"
 #include "massid/emulator/stewart_platform.hpp"
-#include "massid/predictor.hpp"
+#include "massid/identified_model.hpp"
 
 namespace massid::emulator {
 
@@ -37,7 +37,9 @@ struct SupervisorOptions {
 };
 
 struct EmulatorModel {
-  Predictor predictor;  // identified gravity model (compile_predictor)
+  // The identified model (static or dynamic parameters: its gravity-only
+  // prediction, identified_model.hpp) and its offset.
+  IdentifiedModel identified;
   SpacecraftParameters spacecraft;
   PlatformGeometry geometry;  // base frame = world: level, gravity along gravity_world
   Eigen::Isometry3d platform_T_sensor =
@@ -64,11 +66,11 @@ struct StopDetail {
 struct EmulatorData {
   explicit EmulatorData(const EmulatorModel& model);
   // gravity compensation
-  PredictorData predictor;                 // predictor workspace
+  IdentifiedModelData identified;          // the identified model's workspace
   Eigen::Vector3d gravity_sensor;          // g in the current sensor frame, m/s^2
   Wrench gravity_wrench = Wrench::Zero();  // predicted w_g, sensor frame
   Wrench tare = Wrench::Zero();            // w_0 from tare(): residual at rest, subtracted
-  Wrench compensated = Wrench::Zero();     // w_c = measured - w_g - w_0
+  Wrench compensated = Wrench::Zero();     // w_c = measured - w_g - offset - w_0
   // admittance
   SpacecraftState spacecraft;  // emulated spacecraft
   // command

@@ -49,9 +49,10 @@ struct TraceRow {
   SupervisorState state;
 };
 
-// predictor: the gravity model to compensate with; compensate=false feeds the
-// raw wrench. trace, when given, receives every tick.
-EmulationSummary run_emulation(const Model& model, const Predictor& predictor,
+// identified: the gravity model to compensate with (static or dynamic
+// parameters: IdentifiedModel::predict_gravity, and its offset);
+// compensate=false feeds the raw wrench. trace, when given, receives every tick.
+EmulationSummary run_emulation(const Model& model, const IdentifiedModel& identified,
                                const EmulationOptions& options, bool compensate,
                                std::vector<TraceRow>* trace = nullptr);
 
