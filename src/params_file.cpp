@@ -95,7 +95,8 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     json motion;
     motion["gravity"] = base.fixed_gravity ? "fixed" : "varying";
     if (base.fixed_gravity)
-      motion["gravity_vector"] = json::array({base.gravity[0], base.gravity[1], base.gravity[2]});
+      motion["gravity_vector"] =
+          json::array({base.sensor_gravity[0], base.sensor_gravity[1], base.sensor_gravity[2]});
     motion["sensor_moving"] = base.sensor_moving;
     j["motion"] = motion;
   }
@@ -341,7 +342,7 @@ BaseParameterOptions base_parameter_options(const ParamsFile& params) {
   if (params.dynamic) {
     options.layout = ParameterLayout::full();
     options.fixed_gravity = params.fixed_gravity;
-    options.gravity = params.gravity;
+    options.sensor_gravity = params.gravity;
     options.sensor_moving = params.sensor_moving;
   }
   return options;

@@ -39,6 +39,9 @@ struct Hint {
     SpacecraftInertia,  // its principal inertia, kg m^2
     Trajectory,         // the joint trajectory to run
     Platform,           // the platform's geometry
+    // Identification (identify_request.hpp):
+    Rest,         // the rest windows of a static log: "auto" or "off"
+    RootGravity,  // gravity in the URDF root frame, gx,gy,gz
   };
   Setting setting;
   std::string value;  // empty: the setting itself
