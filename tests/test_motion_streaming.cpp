@@ -55,7 +55,7 @@ void expect_same_base(const BaseParameters& a, const BaseParameters& b) {
   EXPECT_EQ(a.fixed_gravity, b.fixed_gravity);
   EXPECT_EQ(a.sensor_moving, b.sensor_moving);
   EXPECT_EQ(a.offset, b.offset);
-  EXPECT_EQ(a.gravity, b.gravity);
+  EXPECT_EQ(a.sensor_gravity, b.sensor_gravity);
 }
 
 // ------------------------------------------------------------ the accumulator
