@@ -199,7 +199,7 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
   bo.fixed_gravity = true;
   for (const Eigen::Vector3d& g : gravities)
     bo.fixed_gravity = bo.fixed_gravity && (g - gravities[0]).norm() <= 1e-6 * g.norm();
-  bo.gravity = gravities[0];
+  bo.sensor_gravity = gravities[0];
   const BaseParameters base = find_base_parameters(model, bo);
   const ExcitationSummary s = design_excitation(model, base, o);
   if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);

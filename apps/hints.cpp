@@ -59,9 +59,44 @@ std::string spell(const Hint& hint) {
       return "--sigma-moment";
     case Hint::Setting::LevelPoses:
       return "--level-poses " + or_placeholder(v, "N");
+    case Hint::Setting::Rest:
+      return "--rest " + or_placeholder(v, "auto");
+    case Hint::Setting::RootGravity:
+      return "--root-gravity " + or_placeholder(v, "gx,gy,gz");
   }
   return "";
 }
+
+std::string name(Hint::Setting setting) {
+  switch (setting) {
+    case Hint::Setting::HoldJoints:
+      return "--fixed";
+    case Hint::Setting::Checks:
+      return "--no-checks";
+    case Hint::Setting::Drift:
+      return "--drift";
+    case Hint::Setting::Cutoff:
+      return "--cutoff";
+    case Hint::Setting::Delay:
+      return "--delay";
+    case Hint::Setting::MinHeight:
+      return "--min-height";
+    case Hint::Setting::Limits:
+      return "--limits";
+    case Hint::Setting::SensorLink:
+      return "--sensor";
+    case Hint::Setting::LevelPoses:
+      return "--level-poses";
+    case Hint::Setting::Rest:
+      return "--rest";
+    case Hint::Setting::RootGravity:
+      return "--root-gravity";
+    default:  // a flag, or an option spelled without a value
+      return spell({setting, ""});
+  }
+}
+
+SettingSpelling spelling() { return {&name, &spell}; }
 
 std::string with_hints(const std::string& message, const std::vector<Hint>& hints) {
   if (hints.empty()) return message;

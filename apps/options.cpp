@@ -75,12 +75,6 @@ CLI::Validator sign_check(bool positive) {
       positive ? "POSITIVE" : "NONNEGATIVE");
 }
 
-Drift parse_drift(const std::string& text) {
-  if (text == "linear") return Drift::Linear;
-  if (text == "per-block") return Drift::PerBlock;
-  throw InputError("--drift: '" + text + "' is not linear or per-block");
-}
-
 bool report_setup(const std::vector<SetupFinding>& findings) {
   const bool error = has_error(findings);
   for (const SetupFinding& f : findings)

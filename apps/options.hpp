@@ -33,9 +33,6 @@ std::pair<std::string, std::string> parse_assignment(const std::string& text,
 // --fixed JOINT=VALUE items -> (joint, position) pairs for hold_joints().
 std::vector<std::pair<std::string, double>> parse_held(const std::vector<std::string>& items);
 
-// --drift linear|per-block.
-Drift parse_drift(const std::string& text);
-
 // A number option validator with a readable message (CLI11's ranges print DBL_MAX in full).
 CLI::Validator sign_check(bool positive);
 

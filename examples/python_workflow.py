@@ -38,7 +38,7 @@ def main(out: pathlib.Path) -> int:
     # 2. Measure (here: simulate the robot as built), 20 samples per pose with
     #    sensor noise and an unknown offset.
     offset = [0.3, -0.2, 0.5, 0.02, -0.01, 0.03]
-    data = massid.simulate(AS_BUILT, plan, noise_force=0.05, noise_moment=0.005, offset=offset,
+    data = massid.simulate(AS_BUILT, plan, noise_force=0.05, noise_moment=0.005, sensor_offset=offset,
                            repeat=20, seed=7)
     with open(out / "data.csv", "w") as f:  # a log as a data logger would write it
         f.write(",".join(data) + "\n")

@@ -66,7 +66,7 @@ Eigen::MatrixXd random_regressor(const Model& model, const BaseParameterOptions&
           sensor.omega_dot[k] = 3.0 * normal(rng);
           sensor.accel[k] = 3.0 * normal(rng);
         }
-      if (options.fixed_gravity) g = options.gravity;
+      if (options.fixed_gravity) g = options.sensor_gravity;
       forward_kinematics(model, kin, q, qd, qdd, g, sensor);
       motion_regressor(model, kin, Y);
     }
@@ -182,7 +182,7 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
   base.layout = layout;
   base.sensor_moving = options.sensor_moving;
   base.fixed_gravity = options.fixed_gravity;
-  if (options.fixed_gravity) base.gravity = options.gravity;
+  if (options.fixed_gravity) base.sensor_gravity = options.sensor_gravity;
   base.total_mass = -1;
   base.K.resize(nb, n);
   for (int r = 0; r < nb; ++r) {

@@ -22,48 +22,6 @@
 
 namespace massid {
 
-Identification identify_log(Model model, const std::string& path, bool offset,
-                            const IdentifyOptions& options, bool dynamic,
-                            const MotionDataOptions& motion_options, bool keep_samples) {
-  Identification out;
-  Samples* samples = keep_samples ? &out.samples : nullptr;
-  out.model = std::move(model);
-  const bool with_offset = offset || options.drift != Drift::None;  // a drifting offset is one
-  if (!dynamic && (options.delay || options.delay_auto))
-    throw InputError("a wrench delay goes with motion logs: at rest it does not matter",
-                     {{Hint::Setting::Dynamic, "on"}});
-  if (dynamic && (options.delay || options.delay_auto)) {
-    // In memory: the wrench moved by the delay (estimated by a scan of fits), then the fit.
-    out.motion_options = motion_options;
-    Samples raw =
-        read_samples(out.model, read_csv(path), WrenchColumns::Required, motion_options.samples);
-    DelayEstimate delay;
-    out.samples = aligned_motion_samples(out.model, std::move(raw), with_offset, options,
-                                         motion_options, &delay, &out.motion);
-    out.base = find_base_parameters(out.model, motion_base_options(out.samples, with_offset));
-    out.summary = identify(out.model, out.base, out.samples, options);
-    out.summary.delay = std::move(delay);
-  } else if (dynamic) {
-    out.motion_options = motion_options;
-    out.summary = identify_motion_file(out.model, path, with_offset, options, motion_options,
-                                       &out.base, &out.motion, samples);
-    if (keep_samples &&
-        out.samples.size() < out.summary.samples)  // streamed: only the head came back
-      out.samples = read_motion_samples(out.model, path, WrenchColumns::Required, motion_options);
-  } else {
-    BaseParameterOptions bo;
-    bo.offset = with_offset;
-    out.base = find_base_parameters(out.model, bo);
-    out.summary = identify_file(out.model, out.base, path, options, samples,
-                                motion_options.samples);  // the root gravity too
-  }
-  if (keep_samples) out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
-  if (options.physical)
-    out.physical = fit_physical(out.model, out.base, out.summary, *options.physical);
-  out.warnings = identification_notes(out.summary, path);
-  return out;
-}
-
 std::vector<Warning> identification_notes(const IdentifySummary& summary,
                                           const std::string& source) {
   std::vector<Warning> out;
@@ -124,8 +82,9 @@ record_json rest_json(const RestWindows& w) {
 constexpr const char* kSettingNames[] = {
     "hold_joints", "offset",      "checks",     "robust",      "drift",         "dynamic",
     "cutoff",      "delay",       "min_height", "limits",      "level_gravity", "tilt_max",
-    "physical",    "sensor_link", "poses",      "sigma_force", "sigma_moment",  "level_poses"};
-static_assert(std::size(kSettingNames) == static_cast<std::size_t>(Hint::Setting::LevelPoses) + 1,
+    "physical",    "sensor_link", "poses",      "sigma_force", "sigma_moment",  "level_poses",
+    "rest",        "root_gravity"};
+static_assert(std::size(kSettingNames) == static_cast<std::size_t>(Hint::Setting::RootGravity) + 1,
               "a name for every setting");
 
 record_json warnings_json(const std::vector<Warning>& warnings, HintSpeller spell) {
@@ -360,7 +319,7 @@ void write_identification(const std::string& path, const Identification& ident, 
                     {{"per_link", b.layout.per_link()},
                      {"sensor_moving", b.sensor_moving},
                      {"fixed_gravity", b.fixed_gravity},
-                     {"gravity", matrix(b.gravity)},
+                     {"gravity", matrix(b.sensor_gravity)},
                      {"offset", b.offset},
                      {"rank_tolerance", b.rank_tolerance},
                      {"names",
@@ -405,7 +364,7 @@ Identification read_identification(const std::string& path) {
     bo.layout = ParameterLayout::of_size(b.at("per_link"));
     bo.sensor_moving = b.at("sensor_moving");
     bo.fixed_gravity = b.at("fixed_gravity");
-    bo.gravity = vector_of<3>(b.at("gravity"));
+    bo.sensor_gravity = vector_of<3>(b.at("gravity"));
     bo.offset = b.at("offset");
     bo.rank_tolerance = b.at("rank_tolerance");
     out.base = find_base_parameters(out.model, bo);

@@ -1,11 +1,14 @@
 #include "massid/kinematics.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "argument_checks.hpp"
+#include "massid/errors.hpp"
 
 namespace massid {
 namespace {
@@ -109,6 +112,19 @@ void forward_kinematics(const Model& model, KinematicsData& data,
   data.omega_dot[0] = sensor.omega_dot;
   data.accel[0] = sensor.accel - gravity;
   recursion<true>(model, data, q, qd.data(), qdd.data());
+}
+
+Eigen::Vector3d fixed_sensor_gravity(const Model& model, const Eigen::Vector3d& root_gravity) {
+  if (model.num_upstream_joints() > 0) {
+    std::string names;
+    for (const Joint& j : model.upstream_joints) names += (names.empty() ? "" : ", ") + j.name;
+    throw InputError(fmt::format(
+        "{}: sensor link '{}' is below movable joints ({}): gravity in its frame turns with "
+        "them and is no single level vector; use the varying gravity model",
+        model.source, model.sensor_link(), names));
+  }
+  const Eigen::VectorXd none(0);
+  return upstream_kinematics(model, none, none, none).rotation.transpose() * root_gravity;
 }
 
 SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,

@@ -1146,7 +1146,7 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
     try {
       BaseParameterOptions bo = motion_base_options(Samples{}, offset);
       bo.fixed_gravity = shape.any && !gravity_varies;
-      bo.gravity = shape.g0;
+      bo.sensor_gravity = shape.g0;
       bo.sensor_moving = sensor_moves;
       out.base = find_base_parameters(model, bo);
       const BaseParameters& base = out.base;

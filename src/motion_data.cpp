@@ -52,7 +52,7 @@ BaseParameterOptions motion_base_options(const Samples& s, bool offset) {
     for (int i = 0; i < s.size(); ++i)
       spread = std::max(spread, (s.gravity.row(i).transpose() - g0).norm());
     o.fixed_gravity = spread <= 1e-6 * std::max(g0.norm(), 1e-300);
-    o.gravity = g0;
+    o.sensor_gravity = g0;
   }
   o.sensor_moving = s.has_sensor_motion() && s.sensor_motion.cwiseAbs().maxCoeff() > 0.0;
   return o;

@@ -192,7 +192,7 @@ BaseParameterOptions base_parameter_options(const ParamsFile& params) {
   if (params.dynamic) {
     options.layout = ParameterLayout::full();
     options.fixed_gravity = params.fixed_gravity;
-    options.gravity = params.gravity;
+    options.sensor_gravity = params.gravity;
     options.sensor_moving = params.sensor_moving;
   }
   return options;

@@ -645,7 +645,7 @@ TEST_F(Cli, SimulateOffsetNoiseAndSeed) {
     return read_table(path(name));
   };
   const Table clean = sim("clean.csv", {});
-  const Table offset = sim("offset.csv", {"--offset", "1,-2,3.5,0.1,-0.2,0.3"});
+  const Table offset = sim("offset.csv", {"--sensor-offset", "1,-2,3.5,0.1,-0.2,0.3"});
   const double off[6] = {1, -2, 3.5, 0.1, -0.2, 0.3};
   const char* const k6[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
   ASSERT_EQ(offset.rows.size(), clean.rows.size());

@@ -225,12 +225,12 @@ class CliCompensate : public Cli {
   // offsets; truth.csv the URDF's own wrench there (noise-free, no offset).
   void SetUp() override {
     Cli::SetUp();
-    Result r = run({"simulate", kPumaUrdf, kHoldout, "-o", path("fit.csv"), "--offset", kOffset});
+    Result r = run({"simulate", kPumaUrdf, kHoldout, "-o", path("fit.csv"), "--sensor-offset", kOffset});
     ASSERT_EQ(r.code, 0) << r;
     r = run({"identify", kPumaUrdf, path("fit.csv"), "--offset", "--sigma-force", "0.05",
              "--sigma-moment", "0.005", "-o", path("params.json")});
     ASSERT_EQ(r.code, 0) << r;
-    r = run({"simulate", kPumaUrdf, kHoldout, "-o", path("stream.csv"), "--offset", kOffset,
+    r = run({"simulate", kPumaUrdf, kHoldout, "-o", path("stream.csv"), "--sensor-offset", kOffset,
              "--noise-force", "0.05", "--noise-moment", "0.005", "--seed", "3"});
     ASSERT_EQ(r.code, 0) << r;
     r = run({"simulate", kPumaUrdf, kHoldout, "-o", path("truth.csv")});
@@ -559,7 +559,7 @@ TEST_F(Cli, CompensateInMotionWithADynamicFit) {
                     "--rate", "200", "--seed", seed, "--evaluations", "300"});
     EXPECT_EQ(r.code, 0) << r;
     r = run({"simulate", ur, path(name + "_traj.csv"), "-o", path(name + ".csv"), "--dynamic",
-             "--offset", offset});
+             "--sensor-offset", offset});
     EXPECT_EQ(r.code, 0) << r;
     return path(name + ".csv");
   };
@@ -603,7 +603,7 @@ TEST_F(Cli, CompensateInMotionWithADynamicFit) {
     });
     write_file(path("arm_" + name), to_csv(arm));
     const Result s = run({"simulate", ur, path("arm_" + name), "-o", path(name), "--dynamic",
-                          "--sensor", "wrist_3_link", "--offset", "0.1,0.2,0.3,0.01,0.02,0.03"});
+                          "--sensor", "wrist_3_link", "--sensor-offset", "0.1,0.2,0.3,0.01,0.02,0.03"});
     EXPECT_EQ(s.code, 0) << s;
     return arm.rows.size();
   };

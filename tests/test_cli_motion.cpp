@@ -53,9 +53,9 @@ TEST_F(CliMotion, DesignSimulateIdentifyPredict) {
   for (const char* c : {"t", "shoulder_pan_joint", "shoulder_pan_joint_vel",
                         "shoulder_pan_joint_acc", "gx", "gy", "gz"})
     EXPECT_GE(t.col(c), 0) << c;
-  const std::string log =
-      simulate(traj, "log.csv",
-               {"--noise-force", "0.1", "--noise-moment", "0.01", "--offset", "1,2,3,0.1,0.2,0.3"});
+  const std::string log = simulate(
+      traj, "log.csv",
+      {"--noise-force", "0.1", "--noise-moment", "0.01", "--sensor-offset", "1,2,3,0.1,0.2,0.3"});
   Result r = run({"identify", kUrUrdf, log, "--dynamic", "--offset", "-o", path("params.json")});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("condition number (all rows"), std::string::npos) << r;
@@ -178,6 +178,64 @@ TEST_F(CliMotion, ModelDynamicPrintsTheCounts) {
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("base parameters: 44"), std::string::npos) << r;
   EXPECT_NE(r.out.find("kg m^2"), std::string::npos) << r;
+}
+
+TEST_F(CliMotion, OldSpellingsStillWorkAndWarn) {
+  // simulate --offset fx,..,mz is --sensor-offset's old spelling: the same file, and a warning.
+  Result r = run({"simulate", kPumaUrdf, kPumaPlan, "-o", path("new.csv"), "--sensor-offset",
+                  "1,-2,3,0.1,-0.2,0.3"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_EQ(r.err, "");
+  r = run(
+      {"simulate", kPumaUrdf, kPumaPlan, "-o", path("old.csv"), "--offset", "1,-2,3,0.1,-0.2,0.3"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_EQ(r.err,
+            "massid: warning: --offset with six numbers is deprecated: use --sensor-offset\n");
+  EXPECT_EQ(read_file(path("old.csv")), read_file(path("new.csv")));
+  const Table t = read_table(path("new.csv"));
+  r = run({"simulate", kPumaUrdf, kPumaPlan, "-o", path("zero.csv")});
+  const Table zero = read_table(path("zero.csv"));
+  EXPECT_DOUBLE_EQ(t.num(0, "fy") - zero.num(0, "fy"), -2.0);  // the offset is there
+  // model --gravity level|varying is --gravity-model's.
+  r = run({"model", kUrUrdf, "--dynamic", "--gravity-model", "level", "--json"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_EQ(r.err, "");
+  const Result old = run({"model", kUrUrdf, "--dynamic", "--gravity", "level", "--json"});
+  ASSERT_EQ(old.code, 0) << old;
+  EXPECT_EQ(old.out, r.out);
+  EXPECT_EQ(old.err,
+            "massid: warning: --gravity level|varying is deprecated: use --gravity-model\n");
+}
+
+TEST_F(CliMotion, ModelLevelGravityIsTheSensorFramesBelowAWrist) {
+  // The sensor on the wrist: the level root gravity is no single vector in its frame.
+  const Result r =
+      run({"model", kUrUrdf, "--dynamic", "--gravity-model", "level", "--sensor", "wrist_3_link"});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_NE(r.err.find("is below movable joints (shoulder_pan_joint"), std::string::npos) << r;
+  EXPECT_NE(r.err.find("use the varying gravity model"), std::string::npos) << r;
+}
+
+TEST_F(CliMotion, RequestRulesSpeakInOptions) {
+  const std::string data = path("any.csv");  // never read: the rules come first
+  const auto err = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a{"identify", kUrUrdf, data, "-o", path("p.json")};
+    a.insert(a.end(), extra.begin(), extra.end());
+    const Result r = run(a);
+    EXPECT_EQ(r.code, 2) << r;
+    return r.err;
+  };
+  EXPECT_EQ(err({"--delay", "auto"}),
+            "massid: error: --delay goes with --dynamic (a motion log): at rest a lag does not "
+            "matter\n");
+  EXPECT_EQ(err({"--dynamic", "--rest", "off"}),
+            "massid: error: --rest goes with static identification (--dynamic uses every row)\n");
+  EXPECT_EQ(err({"--cutoff", "5"}),
+            "massid: error: --cutoff goes with --dynamic (identification in motion)\n");
+  EXPECT_EQ(err({"--drift", "quadratic"}),
+            "massid: error: --drift: 'quadratic' is not 'linear' or 'per-block'\n");
+  EXPECT_EQ(err({"--dynamic", "--delay", "2ms"}),
+            "massid: error: --delay: '2ms' is not 'auto' or a number of seconds\n");
 }
 
 }  // namespace

@@ -90,7 +90,7 @@ TEST_F(CliPhysical, DynamicIdentifyPrintsTheTableAndPredictUsesIt) {
                   "--rate", "200", "--seed", "1"});
   ASSERT_EQ(r.code, 0) << r;
   r = run({"simulate", kUrUrdf, path("traj.csv"), "-o", path("log.csv"), "--dynamic",
-           "--noise-force", "0.1", "--noise-moment", "0.01", "--offset", "1,2,3,0.1,0.2,0.3",
+           "--noise-force", "0.1", "--noise-moment", "0.01", "--sensor-offset", "1,2,3,0.1,0.2,0.3",
            "--seed", "2"});
   ASSERT_EQ(r.code, 0) << r;
   r = run({"identify", kUrUrdf, path("log.csv"), "--dynamic", "--offset", "--physical", "-o",

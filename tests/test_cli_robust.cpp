@@ -92,7 +92,7 @@ TEST_F(CliRobust, RobustIdentifyRejectsTheSpoiledLines) {
 }
 
 TEST_F(CliRobust, DriftNeedsItsColumn) {
-  const std::string data = puma_data({"--noise-force", "0.05", "--offset", "1,0,0,0,0,0"});
+  const std::string data = puma_data({"--noise-force", "0.05", "--sensor-offset", "1,0,0,0,0,0"});
   expect_input_error(run({"identify", kPumaUrdf, data, "-o", path("p.json"), "--drift", "linear"}),
                      {data, "a linear drift needs a t column", "(--drift linear)"});
   expect_input_error(

@@ -33,7 +33,7 @@ BaseParameters level_base(const Model& model) {
   BaseParameterOptions bo;
   bo.layout = ParameterLayout::full();
   bo.fixed_gravity = true;
-  bo.gravity = kLevel;
+  bo.sensor_gravity = kLevel;
   return find_base_parameters(model, bo);
 }
 

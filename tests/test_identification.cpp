@@ -1,5 +1,5 @@
 // The identification as one object and one file (identification.hpp): what
-// `massid identify --report` hands to the report. identify_log is the fit of
+// `massid identify --report` hands to the report. identify(model, request, source) is the fit of
 // the in-memory path; the record gives it back bit for bit, refuses files
 // that are not records and URDFs that changed since; the parameter scales the
 // report judges std by follow M L^k with L checked on a robot measured by hand.
@@ -15,6 +15,7 @@
 #include "massid/errors.hpp"
 #include "massid/excitation.hpp"
 #include "massid/identification.hpp"
+#include "massid/identify_request.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/read_samples.hpp"
 #include "massid/report.hpp"
@@ -121,7 +122,9 @@ TEST(Identification, StaticLogIsTheInMemoryFitAndItsRecordGivesItBackBitForBit) 
   const test::Example ex = test::examples()[1];  // ur_like
   const std::string log = static_log(load_urdf(ex.urdf), ex.plan, "static.csv");
   IdentifyOptions o;
-  const Identification ident = identify_log(load_urdf(ex.urdf), log, true, o, false);
+  IdentifyRequest request;
+  request.offset = true;
+  const Identification ident = identify(load_urdf(ex.urdf), request, IdentifySource::file(log));
 
   // The same as the in-memory path, step by step.
   const Model model = load_urdf(ex.urdf);
@@ -141,7 +144,8 @@ TEST(Identification, StaticLogIsTheInMemoryFitAndItsRecordGivesItBackBitForBit) 
   expect_same_identification(ident, read_identification(record));
 
   // Without samples: the same fit, nothing kept.
-  const Identification lean = identify_log(load_urdf(ex.urdf), log, true, o, false, {}, false);
+  request.keep_samples = false;
+  const Identification lean = identify(load_urdf(ex.urdf), request, IdentifySource::file(log));
   test::expect_identical(ident.summary, lean.summary);
   EXPECT_EQ(lean.samples.size(), 0);
   EXPECT_EQ(lean.fitted.size(), 0);
@@ -160,9 +164,11 @@ TEST(Identification, MotionLogFromPositionsRoundTripsWithItsFilter) {
   s.qd.resize(0, 0);  // positions and t only: the filter derives the rest
   s.qdd.resize(0, 0);
   const std::string log = write_log("motion.csv", model, s);
-  MotionDataOptions mo;
-  mo.filter.cutoff = 8.0;
-  const Identification ident = identify_log(load_urdf(ex.urdf), log, true, {}, true, mo);
+  IdentifyRequest request;
+  request.offset = true;
+  request.dynamic = true;
+  request.cutoff = 8.0;
+  const Identification ident = identify(load_urdf(ex.urdf), request, IdentifySource::file(log));
   EXPECT_TRUE(ident.motion.derived);
   EXPECT_TRUE(ident.base.motion());
   EXPECT_EQ(ident.samples.size(), ident.summary.samples);
@@ -180,7 +186,7 @@ TEST(Identification, HeldJointsAndTheSensorLinkComeBack) {
   Samples s = test::load_plan(model, ex.plan);
   s.wrench = simulate_wrenches(model, s, {.noise_force = 0.05, .noise_moment = 0.005});
   const std::string log = write_log("held.csv", model, s);
-  const Identification ident = identify_log(model, log, false, {}, false);
+  const Identification ident = identify(model, {}, IdentifySource::file(log));
   const std::string record = scratch("held.record").string();
   write_identification(record, ident);
   const Identification back = read_identification(record);
@@ -195,7 +201,8 @@ TEST(Identification, WarningsComeBackWithTheirHintsAndOldRecordsAsStrings) {
   const Model model = load_urdf(ex.urdf);
   Samples s = test::load_plan(model, ex.plan);
   s.wrench = simulate_wrenches(model, s, {.noise_force = 0.05, .noise_moment = 0.005});
-  Identification ident = identify_log(model, write_log("warned.csv", model, s), false, {}, false);
+  Identification ident =
+      identify(model, {}, IdentifySource::file(write_log("warned.csv", model, s)));
   using Setting = Hint::Setting;
   ident.warnings = {
       {"a note", {}},
@@ -248,7 +255,7 @@ TEST(Identification, WhatIsNotARecordIsAnInputErrorNamingTheFile) {
 
   const std::string log = static_log(load_urdf(ex.urdf), ex.plan, "cut.csv");
   const std::string record = scratch("cut.record").string();
-  write_identification(record, identify_log(load_urdf(ex.urdf), log, false, {}, false));
+  write_identification(record, identify(load_urdf(ex.urdf), {}, IdentifySource::file(log)));
   const auto size = fs::file_size(record);
   fs::resize_file(record, size / 2);
   EXPECT_NE(message(record).find("cut.record: not a massid identification record"),
@@ -261,7 +268,7 @@ TEST(Identification, ARecordWhoseUrdfChangedIsRefused) {
   fs::copy_file(ex.urdf, urdf, fs::copy_options::overwrite_existing);
   const std::string log = static_log(load_urdf(urdf.string()), ex.plan, "changed.csv");
   const std::string record = scratch("changed.record").string();
-  write_identification(record, identify_log(load_urdf(urdf.string()), log, false, {}, false));
+  write_identification(record, identify(load_urdf(urdf.string()), {}, IdentifySource::file(log)));
   // The same robot with its first joint turning about another axis.
   std::ifstream in(urdf);
   std::string xml{std::istreambuf_iterator<char>(in), {}};
@@ -313,6 +320,212 @@ TEST(Identification, ParameterScalesAreMassTimesReachToTheUnitsPower) {
     const int k = unit == "kg" ? 0 : unit == "kg m" ? 1 : 2;
     EXPECT_NEAR(nominal[i], 3.0 * std::pow(L, k), 1e-12) << base.params[i].expression;
     EXPECT_NEAR(identified[i], 4.5 * std::pow(L, k), 1e-12) << base.params[i].expression;
+  }
+}
+
+}  // namespace
+}  // namespace massid
+
+namespace massid {
+namespace {
+
+// ---------------------------------------------------------------------------
+// The request (identify_request.hpp)
+
+// A front end's spelling, for the messages: options with a leading "--".
+std::string dashed_name(Hint::Setting s) {
+  switch (s) {
+    case Hint::Setting::Delay:
+      return "--delay";
+    case Hint::Setting::Rest:
+      return "--rest";
+    case Hint::Setting::Cutoff:
+      return "--cutoff";
+    default:
+      return "--other";
+  }
+}
+std::string dashed_spell(const Hint& h) { return "--" + h.value + "-dynamic"; }
+
+TEST(IdentifyRequest, EachRuleHasItsOneMessage) {
+  struct Rule {
+    const char* what;
+    void (*set)(IdentifyRequest&);
+    const char* message;  // in the library's words
+  };
+  const Rule rules[] = {
+      {"drift word", [](IdentifyRequest& r) { r.drift = "quadratic"; },
+       "drift: 'quadratic' is not 'linear' or 'per-block'"},
+      {"rest word", [](IdentifyRequest& r) { r.rest = "sometimes"; },
+       "rest: 'sometimes' is not 'auto' or 'off'"},
+      {"delay word",
+       [](IdentifyRequest& r) {
+         r.dynamic = true;
+         r.delay = "2ms";
+       },
+       "delay: '2ms' is not 'auto' or a number of seconds"},
+      {"cutoff value",
+       [](IdentifyRequest& r) {
+         r.dynamic = true;
+         r.cutoff = -1.0;
+       },
+       "cutoff: -1 is not a positive number (Hz)"},
+      {"sigma_force", [](IdentifyRequest& r) { r.sigma_force = 0.0; },
+       "sigma_force: 0 is not a positive number"},
+      {"sigma_moment", [](IdentifyRequest& r) { r.sigma_moment = -0.5; },
+       "sigma_moment: -0.5 is not a positive number"},
+      {"root gravity", [](IdentifyRequest& r) { r.root_gravity = Eigen::Vector3d::Zero(); },
+       "root_gravity: 0,0,0 is not a finite, non-zero gravity vector"},
+      {"rest in motion",
+       [](IdentifyRequest& r) {
+         r.dynamic = true;
+         r.rest = "off";
+       },
+       "rest goes with static identification (dynamic=on uses every row)"},
+      {"delay at rest", [](IdentifyRequest& r) { r.delay = "auto"; },
+       "delay goes with dynamic=on (a motion log): at rest a lag does not matter"},
+      {"cutoff at rest", [](IdentifyRequest& r) { r.cutoff = 5.0; },
+       "cutoff goes with dynamic=on (identification in motion)"},
+  };
+  for (const Rule& rule : rules) {
+    IdentifyRequest r;
+    rule.set(r);
+    try {
+      r.validate();
+      ADD_FAILURE() << rule.what << ": no error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), rule.message) << rule.what;
+    }
+  }
+  // Each message names the settings as the caller spells them.
+  IdentifyRequest r;
+  r.delay = "0.002";
+  try {
+    r.validate({&dashed_name, &dashed_spell});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--delay goes with --on-dynamic (a motion log): at rest a lag does not matter");
+  }
+  // What is valid passes, and becomes the estimator's options.
+  IdentifyRequest ok;
+  ok.dynamic = true;
+  ok.delay = "0.002";
+  ok.drift = "per-block";
+  ok.cutoff = 8.0;
+  ok.sigma_force = 0.1;
+  EXPECT_NO_THROW(ok.validate());
+  const IdentifyOptions o = ok.options();
+  EXPECT_EQ(o.delay, 0.002);
+  EXPECT_FALSE(o.delay_auto);
+  EXPECT_EQ(o.drift, Drift::PerBlock);
+  EXPECT_EQ(o.sigma_force, 0.1);
+  EXPECT_FALSE(o.sigma_moment);
+  EXPECT_TRUE(ok.with_offset());  // a drifting offset is an offset
+  EXPECT_EQ(ok.motion_options().filter.cutoff, 8.0);
+  IdentifyRequest rest;
+  rest.rest = "off";
+  EXPECT_EQ(rest.options().rest.detection, RestDetection::Off);
+  EXPECT_EQ(IdentifyRequest{}.options().rest.detection, RestDetection::Auto);
+}
+
+// A file and the same samples in memory: the same numbers. Bit for bit when
+// the file is fitted in memory too (robust: iterated fits); a streamed file
+// (identify_file, identify_motion_file) agrees to round-off.
+void expect_file_and_memory_agree(const Model& model, IdentifyRequest request,
+                                  const std::string& log) {
+  const Samples raw =
+      read_samples(model, read_csv(log), WrenchColumns::Required, request.sample_options());
+  const Identification streamed = identify(model, request, IdentifySource::file(log));
+  test::expect_same_summary(streamed.summary,
+                            identify(model, request, IdentifySource::data(raw)).summary, 1e-9);
+  request.robust = true;
+  const Identification file = identify(model, request, IdentifySource::file(log));
+  const Identification memory = identify(model, request, IdentifySource::data(raw));
+  test::expect_identical(file.summary, memory.summary);
+  EXPECT_EQ(file.summary.residual_dof, memory.summary.residual_dof);
+  EXPECT_EQ(file.base.K, memory.base.K);
+  EXPECT_EQ(file.fitted, memory.fitted);
+  EXPECT_EQ(file.samples.q, memory.samples.q);
+  EXPECT_EQ(file.samples.wrench, memory.samples.wrench);
+  ASSERT_EQ(file.warnings.size(), memory.warnings.size());
+}
+
+TEST(IdentifyRequest, FileAndMemoryGiveTheSameNumbersOnAStaticLog) {
+  const test::Example ex = test::examples()[1];  // ur_like
+  const Model model = load_urdf(ex.urdf);
+  const std::string log = static_log(model, ex.plan, "request_static.csv");
+  IdentifyRequest request;
+  request.offset = true;
+  request.sigma_force = 0.05;  // given noise: a different estimator path
+  expect_file_and_memory_agree(model, request, log);
+  request.sigma_force.reset();
+  request.physical = true;
+  expect_file_and_memory_agree(model, request, log);
+}
+
+TEST(IdentifyRequest, FileAndMemoryGiveTheSameNumbersOnAMotionLog) {
+  const test::Example ex = test::examples()[1];
+  const Model model = load_urdf(ex.urdf);
+  Samples s = sample_trajectory(random_fourier_trajectory(model, 4, 5.0, 7), 10.0, 200.0,
+                                Eigen::Vector3d(0, 0, -kStandardGravity));
+  SimulateOptions so;
+  so.dynamic = true;
+  so.noise_force = 0.05;
+  so.noise_moment = 0.005;
+  s.wrench = simulate_wrenches(model, s, so);
+  s.qd.resize(0, 0);  // positions and t only: the filter derives the rest
+  s.qdd.resize(0, 0);
+  const std::string log = write_log("request_motion.csv", model, s);
+  IdentifyRequest request;
+  request.offset = true;
+  request.dynamic = true;
+  request.cutoff = 8.0;
+  expect_file_and_memory_agree(model, request, log);
+  request.delay = "0.01";  // moved by two rows
+  expect_file_and_memory_agree(model, request, log);
+}
+
+// A sensor below a fixed joint turned a quarter turn about x: the root's
+// gravity, along -z, is along -y in the sensor frame (R_x(pi/2)^T (0,0,-g) =
+// R_x(-pi/2) (0,0,-g) = (0,-g,0)).
+constexpr const char* kTurnedSensor = R"(<robot name="turned">
+  <link name="world"/>
+  <link name="plate"/>
+  <joint name="mount" type="fixed"><parent link="world"/><child link="plate"/>
+    <origin xyz="0 0 0.1" rpy="1.5707963267948966 0 0"/></joint>
+  <link name="arm"><inertial><origin xyz="0.3 0.05 0.02"/><mass value="2"/>
+    <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.3"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="plate"/><child link="arm"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+</robot>)";
+
+TEST(IdentifyRequest, LevelGravityReachesTheReductionInTheSensorFrame) {
+  const Model model = load_urdf_string(kTurnedSensor, "plate");
+  const Eigen::Vector3d root(0, 0, -kStandardGravity);
+  const Eigen::Vector3d g = fixed_sensor_gravity(model, root);
+  EXPECT_LT((g - Eigen::Vector3d(0, -kStandardGravity, 0)).norm(), 1e-12) << g.transpose();
+  // The reduction for a level platform with the sensor-frame vector: the one
+  // identify finds from a level log (motion_base_options).
+  BaseParameterOptions o;
+  o.layout = ParameterLayout::full();
+  o.offset = true;
+  o.fixed_gravity = true;
+  o.sensor_gravity = g;
+  const BaseParameters right = find_base_parameters(model, o);
+  Samples level;
+  level.gravity = g.transpose().replicate(3, 1);
+  level.q = Eigen::MatrixXd::Zero(3, model.num_joints());
+  const BaseParameters from_log = find_base_parameters(model, motion_base_options(level, true));
+  EXPECT_EQ(right.K, from_log.K);
+  // Below a movable joint, gravity in the sensor frame turns with it.
+  const Model wrist = load_urdf_string(kTurnedSensor, "arm");
+  try {
+    fixed_sensor_gravity(wrist, root);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("below movable joints (shoulder)"), std::string::npos)
+        << e.what();
   }
 }
 

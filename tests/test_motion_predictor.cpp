@@ -245,7 +245,7 @@ TEST(MotionPredictor, FixedGravityWithOffsets) {
     MotionPredictorData data(pred);
     for (int k = 0; k < 20; ++k) {
       Motion m = random_motion(model, rng, false);
-      m.g = base.gravity;
+      m.g = base.sensor_gravity;
       base_regressor(model, base, reg, m.q, m.qd, m.qdd, m.g, m.sensor);
       const Wrench expected = reg.base * values;
       EXPECT_LE((predict(pred, data, m) + pred.offset - expected).norm(), 1e-10 * expected.norm())

@@ -24,6 +24,7 @@
 #include "massid/estimation.hpp"
 #include "massid/excitation.hpp"
 #include "massid/identification.hpp"
+#include "massid/identify_request.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/read_samples.hpp"
@@ -56,7 +57,7 @@ void expect_same_base(const BaseParameters& a, const BaseParameters& b) {
   EXPECT_EQ(a.fixed_gravity, b.fixed_gravity);
   EXPECT_EQ(a.sensor_moving, b.sensor_moving);
   EXPECT_EQ(a.offset, b.offset);
-  EXPECT_EQ(a.gravity, b.gravity);
+  EXPECT_EQ(a.sensor_gravity, b.sensor_gravity);
 }
 
 // ------------------------------------------------------------ the accumulator
@@ -679,7 +680,7 @@ TEST_F(MotionCsvTest, StaticWristLogTakesGravityFromTheArmJoints) {
 TEST_F(MotionCsvTest, StaticWristLogWithRootGravityEveryReaderAgreesWithTheUrdf) {
   // A tool on a wrist sensor at rest, the arm on a tilted wall: a log without
   // gx,gy,gz. Every reader (in memory, streamed, identify_file and
-  // identify_log as the CLI and Python run them, the arrays of Python) takes
+  // identify(model, request, source) as the CLI and Python run them, the arrays of Python) takes
   // gravity from the arm's joints and the root gravity given, and the fit
   // finds the URDF's tool.
   const Model arm = load_urdf(test::kUrLikeUrdf);
@@ -744,9 +745,10 @@ TEST_F(MotionCsvTest, StaticWristLogWithRootGravityEveryReaderAgreesWithTheUrdf)
   expect_same_motion_summary(dense, streamed, 1e-9);
   // As massid identify and massid.identify(path) run it.
   expect_same_motion_summary(dense, identify_file(model, base, f, {}, nullptr, read), 1e-9);
-  MotionDataOptions mo;
-  mo.samples = read;
-  expect_same_motion_summary(dense, identify_log(model, f, false, {}, false, mo).summary, 1e-9);
+  IdentifyRequest request;
+  request.root_gravity = read.root_gravity;
+  expect_same_motion_summary(dense, identify(model, request, IdentifySource::file(f)).summary,
+                             1e-9);
   // The set-up checks read the same gravity: no error.
   SetupCheckOptions checks;
   checks.read = read;

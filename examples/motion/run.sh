@@ -53,7 +53,7 @@ drop_columns() {
 
 echo "== 1. UR5-like arm on a base sensor: output in $OUT"
 echo "-- massid model --dynamic: what a level platform with an unknown sensor offset can determine"
-"$M" model "$URDF" --dynamic --gravity level --offset | grep -E "^(standard|motion|base) "
+"$M" model "$URDF" --dynamic --gravity-model level --offset | grep -E "^(standard|motion|base) "
 
 echo
 echo "-- massid design --dynamic: 20 s at 500 Hz, Fourier series, at rest at both ends"
@@ -62,7 +62,7 @@ echo "-- massid design --dynamic: 20 s at 500 Hz, Fourier series, at rest at bot
 
 echo
 echo "-- massid simulate --dynamic: noise 0.1 N / 0.01 N m, offset $OFFSET"
-"$M" simulate "$URDF" traj.csv -o log.csv --dynamic "${NOISE[@]}" --offset "$OFFSET" --seed 3
+"$M" simulate "$URDF" traj.csv -o log.csv --dynamic "${NOISE[@]}" --sensor-offset "$OFFSET" --seed 3
 
 echo
 echo "-- massid identify --dynamic --offset (base parameters p1..p40 in params.json)"
@@ -72,7 +72,7 @@ python3 "$HERE/compare_truth.py" "$URDF" params.json | tail -n 1
 echo
 echo "-- massid predict along another trajectory (design --seed 2), its own noise"
 "$M" design "$URDF" --dynamic -o traj2.csv "${DESIGN[@]}" --seed 2 >/dev/null
-"$M" simulate "$URDF" traj2.csv -o log2.csv --dynamic "${NOISE[@]}" --offset "$OFFSET" \
+"$M" simulate "$URDF" traj2.csv -o log2.csv --dynamic "${NOISE[@]}" --sensor-offset "$OFFSET" \
   --seed 4 >/dev/null
 "$M" predict "$URDF" params.json log2.csv -o predicted2.csv
 

@@ -46,8 +46,10 @@ struct BaseParameter {
 // random configurations of the reduction imitate.
 //   Rest (first-moment layout): random q and gravity directions, as above.
 //   Motion (full layout): random q, qd, qdd; gravity in random directions, or
-//   fixed (`gravity`: a level platform, whose data cannot tell some constants
-//   from the offsets); the sensor frame at rest unless `sensor_moving`.
+//   fixed (`sensor_gravity`, in the sensor frame: a level platform, whose data
+//   cannot tell some constants from the offsets; from a root-frame vector:
+//   fixed_sensor_gravity, kinematics.hpp); the sensor frame at rest unless
+//   `sensor_moving`.
 // In motion the preference order is M_t, each link's first moments and
 // inertia (from the sensor outwards), then the other masses; with offsets and a fixed
 // gravity, columns in the span of the offsets are not identifiable and join
@@ -55,10 +57,10 @@ struct BaseParameter {
 struct BaseParameterOptions {
   ParameterLayout layout = ParameterLayout::first_moments();
   bool sensor_moving = false;  // motion: the sensor frame moves (platform, upstream joints)
-  bool fixed_gravity = false;  // motion: gravity is `gravity` in every sample
-  Eigen::Vector3d gravity{0.0, 0.0, -9.80665};
-  bool offset = false;            // six sensor offsets join the unknowns
-  double rank_tolerance = 1e-8;   // on unit-norm columns, see above
+  bool fixed_gravity = false;  // motion: gravity is `sensor_gravity` in every sample
+  Eigen::Vector3d sensor_gravity{0.0, 0.0, -9.80665};  // the sensor frame, m/s^2
+  bool offset = false;                                 // six sensor offsets join the unknowns
+  double rank_tolerance = 1e-8;                        // on unit-norm columns, see above
   int samples = 0;                // random configurations; 0: max(40, 2 * standard)
   std::uint64_t seed = 20260101;  // fixed: the basis is a property of the model
 };
@@ -70,7 +72,7 @@ struct BaseParameters {
   ParameterLayout layout = ParameterLayout::first_moments();  // standard parameters (K's columns)
   bool sensor_moving = false;  // the reduction's assumptions (BaseParameterOptions)
   bool fixed_gravity = false;
-  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sensor_gravity = Eigen::Vector3d::Zero();  // the sensor frame
   int total_mass = 0;   // index of M in params; -1 when not identifiable
   bool offset = false;  // unknowns = params, then fx fy fz mx my mz offsets
   double rank_tolerance = 0.0;

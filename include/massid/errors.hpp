@@ -34,6 +34,9 @@ struct Hint {
     SigmaForce,    // the force noise, N
     SigmaMoment,   // the moment noise, N m
     LevelPoses,    // the share of level poses of a tilted design
+    // Identification (identify_request.hpp):
+    Rest,         // the rest windows of a static log: "auto" or "off"
+    RootGravity,  // gravity in the URDF root frame, gx,gy,gz
   };
   Setting setting;
   std::string value;  // empty: the setting itself

@@ -46,15 +46,16 @@ struct IdentifyOptions {
   Drift drift = Drift::None;
   // A static log with t recorded while the robot moved from pose to pose:
   // only its rest windows are samples (rest_windows.hpp; identify_file and
-  // identify_log apply it, identify() takes the samples as given).
+  // identify(model, request, source) of identify_request.hpp apply it; identify()
+  // takes the samples as given).
   RestWindowOptions rest;
   // Motion logs: the lag of the wrench behind the joints (delay.hpp), s: given,
-  // or estimated within +-max_delay (delay_auto). identify_log applies it.
+  // or estimated within +-max_delay (delay_auto). identify_request.hpp applies it.
   std::optional<double> delay;
   bool delay_auto = false;
   double max_delay = 0.02;
   // Physically consistent standard parameters fitted to the identified base
-  // parameters (physical.hpp): identify_log applies it, identify() ignores it.
+  // parameters (physical.hpp): identify_request.hpp applies it, identify() ignores it.
   std::optional<PhysicalOptions> physical;
 };
 

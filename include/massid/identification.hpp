@@ -34,15 +34,6 @@ struct Identification {
   std::optional<PhysicalSummary> physical;
 };
 
-// A data file identified as `massid identify` does it (identify_file, or in
-// motion identify_motion_file: streamed where it can be), with the warnings
-// and, when `keep_samples`, every sample and the fitted wrenches (without:
-// no samples, constant memory for any log). `model` is moved into the result.
-// With options.physical, fit_physical (physical.hpp) on the fit, in `physical`.
-Identification identify_log(Model model, const std::string& path, bool offset,
-                            const IdentifyOptions& options, bool dynamic,
-                            const MotionDataOptions& motion_options = {}, bool keep_samples = true);
-
 // Warnings about an identification, each message one line starting with the
 // source and without a prefix or newline (the CLI prints "massid: warning: "
 // and the hints as options): a huge condition number, an estimated noise level

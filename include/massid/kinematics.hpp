@@ -68,6 +68,13 @@ SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen:
                                const Eigen::Ref<const Eigen::VectorXd>& qdu,
                                const Eigen::Ref<const Eigen::VectorXd>& qddu);
 
+// Gravity in the sensor frame for `root_gravity` in the URDF root frame, when
+// the chain above the sensor link (Model::upstream) has no movable joint: its
+// fixed rotation applied (the root gravity as it is when the sensor link is
+// the root). InputError naming the movable joints otherwise: gravity in the
+// sensor frame then turns with them and is no single vector.
+Eigen::Vector3d fixed_sensor_gravity(const Model& model, const Eigen::Vector3d& root_gravity);
+
 // The robot's size: the largest distance from the sensor origin of a link
 // origin or centre of mass over 256 configurations spread over the joints'
 // ranges (limits where given, else a full turn or +-1 m; a fixed seed: a

@@ -14,6 +14,7 @@
 #include "identify_file.hpp"
 #include "massid/delay.hpp"
 #include "massid/errors.hpp"
+#include "massid/identify_request.hpp"
 #include "massid/params_file.hpp"
 #include "massid/params_json.hpp"
 #include "massid/physical.hpp"
@@ -54,95 +55,43 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
                             std::optional<double> sigma_moment, bool checks, bool dynamic,
                             std::optional<double> cutoff,
                             std::optional<std::vector<double>> root_gravity,
-                            const std::string& rest, const py::object& delay, bool physical) {
+                            std::optional<std::string> rest, const py::object& delay,
+                            bool physical) {
+  // The keywords as a request (identify_request.hpp), checked by its rules.
+  IdentifyRequest request;
+  request.offset = offset;
+  request.dynamic = dynamic;
+  request.robust = robust;
+  request.physical = physical;
+  request.drift = drift.value_or("");
+  request.rest = rest.value_or("");
+  if (!delay.is_none())
+    request.delay = py::isinstance<py::str>(delay) ? delay.cast<std::string>()
+                                                   : fmt::format("{}", delay.cast<double>());
+  request.cutoff = cutoff;
+  request.sigma_force = sigma_force;
+  request.sigma_moment = sigma_moment;
+  if (root_gravity) request.root_gravity = root_gravity_of(root_gravity);
+  request.validate(spelling());
+  Model model = model_of(robot, sensor, fixed);  // a URDF path or a Model
+  std::vector<Warning> notes;
   Identification out;
-  out.model = model_of(robot, sensor, fixed);
-  IdentifyOptions opts;
-  opts.robust = robust;
-  if (drift) {
-    if (*drift == "linear")
-      opts.drift = Drift::Linear;
-    else if (*drift == "per-block")
-      opts.drift = Drift::PerBlock;
-    else
-      throw InputError(fmt::format("drift: '{}' is not 'linear' or 'per-block'", *drift));
-  }
-  for (auto [value, name] : {std::pair{sigma_force, "sigma_force"}, {sigma_moment, "sigma_moment"}})
-    if (value && !(*value > 0 && std::isfinite(*value)))
-      throw InputError(fmt::format("{}: {} is not a positive number", name, *value));
-  if (rest != "auto" && rest != "off")
-    throw InputError(fmt::format("rest: '{}' is not 'auto' or 'off'", rest));
-  if (dynamic && rest != "auto") throw InputError("rest goes with static identification");
-  if (rest == "off") opts.rest.detection = RestDetection::Off;
-  if (!delay.is_none()) {
-    if (!dynamic) throw InputError("delay goes with dynamic=True (a motion log)");
-    if (py::isinstance<py::str>(delay)) {
-      if (delay.cast<std::string>() != "auto")
-        throw InputError(fmt::format("delay: '{}' is not 'auto' or a number of seconds",
-                                     delay.cast<std::string>()));
-      opts.delay_auto = true;
-    } else {
-      opts.delay = delay.cast<double>();
-      if (!std::isfinite(*opts.delay)) throw InputError("delay: not a finite number of seconds");
-    }
-  }
-  opts.sigma_force = sigma_force;
-  opts.sigma_moment = sigma_moment;
-  if (physical) opts.physical = PhysicalOptions{};
-  if (!dynamic && cutoff)
-    throw InputError("cutoff goes with dynamic=True (identification in motion)");
-  BaseParameterOptions bopts;
-  bopts.offset = offset || opts.drift != Drift::None;  // a drifting offset is an offset
-
   if (is_path(data)) {
-    // As massid identify [--dynamic] (identification.hpp): streamed where it can be.
+    // As massid identify [--dynamic]: streamed where it can be.
     const std::string path = path_of(data);
-    std::vector<Warning> notes;
-    if (checks)
-      notes = run_checks(out.model, data, nullptr, {}, dynamic,
-                         motion_data_options(cutoff, root_gravity).samples);
-    {
-      py::gil_scoped_release release;
-      out = identify_log(std::move(out.model), path, bopts.offset, opts, dynamic,
-                         motion_data_options(cutoff, root_gravity));
-    }
-    out.warnings.insert(out.warnings.begin(), notes.begin(), notes.end());
+    if (checks) notes = run_checks(model, data, nullptr, {}, dynamic, request.sample_options());
+    py::gil_scoped_release release;
+    out = identify(std::move(model), request, IdentifySource::file(path));
   } else {
     // Columns in memory: the same steps on the samples.
     std::vector<std::string> header;
-    std::vector<Warning> notes;
-    RestWindows rest_windows;
-    DelayEstimate delay_applied;
-    if (dynamic) {
-      out.motion_options = motion_data_options(cutoff, root_gravity);
-      Samples raw =
-          samples_of(out.model, data, WrenchColumns::Required, &header, out.motion_options.samples);
-      if (checks) notes = run_checks(out.model, data, &raw, header, dynamic);
-      py::gil_scoped_release release;
-      out.samples = aligned_motion_samples(out.model, std::move(raw), bopts.offset, opts,
-                                           out.motion_options, &delay_applied, &out.motion);
-      out.base = find_base_parameters(out.model, motion_base_options(out.samples, bopts.offset));
-    } else {
-      Samples all = samples_of(out.model, data, WrenchColumns::Required, &header,
-                               motion_data_options(cutoff, root_gravity).samples);
-      if (checks) notes = run_checks(out.model, data, &all, header, dynamic);
-      rest_windows = find_rest_windows(all, opts.rest);  // as identify_file
-      out.samples = rest_windows.continuous ? rest_samples(all, rest_windows) : std::move(all);
-      out.base = find_base_parameters(out.model, bopts);
-    }
-    {
-      py::gil_scoped_release release;
-      out.summary = identify(out.model, out.base, out.samples, opts);
-      out.summary.rest = rest_windows;
-      out.summary.delay = delay_applied;
-      out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
-      if (opts.physical)  // as identify_log
-        out.physical = fit_physical(out.model, out.base, out.summary, *opts.physical);
-    }
-    out.warnings = notes;
-    for (Warning& w : identification_notes(out.summary, out.samples.source))
-      out.warnings.push_back(std::move(w));
+    Samples raw =
+        samples_of(model, data, WrenchColumns::Required, &header, request.sample_options());
+    if (checks) notes = run_checks(model, data, &raw, header, dynamic);
+    py::gil_scoped_release release;
+    out = identify(std::move(model), request, IdentifySource::data(std::move(raw)));
   }
+  out.warnings.insert(out.warnings.begin(), notes.begin(), notes.end());
   const py::object warn = py::module_::import("warnings").attr("warn");
   const py::object category = py::module_::import("massid").attr("MassidWarning");
   for (const Warning& w : out.warnings) warn(with_hints(w.message, w.hints), category, 3);
@@ -445,7 +394,7 @@ a record or whose URDF no longer gives the same base parameters.)");
         py::arg("robust") = false, py::arg("drift") = py::none(),
         py::arg("sigma_force") = py::none(), py::arg("sigma_moment") = py::none(),
         py::arg("checks") = true, py::arg("dynamic") = false, py::arg("cutoff") = py::none(),
-        py::arg("root_gravity") = py::none(), py::arg("rest") = "auto",
+        py::arg("root_gravity") = py::none(), py::arg("rest") = py::none(),
         py::arg("delay") = py::none(), py::arg("physical") = false,
         R"(Identifies the base parameters from measured wrenches (massid identify [--dynamic]).
 
@@ -455,8 +404,8 @@ sensor offsets; sensor: sensor link; fixed: joints held still, name -> position;
 robust: reject samples with implausible residuals; drift: 'linear' (column t) or
 'per-block' (column block); sigma_force / sigma_moment: noise (default: from residuals);
 checks: the set-up checks (sign, frame, units, gravity, columns). rest: a static log
-with t recorded while the robot moved from pose to pose: 'auto' uses only its rest
-windows (.rest_windows says which), 'off' every row. delay (dynamic): the lag of the wrench
+with t recorded while the robot moved from pose to pose: 'auto' (None: the default) uses
+only its rest windows (.rest_windows says which), 'off' every row. delay (dynamic): the lag of the wrench
 behind the joint stream, s (positive when the wrench arrives late), or 'auto' to estimate it
 within +-20 ms (.delay says what was applied). physical: also fit ten physically consistent
 standard parameters per link that reproduce the base parameters, the URDF's inertials where the

@@ -10,6 +10,7 @@
 #include "convert.hpp"
 #include "massid/base_regressor.hpp"
 #include "massid/errors.hpp"
+#include "massid/kinematics.hpp"
 #include "massid/params_file.hpp"
 #include "massid/params_json.hpp"
 #include "massid/regressor.hpp"
@@ -282,32 +283,44 @@ void bind_model(py::module_& m) {
 
   m.def(
       "base_parameters",
-      [](const py::object& robot, bool offset, bool dynamic, const std::string& gravity,
-         bool moving_sensor, std::optional<std::vector<double>> root_gravity) {
+      [](const py::object& robot, bool offset, bool dynamic,
+         std::optional<std::string> gravity_model, bool moving_sensor,
+         std::optional<std::vector<double>> root_gravity, std::optional<std::string> gravity) {
+        if (gravity) {  // the old spelling of gravity_model
+          py::module_::import("warnings")
+              .attr("warn")("gravity='level'|'varying' is deprecated: use gravity_model=",
+                            py::module_::import("builtins").attr("DeprecationWarning"), 2);
+          if (!gravity_model) gravity_model = gravity;
+        }
+        const std::string model_of_gravity = gravity_model.value_or("varying");
         const Model model = model_of(robot, std::nullopt, std::nullopt);
         BaseParameterOptions o;
         o.offset = offset;
-        if (gravity != "level" && gravity != "varying")
-          throw InputError(fmt::format("gravity: '{}' is not 'level' or 'varying'", gravity));
+        if (model_of_gravity != "level" && model_of_gravity != "varying")
+          throw InputError(
+              fmt::format("gravity_model: '{}' is not 'level' or 'varying'", model_of_gravity));
         if (dynamic) {
           o.layout = ParameterLayout::full();
-          o.fixed_gravity = gravity == "level";
+          o.fixed_gravity = model_of_gravity == "level";
           o.sensor_moving = moving_sensor;
-          if (root_gravity) o.gravity = root_gravity_of(root_gravity);
-        } else if (gravity != "varying" || moving_sensor || root_gravity) {
-          throw InputError("gravity, moving_sensor and root_gravity go with dynamic=True");
+          // The root frame's gravity as the sensor frame sees it.
+          if (o.fixed_gravity)
+            o.sensor_gravity = fixed_sensor_gravity(model, root_gravity_of(root_gravity));
+        } else if (model_of_gravity != "varying" || moving_sensor || root_gravity) {
+          throw InputError("gravity_model, moving_sensor and root_gravity go with dynamic=True");
         }
         py::gil_scoped_release release;
         return PyBase{model, find_base_parameters(model, o)};
       },
       py::arg("model"), py::arg("offset") = false, py::kw_only(), py::arg("dynamic") = false,
-      py::arg("gravity") = "varying", py::arg("moving_sensor") = false,
-      py::arg("root_gravity") = py::none(),
+      py::arg("gravity_model") = py::none(), py::arg("moving_sensor") = false,
+      py::arg("root_gravity") = py::none(), py::arg("gravity") = py::none(),
       "The base parameters of the model (a Model or a URDF path; massid model [--dynamic]); "
       "offset=True adds the six sensor offsets as unknowns. dynamic=True: in motion, ten "
-      "parameters per link; gravity='level' (the same gravity, root_gravity, in every sample: "
-      "some constants join the offsets) or 'varying' (a tilting platform); moving_sensor: the "
-      "sensor frame itself moves.");
+      "parameters per link; gravity_model='level' (the same gravity, root_gravity in the root "
+      "frame, in every sample: some constants join the offsets) or 'varying' (a tilting "
+      "platform; the default); moving_sensor: the sensor frame itself moves. gravity= is the "
+      "deprecated spelling of gravity_model=.");
 
   m.def(
       "standard_regressor",

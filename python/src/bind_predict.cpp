@@ -381,8 +381,17 @@ void bind_predict(py::module_& m) {
   m.def(
       "simulate",
       [](const py::object& robot, const py::object& plan, double noise_force, double noise_moment,
-         std::optional<std::vector<double>> offset, std::uint64_t seed, int repeat, bool dynamic,
-         std::optional<std::vector<double>> root_gravity) {
+         std::optional<std::vector<double>> sensor_offset, std::uint64_t seed, int repeat,
+         bool dynamic, std::optional<std::vector<double>> root_gravity,
+         std::optional<std::vector<double>> offset) {
+        if (offset) {  // the old spelling of sensor_offset
+          if (sensor_offset)
+            throw InputError("offset= is the old spelling of sensor_offset=: give one");
+          py::module_::import("warnings")
+              .attr("warn")("offset= with six numbers is deprecated: use sensor_offset=",
+                            py::module_::import("builtins").attr("DeprecationWarning"), 2);
+          sensor_offset = std::move(offset);
+        }
         const Model model = model_of(robot, std::nullopt, std::nullopt);
         SampleOptions sopts;
         sopts.root_gravity = root_gravity_of(root_gravity);
@@ -416,9 +425,10 @@ void bind_predict(py::module_& m) {
         if (repeat < 1) throw InputError("repeat must be >= 1");
         o.noise_force = noise_force;
         o.noise_moment = noise_moment;
-        if (offset) {
-          if (offset->size() != 6) throw InputError("offset: six numbers fx, fy, fz, mx, my, mz");
-          o.offset = Eigen::Map<const Wrench>(offset->data());
+        if (sensor_offset) {
+          if (sensor_offset->size() != 6)
+            throw InputError("sensor_offset: six numbers fx, fy, fz, mx, my, mz");
+          o.offset = Eigen::Map<const Wrench>(sensor_offset->data());
         }
         o.seed = seed;
         o.repeat = repeat;
@@ -436,8 +446,9 @@ void bind_predict(py::module_& m) {
         return out;
       },
       py::arg("robot"), py::arg("plan"), py::kw_only(), py::arg("noise_force") = 0.0,
-      py::arg("noise_moment") = 0.0, py::arg("offset") = py::none(), py::arg("seed") = 1,
+      py::arg("noise_moment") = 0.0, py::arg("sensor_offset") = py::none(), py::arg("seed") = 1,
       py::arg("repeat") = 1, py::arg("dynamic") = false, py::arg("root_gravity") = py::none(),
+      py::arg("offset") = py::none(),
       "The plan's columns (each repeated `repeat` times) with the wrenches fx ... mz that the "
       "URDF's inertials would produce, plus Gaussian noise (N, N m) and a constant offset: a "
       "data set for identify.\n"

@@ -51,6 +51,10 @@ const char* keyword(Hint::Setting s) {
       return "sigma_moment";
     case Hint::Setting::LevelPoses:
       return "level_poses";
+    case Hint::Setting::Rest:
+      return "rest";
+    case Hint::Setting::RootGravity:
+      return "root_gravity";
   }
   return "";
 }
@@ -96,10 +100,18 @@ std::string spell(const Hint& hint) {
     }
     case Hint::Setting::SensorLink:
       return "sensor='" + or_placeholder(v, "LINK") + "'";
+    case Hint::Setting::Rest:
+      return "rest='" + or_placeholder(v, "auto") + "'";
+    case Hint::Setting::RootGravity:
+      return "root_gravity=" + (v.empty() ? std::string("[gx, gy, gz]") : "[" + v + "]");
     default:
       return v.empty() ? k : k + "=" + v;
   }
 }
+
+std::string name(Hint::Setting setting) { return keyword(setting); }
+
+SettingSpelling spelling() { return {&name, &spell}; }
 
 std::string with_hints(const std::string& message, const std::vector<Hint>& hints) {
   if (hints.empty()) return message;

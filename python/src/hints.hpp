@@ -8,11 +8,18 @@
 #include <vector>
 
 #include "massid/errors.hpp"
+#include "massid/identify_request.hpp"
 
 namespace massid::python {
 
 // One hint as keywords, e.g. {HoldJoints, "a=1 b=2"} -> "fixed={'a': 1, 'b': 2}".
 std::string spell(const Hint& hint);
+
+// A setting's keyword alone, e.g. Delay -> "delay".
+std::string name(Hint::Setting setting);
+
+// This module's spelling of the request's rules (identify_request.hpp).
+SettingSpelling spelling();
 
 // message, then the hints in parentheses: "... (fixed={'elbow': 0.3})".
 std::string with_hints(const std::string& message, const std::vector<Hint>& hints);

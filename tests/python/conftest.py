@@ -98,7 +98,7 @@ def puma_holdout() -> Path:
 def puma_data(massid: Any, puma_urdf: Path, puma_holdout: Path) -> dict[str, np.ndarray]:
     """200 simulated samples with sensor noise and a sensor offset (three+ gravity directions)."""
     return massid.simulate(str(puma_urdf), str(puma_holdout), noise_force=0.05,
-                           noise_moment=0.005, offset=[1.0, -2.0, 3.0, 0.1, -0.2, 0.3], seed=3)
+                           noise_moment=0.005, sensor_offset=[1.0, -2.0, 3.0, 0.1, -0.2, 0.3], seed=3)
 
 
 @pytest.fixture(scope="session")
@@ -166,7 +166,7 @@ def ur_positions(massid: Any, ur_trajectory: Mapping[str, Any]) -> dict[str, np.
     """A log of positions, t, gravity and the wrench only (with a sensor offset): the
     derivatives are to be derived by the filter."""
     data = massid.simulate(str(UR), ur_trajectory, dynamic=True, noise_force=0.1, noise_moment=0.01,
-                           offset=MOTION_OFFSET, seed=6)
+                           sensor_offset=MOTION_OFFSET, seed=6)
     return {k: v for k, v in data.items() if not k.endswith(("_vel", "_acc"))}
 
 

@@ -157,7 +157,7 @@ def puma_static(massid: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[s
     """Noise-free data with an offset at the first 100 of the 200 held-out poses (tilted up to
     25 degrees in any direction), identified with offsets; the other 100 to check."""
     urdf = PUMA / "puma260.urdf"
-    data = massid.simulate(str(urdf), str(PUMA / "holdout.csv"), offset=OFFSET)
+    data = massid.simulate(str(urdf), str(PUMA / "holdout.csv"), sensor_offset=OFFSET)
     params = tmp_path_factory.mktemp("ctypes") / "static.json"
     massid.identify(str(urdf), {k: v[:100] for k, v in data.items()}, offset=True).save(str(params))
     # the URDF's wrench at the other 100 poses, without the offset
@@ -233,7 +233,7 @@ def ur_dynamic(massid: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[st
     traj["gx"], traj["gy"], traj["gz"] = (np.zeros_like(t), g0 * np.sin(tilt), -g0 * np.cos(tilt))
     for k, name in enumerate(("wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az")):
         traj[name] = (0.3 + 0.1 * k) * np.sin((0.5 + 0.23 * k) * t + k)
-    data = massid.simulate(str(UR), traj, dynamic=True, offset=OFFSET)
+    data = massid.simulate(str(UR), traj, dynamic=True, sensor_offset=OFFSET)
     params = tmp_path_factory.mktemp("ctypes") / "dynamic.json"
     massid.identify(str(UR), data, dynamic=True, offset=True).save(str(params))
     return {"params": params, "data": data}

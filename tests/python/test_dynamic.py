@@ -134,7 +134,7 @@ def test_motion_regressor_is_the_numpy_newton_euler(massid: Any, urdf: Path) -> 
 def test_dynamic_base_regressor_loses_nothing(massid: Any, gravity: str) -> None:
     """Y pi = Y_b K pi for any pi (at the reduction's gravity when it is level)."""
     model = massid.load_model(UR)
-    base = massid.base_parameters(model, dynamic=True, gravity=gravity)
+    base = massid.base_parameters(model, dynamic=True, gravity_model=gravity)
     assert base.dynamic and base.gravity == gravity and base.K.shape == (len(base.names), 10 * model.num_links)
     assert base.standard_parameter_names == model.parameter_names(dynamic=True)
     q, qd, qdd, g = random_motion(model, 30, np.random.default_rng(11))
@@ -148,15 +148,15 @@ def test_dynamic_base_regressor_loses_nothing(massid: Any, gravity: str) -> None
         np.testing.assert_array_equal(massid.regressor(model, q, g, qd=qd, qdd=qdd), Yb)
 
 
-@pytest.mark.parametrize("args", [["--dynamic"], ["--dynamic", "--gravity", "level", "--offset"],
+@pytest.mark.parametrize("args", [["--dynamic"], ["--dynamic", "--gravity-model", "level", "--offset"],
                                   ["--dynamic", "--moving-sensor"]])
 def test_base_parameters_are_the_clis_model_output(massid: Any, args: list[str]) -> None:
     kw = {"dynamic": True, "offset": "--offset" in args, "moving_sensor": "--moving-sensor" in args,
-          "gravity": "level" if "level" in args else "varying"}
+          "gravity_model": "level" if "level" in args else "varying"}
     base = massid.base_parameters(str(UR), **kw)
     assert base.to_json() == run_cli("model", UR, *args, "--json").stdout
     assert base.report() == run_cli("model", UR, *args).stdout
-    assert base.total_mass_identifiable == (kw["gravity"] == "varying" or not kw["offset"])
+    assert base.total_mass_identifiable == (kw["gravity_model"] == "varying" or not kw["offset"])
     assert base.moving_sensor == kw["moving_sensor"]
     static = massid.base_parameters(str(UR))
     assert not static.dynamic and static.gravity is None
@@ -191,7 +191,7 @@ def test_identify_dynamic_gives_the_clis_params_file(massid: Any, cli_fits: dict
     np.testing.assert_array_equal(ident.wrench, wrench_of(cols))
     assert ident.sensor_motion is None
     # fitted = Y_b(q, qd, qdd, g) x; residuals = measured - fitted
-    base = massid.base_parameters(ident.model, dynamic=True, gravity="level")
+    base = massid.base_parameters(ident.model, dynamic=True, gravity_model="level")
     assert base.names == [b.name for b in ident.base_parameters]
     Yb = massid.regressor(ident.model, ident.q, ident.gravity, qd=ident.qd, qdd=ident.qdd, base=base)
     np.testing.assert_allclose(ident.fitted, Yb @ ident.values, rtol=1e-10, atol=1e-9)
@@ -206,7 +206,7 @@ def test_identify_dynamic_gives_the_clis_params_file(massid: Any, cli_fits: dict
 def test_identify_dynamic_recovers_the_urdf(massid: Any, ur_motion: dict[str, np.ndarray]) -> None:
     model = massid.load_model(UR)
     ident = massid.identify(model, ur_motion, dynamic=True)
-    base = massid.base_parameters(model, dynamic=True, gravity="level")
+    base = massid.base_parameters(model, dynamic=True, gravity_model="level")
     truth = base.K @ model.nominal_parameters(dynamic=True)
     err = (ident.values - truth) / ident.std
     assert np.all(np.abs(err) < 5), err
@@ -406,12 +406,12 @@ def test_identify_errors_carry_the_clis_messages(massid: Any, tmp_path: Path,
 
 def test_simulate_dynamic_equals_the_cli(massid: Any, tmp_path: Path, ur_trajectory: dict[str, np.ndarray]) -> None:
     traj_csv = write_csv(tmp_path / "traj.csv", ur_trajectory)
-    args = ["--noise-force", "0.1", "--noise-moment", "0.01", "--seed", "7", "--offset", "1,2,3,0.1,0.2,0.3"]
+    args = ["--noise-force", "0.1", "--noise-moment", "0.01", "--seed", "7", "--sensor-offset", "1,2,3,0.1,0.2,0.3"]
     run_cli("simulate", UR, traj_csv, "-o", tmp_path / "sim.csv", "--dynamic", *args)
     cli = massid.read_csv(tmp_path / "sim.csv")
     for data in (ur_trajectory, traj_csv):
         sim = massid.simulate(UR, data, dynamic=True, noise_force=0.1, noise_moment=0.01, seed=7,
-                              offset=[1, 2, 3, 0.1, 0.2, 0.3])
+                              sensor_offset=[1, 2, 3, 0.1, 0.2, 0.3])
         for a in AXES:
             np.testing.assert_array_equal(sim[a], cli[a])
         assert set(ur_trajectory) <= set(sim)
@@ -488,3 +488,44 @@ def test_wrench_delay_is_estimated_and_applied(massid: Any, tmp_path: Path) -> N
     assert json.loads((tmp_path / "g.json").read_text())["delay"] == {"value": 0.002, "std": 0.0}
     r = run_cli("identify", UR, csv, "--delay", "auto", "-o", tmp_path / "s.json", check=False)
     assert r.returncode == 2 and "--delay goes with --dynamic" in r.stderr
+
+
+@pytest.mark.parametrize("cli_args, keywords", [
+    (["--delay", "auto"], {"delay": "auto"}),
+    (["--dynamic", "--rest", "off"], {"dynamic": True, "rest": "off"}),
+    (["--cutoff", "5"], {"cutoff": 5.0}),
+    (["--drift", "quadratic"], {"drift": "quadratic"}),
+    (["--dynamic", "--delay", "2ms"], {"dynamic": True, "delay": "2ms"}),
+])
+def test_cli_and_python_give_one_message_per_rule(massid: Any, tmp_path: Path,
+                                                  cli_args: list[str],
+                                                  keywords: dict[str, Any]) -> None:
+    """The request's rules (identify_request.hpp): the same message from either door, each
+    spelling the settings its own way (--delay / delay, --dynamic / dynamic=True)."""
+    log = tmp_path / "never_read.csv"
+    r = run_cli("identify", UR, log, "-o", tmp_path / "p.json", *cli_args, check=False)
+    assert r.returncode == 2
+    with pytest.raises(massid.InputError) as e:
+        massid.identify(str(UR), str(log), **keywords)
+    # The setting at fault leads the message; the one it needs is spelled as turned on.
+    spelled = re.sub(r"^(delay|rest|cutoff|drift)\b", r"--\1", str(e.value))
+    spelled = spelled.replace("dynamic=True", "--dynamic")
+    assert r.stderr == f"massid: error: {spelled}\n"
+
+
+def test_old_spellings_still_work_and_warn(massid: Any) -> None:
+    """simulate(offset=...) is sensor_offset='s old spelling and base_parameters(gravity=...)
+    gravity_model='s: the same results, with a DeprecationWarning."""
+    traj = massid.fourier_trajectory(str(UR), duration=1.0, rate=200.0, period=1.0, seed=3)
+    offset = [1, 2, 3, 0.1, 0.2, 0.3]
+    new = massid.simulate(str(UR), traj, dynamic=True, sensor_offset=offset)
+    with pytest.warns(DeprecationWarning, match="use sensor_offset="):
+        old = massid.simulate(str(UR), traj, dynamic=True, offset=offset)
+    for a in AXES:
+        np.testing.assert_array_equal(old[a], new[a])
+    plain = massid.simulate(str(UR), traj, dynamic=True)
+    np.testing.assert_allclose(new["fy"] - plain["fy"], 2.0, atol=1e-12)
+    level = massid.base_parameters(str(UR), dynamic=True, gravity_model="level")
+    with pytest.warns(DeprecationWarning, match="use gravity_model="):
+        old_level = massid.base_parameters(str(UR), dynamic=True, gravity="level")
+    assert old_level.names == level.names and len(level.names) == 43

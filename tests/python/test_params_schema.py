@@ -136,7 +136,7 @@ def files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, Any]]
     # determined) with noise and an offset.
     data = d / "data.csv"
     run("simulate", PUMA / "puma260.urdf", PUMA / "holdout.csv", "-o", data, "--noise-force",
-        "0.05", "--noise-moment", "0.005", "--offset", "1,2,3,0.1,0.2,0.3", "--seed", "3")
+        "0.05", "--noise-moment", "0.005", "--sensor-offset", "1,2,3,0.1,0.2,0.3", "--seed", "3")
     identify("static", PUMA / "puma260.urdf", data)
     identify("static_offset_physical", PUMA / "puma260.urdf", data, "--offset", "--physical",
              "--robust")
@@ -171,7 +171,7 @@ def files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, Any]]
     run("design", UR, "--dynamic", "-o", level, "--duration", "6", "--period", "3", "--rate",
         "200", "--evaluations", "0", "--min-height", "none")
     run("simulate", UR, level, "-o", level_log, "--dynamic", "--noise-force", "0.05",
-        "--noise-moment", "0.005", "--offset", "1,2,3,0.1,0.2,0.3", "--seed", "5")
+        "--noise-moment", "0.005", "--sensor-offset", "1,2,3,0.1,0.2,0.3", "--seed", "5")
     identify("dynamic_level_offset", UR, level_log, "--dynamic", "--offset")
     return out
 

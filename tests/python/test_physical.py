@@ -35,7 +35,7 @@ def pseudo_inertia(p: np.ndarray) -> np.ndarray:
 def log(massid: Any, tmp_path_factory: pytest.TempPathFactory) -> tuple[dict[str, np.ndarray], Path]:
     traj = massid.fourier_trajectory(UR, duration=10.0, rate=200.0, seed=2)
     data = massid.simulate(UR, traj, dynamic=True, noise_force=0.1, noise_moment=0.01, seed=3,
-                           offset=[1, 2, 3, 0.1, 0.2, 0.3])
+                           sensor_offset=[1, 2, 3, 0.1, 0.2, 0.3])
     return data, write_csv(tmp_path_factory.mktemp("physical") / "log.csv", data)
 
 

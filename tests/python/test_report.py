@@ -323,7 +323,7 @@ def test_predict_report_with_measured_wrench(massid: Any, tmp_path: Path, puma_u
     import json
 
     data = massid.simulate(str(puma_urdf), str(puma_plan), noise_force=0.05, noise_moment=0.005,
-                           offset=[1.0, -2.0, 3.0, 0.1, -0.2, 0.3], seed=11)
+                           sensor_offset=[1.0, -2.0, 3.0, 0.1, -0.2, 0.3], seed=11)
     csv = write_csv(tmp_path / "check.csv", data, comment="30 poses of the paper")
     out = tmp_path / "predict.html"
     massid.report.write_predict_report(out, str(puma_urdf), str(puma_params), str(csv))

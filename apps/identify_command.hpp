@@ -1,0 +1,29 @@
+// `massid identify`: options, registration with CLI11, and the run. The
+// options only become an IdentifyRequest (massid/identify_request.hpp), whose
+// rules check them; this file prints what the library returns.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "massid/identify_request.hpp"
+
+namespace massid::cli {
+
+struct IdentifyCommand {
+  CLI::App* app = nullptr;
+  std::string urdf, data, output, report, urdf_out;
+  std::string sensor, drift, rest, delay, root_gravity;
+  std::vector<std::string> fixed;  // --fixed JOINT=VALUE
+  double cutoff = 0.0, sigma_force = 0.0, sigma_moment = 0.0;
+  bool offset = false, dynamic = false, robust = false, physical = false, no_checks = false;
+
+  // The options as a request (not yet validated).
+  IdentifyRequest request() const;
+};
+
+void add_identify_command(CLI::App& app, IdentifyCommand& cmd);
+int run_identify(const IdentifyCommand& cmd);
+
+}  // namespace massid::cli

@@ -1,0 +1,94 @@
+#include "predict_command.hpp"
+
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "massid/read_samples.hpp"
+#include "massid/base_parameters.hpp"
+#include "massid/csv.hpp"
+#include "massid/errors.hpp"
+#include "massid/identified_model.hpp"
+#include "massid/setup_checks.hpp"
+#include "massid/motion_data.hpp"
+#include "massid/motion_predictor.hpp"
+#include "massid/params_file.hpp"
+#include "massid/predictor.hpp"
+#include "massid/report.hpp"
+#include "massid/samples.hpp"
+#include "python_report.hpp"
+
+namespace massid::cli {
+
+namespace {
+
+int run_predict(const std::string& urdf, const std::string& params_path,
+                const std::string& data_path, const std::string& out, const std::string& report,
+                const MotionFlags& motion, bool checks, bool physical) {
+  if (!report.empty() && physical)
+    throw InputError("predict --report draws the identified base parameters: drop --physical");
+  if (!report.empty()) check_report_tools();  // before any work
+  // The identified base parameters, or with --physical K pi of the physical ones.
+  IdentifiedModelOptions iopts;
+  iopts.physical = physical;
+  const IdentifiedModel identified = IdentifiedModel::load(urdf, params_path, iopts);
+  const Model& model = identified.model();
+
+  CsvTable table = read_csv(data_path);
+  Samples samples;
+  if (identified.dynamic()) {
+    // The full wrench, weight and motion, from the dynamic base parameters.
+    MotionDataReport mr;
+    MotionDataOptions mopts = motion.data();
+    mopts.filter.decimation = 1;  // a prediction for every row the filter keeps
+    Samples raw = read_samples(model, table, WrenchColumns::Optional, mopts.samples);
+    if (checks && !check_input(model, raw, table.header, true)) return 2;
+    samples = prepare_motion_samples(model, std::move(raw), mopts, &mr);
+    if (mr.derived) {
+      std::cout << fmt::format(
+          "velocities and accelerations derived from t and the positions: zero-phase low-pass "
+          "at {:.3g} Hz, the {} rows at each end dropped\n",
+          mr.kernels.cutoff, mr.kernels.half_width);
+      table = keep_lines(std::move(table), samples.line);
+    }
+  } else {
+    samples = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
+    if (checks && !check_input(model, samples, table.header, false)) return 2;
+  }
+  // The mechanism's wrench alone (_pred); what the sensor reads adds the offset.
+  IdentifiedModelData data(identified);
+  const Eigen::MatrixXd P = identified.predict_samples(data, samples);
+  if (!out.empty()) {
+    OutputTable t(table);
+    // _pred: the mechanism's wrench alone; _comp: measured - predicted - offset.
+    for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_pred", P.col(k));
+    if (samples.has_wrench()) {
+      const Eigen::MatrixXd C = identified.compensate_rows(samples.wrench, P);
+      for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_comp", C.col(k));
+    }
+    write_csv(out, t.header, t.rows);
+  }
+  std::cout << fmt::format("predicted {} samples of {} with {}{} (sensor link '{}'{})\n",
+                           samples.size(), data_path, params_path,
+                           physical ? "'s physical parameters" : "", model.sensor_link(),
+                           samples.gravity_from_force ? ", gravity from the measured force" : "");
+  if (samples.has_wrench()) {
+    // Against what the sensor reads: the prediction plus the identified offset.
+    std::cout << prediction_report(
+        prediction_errors(samples.wrench, identified.sensor_reading_rows(P)), samples.size());
+  }
+  if (!out.empty()) std::cout << "wrote " << out << "\n";
+  if (!report.empty()) {
+    std::vector<std::string> a{"predict", urdf, params_path, data_path, "-o", report};
+    for (const std::string& m : motion.report_args()) a.push_back(m);
+    return run_report(a);
+  }
+  return 0;
+}
+
+int run_predict(const PredictCommand& c) {
+  return run_predict(c.urdf, c.params, c.data, c.output, c.report, c.motion, !c.no_checks,
+                     c.physical);
+}
+
+}  // namespace massid::cli

@@ -1,0 +1,102 @@
+#include "simulate_command.hpp"
+
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "massid/read_samples.hpp"
+#include "massid/urdf.hpp"
+#include "massid/csv.hpp"
+#include "massid/errors.hpp"
+#include "massid/model.hpp"
+#include "massid/samples.hpp"
+
+namespace massid::cli {
+
+namespace {
+
+int run_simulate(const SimulateCommand& c, const std::string& plan_path, const std::string& out,
+                 const SimulateOptions& opts, const MotionFlags& motion, bool checks) {
+  const Model model = load_urdf(c.urdf, c.sensor);
+  if (!(model.nominal_total_mass() > 0))
+    throw InputError(fmt::format(
+        "{}: no measured link has a mass (no <inertial> below sensor link '{}'): the simulated "
+        "wrench would be zero; add the links' <inertial> elements (mass, origin) to the URDF",
+        c.urdf, model.sensor_link()));
+  const CsvTable table = read_csv(plan_path);
+  const Samples plan = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
+  if (plan.gravity_from_force) throw InputError(plan_path + ": simulate needs gx,gy,gz columns");
+  // Joints in degrees or mm, gravity in g, ... (a wrench in the plan is replaced: not judged).
+  Samples judged = plan;
+  judged.wrench.resize(0, 0);
+  if (checks && !check_input(model, judged, table.header, opts.dynamic)) return 2;
+  if (opts.dynamic) {
+    if (model.num_joints() > 0 && plan.qd.cols() != model.num_joints())
+      throw InputError(fmt::format(
+          "{}: simulate --dynamic needs the trajectory's velocities and accelerations: columns "
+          "JOINT_vel and JOINT_acc for every joint (massid design --dynamic writes them)",
+          plan_path));
+    if (plan.q_upstream.cols() > 0 && plan.qd_upstream.cols() == 0 && !plan.has_sensor_motion())
+      throw InputError(fmt::format(
+          "{}: simulate --dynamic needs the upstream joints' _vel and _acc columns", plan_path));
+  }
+  const Eigen::MatrixXd W = simulate_wrenches(model, plan, opts);
+  OutputTable t(table);
+  if (opts.repeat > 1) {
+    std::vector<std::vector<std::string>> rows;
+    rows.reserve(W.rows());
+    for (const auto& row : t.rows)
+      for (int r = 0; r < opts.repeat; ++r) rows.push_back(row);
+    t.rows = std::move(rows);
+  }
+  for (int k = 0; k < 6; ++k) t.set_column(kWrenchColumns[k], W.col(k));
+  write_csv(out, t.header, t.rows);
+  std::cout << fmt::format(
+      "simulated {} samples of {} (sensor link '{}', total mass {:.6g} kg) -> {}\n", W.rows(),
+      model.name, model.sensor_link(), model.nominal_total_mass(), out);
+  return 0;
+}
+
+}  // namespace
+
+void add_simulate_command(CLI::App& app, SimulateCommand& c) {
+  c.app = app.add_subcommand("simulate", "Wrenches the URDF's inertials would produce");
+  CLI::App* simulate = c.app;
+  simulate->add_option("robot", c.urdf, "Robot URDF")->required();
+  simulate->add_option("plan", c.plan, "Plan CSV (joint columns, gx,gy,gz)")->required();
+  simulate->add_option("-o,--output", c.output, "Data CSV to write")->required();
+  simulate->add_option("--sensor", c.sensor, "Sensor link (default: the URDF root link)");
+  simulate->add_option("--noise-force", c.sim.noise_force, "Force noise sigma, N")
+      ->check(sign_check(false));
+  simulate->add_option("--noise-moment", c.sim.noise_moment, "Moment noise sigma, N m")
+      ->check(sign_check(false));
+  simulate->add_option("--sensor-offset", c.sensor_offset,
+                       "Constant sensor offset fx,fy,fz,mx,my,mz");
+  simulate->add_option("--offset", c.old_offset,
+                       "Deprecated spelling of --sensor-offset fx,fy,fz,mx,my,mz");
+  simulate->add_option("--seed", c.sim.seed, "Noise seed");
+  simulate
+      ->add_option("--repeat", c.sim.repeat,
+                   "Samples per plan row, each with its own noise (a log taken while the "
+                   "pose is held; default 1)")
+      ->check(CLI::Range(1, 1000000));
+  add_motion_options(simulate, c.motion, false);
+  simulate->add_flag("--no-checks", c.no_checks,
+                     "Skip the plan's checks (joints in degrees or mm, gravity units, columns)");
+}
+
+int run_simulate(SimulateCommand c) {
+  if (c.app->count("--offset")) {
+    if (c.app->count("--sensor-offset"))
+      throw InputError("--offset is the old spelling of --sensor-offset: give one");
+    c.sim.offset = parse_numbers<6>(c.old_offset, "--offset", "fx,fy,fz,mx,my,mz");
+    std::cerr << "massid: warning: --offset with six numbers is deprecated: use "
+                 "--sensor-offset\n";
+  }
+  if (!c.sensor_offset.empty())
+    c.sim.offset = parse_numbers<6>(c.sensor_offset, "--sensor-offset", "fx,fy,fz,mx,my,mz");
+  c.sim.dynamic = c.motion.dynamic;
+  return run_simulate(c, c.plan, c.output, c.sim, c.motion, !c.no_checks);
+}
+
+}  // namespace massid::cli
