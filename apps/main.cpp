@@ -286,8 +286,11 @@ int run_predict(const std::string& urdf, const std::string& params_path,
                            samples.size(), data_path, params_path,
                            physical ? "'s physical parameters" : "", model.sensor_link(),
                            samples.gravity_from_force ? ", gravity from the measured force" : "");
-  if (samples.has_wrench())
+  if (samples.has_wrench()) {
     std::cout << prediction_report(prediction_errors(samples.wrench, P), samples.size());
+    for (const ContactEpisode& e : find_contact_episodes(samples, samples.wrench - P))
+      std::cerr << "massid: note: " << contact_note(data_path, e) << "\n";
+  }
   if (!out.empty()) std::cout << "wrote " << out << "\n";
   if (!report.empty()) {
     std::vector<std::string> a{"predict", urdf, params_path, data_path, "-o", report};
