@@ -1115,14 +1115,19 @@ std::vector<ContactEpisode> find_contact_episodes(const Samples& samples,
     throw std::invalid_argument(
         "find_contact_episodes: residual must be [N x 6] with one file line per row");
   // Per axis: median and robust scale of the finite residuals; a floor of
-  // 1e-9 of the residual's RMS of its kind (noise-free data).
+  // 1e-9 of the measured wrench's RMS of its kind (noise-free data: round-off
+  // is no contact), or of the residual's without a measured wrench.
   Eigen::Matrix<double, 6, 1> centre, scale;
   double rms[2] = {0.0, 0.0};
   int finite = 0;
+  const bool measured = samples.wrench.rows() == N && samples.wrench.cols() == 6;
   for (int i = 0; i < N; ++i)
     if (residual.row(i).allFinite()) {
-      rms[0] += residual.row(i).head<3>().squaredNorm();
-      rms[1] += residual.row(i).tail<3>().squaredNorm();
+      const auto w = measured && samples.wrench.row(i).allFinite()
+                         ? Eigen::Matrix<double, 1, 6>(samples.wrench.row(i))
+                         : Eigen::Matrix<double, 1, 6>(residual.row(i));
+      rms[0] += w.head<3>().squaredNorm();
+      rms[1] += w.tail<3>().squaredNorm();
       ++finite;
     }
   if (finite < 2) return {};
