@@ -74,8 +74,11 @@ int run_predict(const std::string& urdf, const std::string& params_path,
                            samples.gravity_from_force ? ", gravity from the measured force" : "");
   if (samples.has_wrench()) {
     // Against what the sensor reads: the prediction plus the identified offset.
-    std::cout << prediction_report(
-        prediction_errors(samples.wrench, identified.sensor_reading_rows(P)), samples.size());
+    const Eigen::MatrixXd reading = identified.sensor_reading_rows(P);
+    std::cout << prediction_report(prediction_errors(samples.wrench, reading), samples.size());
+    // Rows that carry an external wrench (contact) are the expected result here: a note.
+    for (const ContactEpisode& e : find_contact_episodes(samples, samples.wrench - reading))
+      std::cerr << "massid: note: " << contact_note(data_path, e) << "\n";
   }
   if (!out.empty()) std::cout << "wrote " << out << "\n";
   if (!report.empty()) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "massid/identification.hpp"
+#include "massid/setup_checks.hpp"
 #include "massid/read_samples.hpp"
 
 namespace massid {
@@ -83,6 +84,22 @@ std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::stri
   }
   if (s.outliers.empty()) return out;
   const double fraction = static_cast<double>(s.outliers.size()) / std::max(s.samples, 1);
+  // Runs of consecutive outliers: an external wrench acting for a while
+  // (setup_checks.hpp, find_contact_episodes), named apart from the others.
+  const std::vector<ContactEpisode> contact =
+      find_contact_episodes(s.outliers, s.outlier_threshold);
+  std::string contact_text;
+  for (const ContactEpisode& e : contact)
+    contact_text += fmt::format("{}{} (d up to {:.3g})", contact_text.empty() ? "" : ", ",
+                                contact_place(e), e.score);
+  if (!contact.empty())
+    out.push_back(
+        {fmt::format("{}: {} carry an external wrench (contact?): consecutive samples with "
+                     "residuals beyond the noise (standardised residual d above {:.3g}); {}",
+                     source, contact_text, s.outlier_threshold,
+                     s.robust ? "rejected, with any other outliers"
+                              : "they bias the estimate: the robust fit rejects them"),
+         s.robust ? std::vector<Hint>{} : std::vector<Hint>{{Setting::Robust, "on"}}});
   if (s.robust) {
     out.push_back({fmt::format("{}: rejected {} of {} samples ({:.2g} %) as outliers (standardised "
                                "residual d above {:.3g}), at lines {}",

@@ -18,8 +18,12 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <numbers>
+#include <numeric>
+#include <stdexcept>
 
+#include "chi_square.hpp"
 #include "csv_fields.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
@@ -782,6 +786,164 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
   return force_broken;
 }
 
+// --- rows against gravity ------------------------------------------------------
+
+// Chi-square with 3 degrees of freedom (a force residual over its per-axis
+// noise): P(X > x) = erfc(sqrt(x/2)) + sqrt(2x/pi) exp(-x/2); the d = sqrt(X)
+// a clean row exceeds with probability p.
+double chi3_quantile(double p) {
+  double lo = 0.0, hi = 2000.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    const double tail =
+        std::erfc(std::sqrt(mid / 2)) + std::sqrt(2 * mid / std::numbers::pi) * std::exp(-mid / 2);
+    (tail > p ? lo : hi) = mid;
+  }
+  return std::sqrt(0.5 * (lo + hi));
+}
+
+// The subset of samples at `rows` (the columns the checks read).
+Samples sample_rows(const Samples& s, const std::vector<int>& rows) {
+  Samples out;
+  out.source = s.source;
+  out.gravity_from_force = s.gravity_from_force;
+  out.gravity_from_upstream = s.gravity_from_upstream;
+  out.root_gravity = s.root_gravity;
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  out.q.resize(n, s.q.cols());
+  out.gravity.resize(n, 3);
+  out.wrench.resize(n, s.wrench.cols());
+  for (Eigen::Index k = 0; k < n; ++k) {
+    out.q.row(k) = s.q.row(rows[k]);
+    out.gravity.row(k) = s.gravity.row(rows[k]);
+    out.wrench.row(k) = s.wrench.row(rows[k]);
+    out.line.push_back(s.line[rows[k]]);
+  }
+  return out;
+}
+
+}  // namespace
+
+// rows_against_gravity. At rest f_i = A g_i + b for every mechanism and every
+// consistent wiring (A = M R for a rotated frame, M P for swapped or negated
+// channels, -M for the reaction), so a file that is consistent fits that map
+// at every row to its noise. The fit is a least trimmed squares one (the
+// majority h = N/2 + 1 of rows with the smallest residuals, concentration
+// steps from the fit on every row and on each eighth of the file: contact
+// comes in runs of consecutive rows, so one eighth is clean), then the noise
+// sigma per axis from the median residual (chi_3 median 2.366) and, refitted
+// on the rows within it, from their residual sum of squares. A row is against
+// gravity when |r_i| / sigma exceeds chi_3 at 1 % / N: a clean file has none
+// with probability 99 %. sigma has a floor of 1e-9 of the RMS force, so
+// noise-free data are judged by round-off, not by nothing.
+std::vector<int> rows_against_gravity(const Samples& s) {
+  const int N = s.size();
+  if (!s.has_wrench() || s.gravity_from_force || s.gravity.rows() != N || N < 8) return {};
+  const Eigen::MatrixXd F = s.wrench.leftCols(3);
+  Eigen::MatrixXd X(N, 4);
+  X.leftCols(3) = s.gravity;
+  const double scale = s.gravity.cwiseAbs().maxCoeff();
+  if (!(scale > 0) || !std::isfinite(scale) || !F.allFinite()) return {};
+  X.leftCols(3) /= scale;
+  X.col(3).setOnes();
+  using Map = Eigen::Matrix<double, 4, 3>;
+  const auto fit = [&](const std::vector<int>& rows) -> Map {
+    Eigen::MatrixXd A(rows.size(), 4), B(rows.size(), 3);
+    for (size_t k = 0; k < rows.size(); ++k) {
+      A.row(static_cast<Eigen::Index>(k)) = X.row(rows[k]);
+      B.row(static_cast<Eigen::Index>(k)) = F.row(rows[k]);
+    }
+    return A.completeOrthogonalDecomposition().solve(B);
+  };
+  const auto squared = [&](const Map& B) -> Eigen::VectorXd {
+    return (F - X * B).rowwise().squaredNorm();
+  };
+  const int h = N / 2 + 1;
+  const auto smallest = [&](const Eigen::VectorXd& r2) {
+    std::vector<int> idx(static_cast<size_t>(N));
+    std::iota(idx.begin(), idx.end(), 0);
+    std::nth_element(idx.begin(), idx.begin() + (h - 1), idx.end(),
+                     [&](int a, int b) { return r2[a] < r2[b]; });
+    idx.resize(static_cast<size_t>(h));
+    std::sort(idx.begin(), idx.end());
+    return idx;
+  };
+  std::vector<std::vector<int>> starts;
+  starts.emplace_back(static_cast<size_t>(N));
+  std::iota(starts.back().begin(), starts.back().end(), 0);
+  for (int b = 0; b < 8; ++b) {
+    std::vector<int> block;
+    for (int i = b * N / 8; i < (b + 1) * N / 8; ++i) block.push_back(i);
+    if (block.size() >= 4) starts.push_back(std::move(block));
+  }
+  Map best = Map::Zero();
+  double best_objective = std::numeric_limits<double>::infinity();
+  for (const std::vector<int>& start : starts) {
+    Map B = fit(start);
+    std::vector<int> kept;
+    for (int step = 0; step < 30; ++step) {
+      std::vector<int> next = smallest(squared(B));
+      if (next == kept) break;
+      kept = std::move(next);
+      B = fit(kept);
+    }
+    const Eigen::VectorXd r2 = squared(B);
+    double objective = 0.0;
+    for (int i : kept) objective += r2[i];
+    if (objective < best_objective) {
+      best_objective = objective;
+      best = B;
+    }
+  }
+  const double floor2 = std::pow(1e-9 * std::sqrt(F.squaredNorm() / N), 2) + 1e-300;
+  const double cut2 = std::pow(chi3_quantile(0.01 / N), 2);
+  Eigen::VectorXd r2 = squared(best);
+  std::vector<double> all(r2.data(), r2.data() + N);
+  double sigma2 = std::max(median(all) / 2.366, floor2);
+  std::vector<int> kept;
+  for (int pass = 0; pass < 2; ++pass) {
+    kept.clear();
+    for (int i = 0; i < N; ++i)
+      if (r2[i] <= cut2 * sigma2) kept.push_back(i);
+    if (static_cast<int>(kept.size()) < h) return {};  // not a minority against the map
+    const Map B = fit(kept);
+    r2 = squared(B);
+    double sum = 0.0;
+    for (int i : kept) sum += r2[i];
+    sigma2 = std::max(sum / std::max(1.0, 3.0 * static_cast<double>(kept.size()) - 12.0), floor2);
+  }
+  std::vector<int> away;
+  for (int i = 0; i < N; ++i)
+    if (r2[i] > cut2 * sigma2) away.push_back(i);
+  if (2 * static_cast<int>(away.size()) >= N) return {};
+  return away;
+}
+
+namespace {
+
+// The wiring checks (channels, sign, rotation) on the rows consistent with
+// gravity: a verdict holds over the file, never from a minority of rows.
+void check_wiring(Context& c) {
+  const Centred k = centre(c);
+  // Which signed permutation of the channels the data fit (a negated or
+  // swapped channel), before the sign and rotation checks: a reflection
+  // is no rotation, and a rotation (180 deg about z: fx, fy negated) no
+  // sign error.
+  const ChannelFit mf = moment_channels(c), ff = force_channels(c, k);
+  const ChannelTest mt = mf.tie.empty() ? ChannelTest{} : pick_channels(mf, &ff.tie);
+  const ChannelTest ft = ff.tie.empty() ? ChannelTest{} : pick_channels(ff, &mf.tie);
+  const bool rotation = ft.decisive() && ft.P.determinant() > 0;
+  const bool negated = ft.decisive() && ft.P == -Eigen::Matrix3d::Identity();
+  const bool same = mt.decisive() && mt.P == ft.P;
+  if (ft.decisive() && !rotation && !negated)
+    report_channels(c, ft, 'f', same ? &mt : nullptr);
+  else if (rotation)
+    check_rotation(c, k);
+  else if (!check_sign(c, k))
+    check_rotation(c, k);
+  if (mt.decisive() && !same) report_channels(c, mt, 'm', nullptr);
+}
+
 }  // namespace
 
 std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples,
@@ -802,25 +964,24 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
   const bool force_broken = check_columns(c, options);
   if (!samples.gravity_from_force) {
     check_gravity_magnitude(c);
-    const Centred k = centre(c);
     if (!force_broken && !options.motion) {
-      // Which signed permutation of the channels the data fit (a negated or
-      // swapped channel), before the sign and rotation checks: a reflection
-      // is no rotation, and a rotation (180 deg about z: fx, fy negated) no
-      // sign error.
-      const ChannelFit mf = moment_channels(c), ff = force_channels(c, k);
-      const ChannelTest mt = mf.tie.empty() ? ChannelTest{} : pick_channels(mf, &ff.tie);
-      const ChannelTest ft = ff.tie.empty() ? ChannelTest{} : pick_channels(ff, &mf.tie);
-      const bool rotation = ft.decisive() && ft.P.determinant() > 0;
-      const bool negated = ft.decisive() && ft.P == -Eigen::Matrix3d::Identity();
-      const bool same = mt.decisive() && mt.P == ft.P;
-      if (ft.decisive() && !rotation && !negated)
-        report_channels(c, ft, 'f', same ? &mt : nullptr);
-      else if (rotation)
-        check_rotation(c, k);
-      else if (!check_sign(c, k))
-        check_rotation(c, k);
-      if (mt.decisive() && !same) report_channels(c, mt, 'm', nullptr);
+      // The rows an external wrench drives (contact) set aside, when a
+      // minority (rows_against_gravity).
+      const std::vector<int> away = rows_against_gravity(samples);
+      if (away.empty()) {
+        check_wiring(c);
+      } else {
+        std::vector<int> rows;
+        for (int i = 0, k = 0; i < c.N; ++i)
+          if (k < static_cast<int>(away.size()) && away[k] == i)
+            ++k;
+          else
+            rows.push_back(i);
+        const Samples consistent = sample_rows(samples, rows);
+        Context cc(model, consistent, header, out);
+        nominal(cc);
+        check_wiring(cc);
+      }
     }
   }
   check_force_units(c);
@@ -917,6 +1078,98 @@ std::vector<SetupFinding> check_setup_file(const Model& model, const std::string
 bool has_error(const std::vector<SetupFinding>& findings) {
   return std::any_of(findings.begin(), findings.end(),
                      [](const SetupFinding& f) { return f.severity == Severity::Error; });
+}
+
+// --- contact episodes ---------------------------------------------------------
+
+std::vector<ContactEpisode> find_contact_episodes(const std::vector<Outlier>& flagged,
+                                                  double threshold, const ContactOptions& options) {
+  std::vector<Outlier> rows = flagged;
+  std::sort(rows.begin(), rows.end(),
+            [](const Outlier& a, const Outlier& b) { return a.sample < b.sample; });
+  std::vector<ContactEpisode> out;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const int min_rows = std::max(1, options.min_rows);
+  size_t k = 0;
+  while (k < rows.size()) {
+    ContactEpisode e;
+    e.first = e.last = rows[k].sample;
+    e.first_line = e.last_line = rows[k].line;
+    e.threshold = threshold;
+    e.force = e.moment = nan;
+    for (; k < rows.size() && rows[k].sample - e.last <= options.max_gap + 1; ++k) {
+      e.last = rows[k].sample;
+      e.last_line = rows[k].line;
+      ++e.rows;
+      e.score = std::max(e.score, rows[k].score);
+    }
+    if (e.rows >= min_rows) out.push_back(e);
+  }
+  return out;
+}
+
+std::vector<ContactEpisode> find_contact_episodes(const Samples& samples,
+                                                  const Eigen::MatrixXd& residual,
+                                                  const ContactOptions& options) {
+  const int N = static_cast<int>(residual.rows());
+  if (N < 2 || residual.cols() != 6 || static_cast<int>(samples.line.size()) != N)
+    throw std::invalid_argument(
+        "find_contact_episodes: residual must be [N x 6] with one file line per row");
+  // Per axis: median and robust scale of the finite residuals; a floor of
+  // 1e-9 of the measured wrench's RMS of its kind (noise-free data: round-off
+  // is no contact), or of the residual's without a measured wrench.
+  Eigen::Matrix<double, 6, 1> centre, scale;
+  double rms[2] = {0.0, 0.0};
+  int finite = 0;
+  const bool measured = samples.wrench.rows() == N && samples.wrench.cols() == 6;
+  for (int i = 0; i < N; ++i)
+    if (residual.row(i).allFinite()) {
+      const auto w = measured && samples.wrench.row(i).allFinite()
+                         ? Eigen::Matrix<double, 1, 6>(samples.wrench.row(i))
+                         : Eigen::Matrix<double, 1, 6>(residual.row(i));
+      rms[0] += w.head<3>().squaredNorm();
+      rms[1] += w.tail<3>().squaredNorm();
+      ++finite;
+    }
+  if (finite < 2) return {};
+  for (int a = 0; a < 6; ++a) {
+    std::vector<double> v;
+    for (int i = 0; i < N; ++i)
+      if (residual.row(i).allFinite()) v.push_back(residual(i, a));
+    centre[a] = median(v);
+    for (double& x : v) x = std::abs(x - centre[a]);
+    scale[a] = std::max(1.4826 * median(v), 1e-9 * std::sqrt(rms[a / 3] / finite) + 1e-300);
+  }
+  const double threshold = detail::chi_quantile(options.probability / finite, 6);
+  std::vector<Outlier> flagged;
+  for (int i = 0; i < N; ++i) {
+    if (!residual.row(i).allFinite()) continue;
+    const double d =
+        ((residual.row(i).transpose() - centre).array() / scale.array()).matrix().norm();
+    if (d > threshold) flagged.push_back({i, samples.line[i], d});
+  }
+  std::vector<ContactEpisode> out = find_contact_episodes(flagged, threshold, options);
+  for (ContactEpisode& e : out) {
+    e.force = e.moment = 0.0;
+    for (int i = e.first; i <= e.last; ++i) {
+      if (!residual.row(i).allFinite()) continue;
+      const Wrench w = residual.row(i).transpose() - centre;
+      e.force = std::max(e.force, w.head<3>().norm());
+      e.moment = std::max(e.moment, w.tail<3>().norm());
+    }
+  }
+  return out;
+}
+
+std::string contact_place(const ContactEpisode& e) {
+  return fmt::format("lines {}-{} ({} rows)", e.first_line, e.last_line, e.last - e.first + 1);
+}
+
+std::string contact_note(const std::string& source, const ContactEpisode& e) {
+  return fmt::format(
+      "{}: {} carry an external wrench of up to {:.3g} N, {:.3g} N m (contact; residual up to "
+      "{:.3g} times the noise, threshold {:.3g}): fx_comp..mz_comp hold it",
+      source, contact_place(e), e.force, e.moment, e.score, e.threshold);
 }
 
 }  // namespace massid

@@ -3,18 +3,27 @@
 // inertials, joints in degrees given to simulate, predict and design
 // --evaluate, and the outlier test with gravity taken from the force. Each
 // mistake is exit 2 with a message naming the file and the fix, and following
-// the fix gives the clean result.
+// the fix gives the clean result. A contact episode (an external wrench on a
+// quarter of the rows) is none of these: predict shows it, identify --robust
+// rejects it, and a whole file turned is still refused.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <numbers>
+#include <random>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_support.hpp"
+#include "massid/kinematics.hpp"
+#include "massid/model.hpp"
+#include "massid/samples.hpp"
 
 namespace {
 
@@ -251,6 +260,233 @@ TEST_F(SetupMistakes, GravityFromTheForceFlagsNoCleanSampleButARealOutlier) {
         << o;
     EXPECT_NE(o.err.find(" 42 (d = "), std::string::npos) << o;
   }
+}
+
+// ------------------------------------------------------------ item 4: contact
+
+namespace contact {
+
+// A log with a contact episode: an external force fixed in the world (so it
+// turns in the sensor frame as the sensor turns), at a point fixed in the
+// sensor frame, on the rows [first, last] of the file.
+struct Log {
+  std::string clean, spoiled;                        // data files
+  int first = 0, last = 0;                           // rows with the contact (0-based data rows)
+  std::vector<Eigen::Matrix<double, 6, 1>> planted;  // per row: the external wrench
+};
+
+const Eigen::Vector3d kWorldForce(12.0, -8.0, 15.0);  // N, |F| = 20.8 N
+const Eigen::Vector3d kGravity(0.0, 0.0, -massid::kStandardGravity);
+
+// The rotation of the sensor frame in the world that turns world gravity into
+// the row's gravity gx,gy,gz (a tilting platform: the turn of least angle).
+Eigen::Matrix3d platform_rotation(const Eigen::Vector3d& g_sensor) {
+  return Eigen::Quaterniond::FromTwoVectors(g_sensor, kGravity).toRotationMatrix();
+}
+
+}  // namespace contact
+
+class Contact : public SetupMistakes {
+ protected:
+  // Adds the contact of rows [first, last]: R is the sensor's orientation in
+  // the world per row, p the point of contact in the sensor frame.
+  contact::Log spoil(const std::string& clean, const std::vector<Eigen::Matrix3d>& R,
+                     const Eigen::Vector3d& p, int first, int last) {
+    contact::Log log{clean, "", first, last, {}};
+    Table t = read_table(clean);
+    EXPECT_EQ(t.rows.size(), R.size());
+    for (int r = 0; r < static_cast<int>(t.rows.size()); ++r) {
+      Eigen::Matrix<double, 6, 1> w = Eigen::Matrix<double, 6, 1>::Zero();
+      if (r >= first && r <= last) {
+        const Eigen::Vector3d f = R[r].transpose() * contact::kWorldForce;
+        w << f, p.cross(f);
+      }
+      log.planted.push_back(w);
+      const char* cols[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+      for (int k = 0; k < 6; ++k) t.rows[r][t.col(cols[k])] = num(t.num(r, cols[k]) + w[k]);
+    }
+    log.spoiled = file("contact.csv", to_csv(t));
+    return log;
+  }
+
+  // A wrist sensor on the UR-like arm (sensor link wrist_3_link, the tool
+  // below it), 240 random arm poses with the plate level, and a contact on
+  // rows 90-149 (a quarter of the log).
+  contact::Log wrist(std::vector<Eigen::Matrix3d>* rotations = nullptr) {
+    using namespace massid;
+    const Model arm = load_urdf(kUrUrdf);  // sensor at the plate: the arm's kinematics
+    const int wrist_link = arm.find_link("wrist_3_link");
+    EXPECT_GE(wrist_link, 0);
+    KinematicsData kin(arm);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-2.5, 2.5);
+    std::vector<Eigen::Matrix3d> R;
+    std::string plan = "gx,gy,gz\n";
+    for (int r = 0; r < 240; ++r) {
+      Eigen::VectorXd q(arm.num_joints());
+      for (int j = 0; j < q.size(); ++j) q[j] = u(rng);
+      forward_kinematics(arm, kin, q);
+      R.push_back(kin.rotation[wrist_link]);  // the plate is level: sensor frame = world
+      const Eigen::Vector3d g = R.back().transpose() * contact::kGravity;
+      plan += num(g.x()) + "," + num(g.y()) + "," + num(g.z()) + "\n";
+    }
+    const std::string plan_path = file("wrist_plan.csv", plan);
+    const Result s = run({"simulate", kUrUrdf, plan_path, "--sensor", "wrist_3_link", "-o",
+                          path("wrist.csv"), "--noise-force", "0.05", "--noise-moment", "0.005",
+                          "--offset", "1,-2,3.5,0.1,-0.2,0.3", "--seed", "5"});
+    EXPECT_EQ(s.code, 0) << s;
+    if (rotations) *rotations = R;
+    return spoil(path("wrist.csv"), R, Eigen::Vector3d(0.01, -0.02, 0.12), 90, 149);
+  }
+
+  // The sensor under the plate of the UR-like arm: its plan (60 poses, tilts)
+  // 4 samples per pose, and a contact on rows 80-139 (a quarter).
+  contact::Log base() {
+    const std::string plan_path = example("ur_like/plan.csv");
+    const Result s = run({"simulate", kUrUrdf, plan_path, "-o", path("base.csv"), "--noise-force",
+                          "0.05", "--noise-moment", "0.005", "--offset", "1,-2,3.5,0.1,-0.2,0.3",
+                          "--seed", "5", "--repeat", "4"});
+    EXPECT_EQ(s.code, 0) << s;
+    const Table t = read_table(path("base.csv"));
+    std::vector<Eigen::Matrix3d> R;
+    for (size_t r = 0; r < t.rows.size(); ++r)
+      R.push_back(contact::platform_rotation({t.num(r, "gx"), t.num(r, "gy"), t.num(r, "gz")}));
+    return spoil(path("base.csv"), R, Eigen::Vector3d(0.2, 0.1, 0.6), 80, 139);
+  }
+
+  // identify's values and std by name.
+  std::map<std::string, std::pair<double, double>> params(const std::string& json_path) {
+    std::map<std::string, std::pair<double, double>> out;
+    const auto j = json::parse(read_file(json_path));
+    for (const auto& e : j["base_parameters"])
+      out[e["name"].get<std::string>()] = {e["value"].get<double>(), e["std"].get<double>()};
+    return out;
+  }
+
+  // predict on the spoiled log exits 0, names the rows as contact, and
+  // *_comp holds the planted wrench within the noise.
+  void expect_predicted_contact(const contact::Log& log, const std::vector<std::string>& sensor) {
+    std::vector<std::string> id{"identify",         kUrUrdf,   log.clean, "-o",
+                                path("clean.json"), "--offset"};
+    id.insert(id.end(), sensor.begin(), sensor.end());
+    const Result clean = run(id);
+    ASSERT_EQ(clean.code, 0) << clean;
+    const Result p =
+        run({"predict", kUrUrdf, path("clean.json"), log.spoiled, "-o", path("pred.csv")});
+    ASSERT_EQ(p.code, 0) << p;
+    EXPECT_EQ(p.err.find("rotated"), std::string::npos) << p;
+    const std::string lines = fmt::format("lines {}-{} ({} rows) carry an external wrench",
+                                          log.first + 2, log.last + 2, log.last - log.first + 1);
+    EXPECT_NE(p.err.find("massid: note: " + log.spoiled + ": " + lines), std::string::npos) << p;
+    EXPECT_NE(p.err.find("(contact"), std::string::npos) << p;
+    EXPECT_EQ(count_lines(p.err), 1) << p;
+    const Table t = read_table(path("pred.csv"));
+    const char* comp[6] = {"fx_comp", "fy_comp", "fz_comp", "mx_comp", "my_comp", "mz_comp"};
+    double worst_f = 0, worst_m = 0;
+    for (size_t r = 0; r < t.rows.size(); ++r)
+      for (int k = 0; k < 6; ++k) {
+        const double e = std::abs(t.num(r, comp[k]) - log.planted[r][k]);
+        (k < 3 ? worst_f : worst_m) = std::max(k < 3 ? worst_f : worst_m, e);
+      }
+    // Noise 0.05 N, 0.005 N m per axis: 5 sigma plus the prediction's error.
+    EXPECT_LT(worst_f, 0.3);
+    EXPECT_LT(worst_m, 0.04);
+  }
+
+  // identify --robust rejects the contact rows, names them as contact, and
+  // recovers every parameter within 3.5 std of the noise-free truth; without
+  // --robust the log is not refused either (the plain fit is biased).
+  void expect_identified_through_contact(const contact::Log& log,
+                                         const std::vector<std::string>& sensor) {
+    std::vector<std::string> args{"identify",          kUrUrdf,    log.spoiled, "-o",
+                                  path("robust.json"), "--offset", "--robust"};
+    args.insert(args.end(), sensor.begin(), sensor.end());
+    const Result r = run(args);
+    ASSERT_EQ(r.code, 0) << r;
+    const std::string lines = fmt::format("lines {}-{} ({} rows) (d up to", log.first + 2,
+                                          log.last + 2, log.last - log.first + 1);
+    EXPECT_NE(r.err.find(lines), std::string::npos) << r;
+    EXPECT_NE(r.err.find("carry an external wrench (contact?)"), std::string::npos) << r;
+    EXPECT_NE(r.err.find("rejected, with any other outliers"), std::string::npos) << r;
+    const auto j = json::parse(read_file(path("robust.json")));
+    EXPECT_GE(j["outliers"]["count"].get<int>(), log.last - log.first - 5);
+    EXPECT_LE(j["outliers"]["count"].get<int>(), log.last - log.first + 1 + 3);
+
+    std::vector<std::string> plain{"identify",         kUrUrdf,   log.spoiled, "-o",
+                                   path("plain.json"), "--offset"};
+    plain.insert(plain.end(), sensor.begin(), sensor.end());
+    const Result w = run(plain);
+    ASSERT_EQ(w.code, 0) << w;
+    EXPECT_EQ(w.err.find("rotated"), std::string::npos) << w;
+
+    // Simulating over a data file replaces its wrench: noise-free, no offset.
+    std::vector<std::string> sim{"simulate", kUrUrdf, log.clean, "-o", path("truth.csv")};
+    sim.insert(sim.end(), sensor.begin(), sensor.end());
+    ASSERT_EQ(run(sim).code, 0);
+    std::vector<std::string> tid{"identify",         kUrUrdf,    path("truth.csv"), "-o",
+                                 path("truth.json"), "--offset", "--no-checks"};
+    tid.insert(tid.end(), sensor.begin(), sensor.end());
+    ASSERT_EQ(run(tid).code, 0);
+    const auto truth = params(path("truth.json"));
+    const auto robust = params(path("robust.json"));
+    const auto biased = params(path("plain.json"));
+    double worst_robust = 0, worst_plain = 0;
+    for (const auto& [name, v] : truth) {
+      worst_robust = std::max(worst_robust,
+                              std::abs(robust.at(name).first - v.first) / robust.at(name).second);
+      worst_plain =
+          std::max(worst_plain, std::abs(biased.at(name).first - v.first) / biased.at(name).second);
+    }
+    EXPECT_LT(worst_robust, 3.5);
+    EXPECT_GT(worst_plain, 5.0);  // the contact does bias the plain fit: the test can fail
+  }
+
+  // The same log with its whole wrench frame turned by 10 deg: still refused.
+  void expect_rotation_refused(const contact::Log& log, const std::vector<std::string>& sensor) {
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(10.0 * std::numbers::pi / 180,
+                                                Eigen::Vector3d(0.3, -0.5, 1.0).normalized())
+                                  .toRotationMatrix();
+    const std::string rotated = edited(log.spoiled, "rotated.csv", [&](const Table& t, auto& row) {
+      for (const char* kind : {"f", "m"}) {
+        const std::string k(kind);
+        Eigen::Vector3d v(std::stod(row[t.col(k + "x")]), std::stod(row[t.col(k + "y")]),
+                          std::stod(row[t.col(k + "z")]));
+        v = R * v;
+        row[t.col(k + "x")] = num(v.x());
+        row[t.col(k + "y")] = num(v.y());
+        row[t.col(k + "z")] = num(v.z());
+      }
+    });
+    std::vector<std::string> args{"identify",       kUrUrdf,    rotated,   "-o",
+                                  path("rot.json"), "--offset", "--robust"};
+    args.insert(args.end(), sensor.begin(), sensor.end());
+    const Result i = run(args);
+    expect_input_error(i, {rotated, "the wrench frame is rotated against the gravity columns"});
+    const std::string deg = i.err.substr(i.err.find("disagrees with gx,gy,gz by ") + 27);
+    EXPECT_NEAR(std::stod(deg), 10.0, 0.3) << i;
+    const Result p = run({"predict", kUrUrdf, path("clean.json"), rotated, "-o", path("r.csv")});
+    expect_input_error(p, {rotated, "the wrench frame is rotated against the gravity columns"});
+  }
+};
+
+TEST_F(Contact, WristSensorPredictShowsTheContactWrench) {
+  const contact::Log log = wrist();
+  expect_predicted_contact(log, {"--sensor", "wrist_3_link"});
+  expect_rotation_refused(log, {"--sensor", "wrist_3_link"});
+}
+
+TEST_F(Contact, WristSensorRobustIdentifyRejectsTheContact) {
+  expect_identified_through_contact(wrist(), {"--sensor", "wrist_3_link"});
+}
+
+TEST_F(Contact, BaseSensorPredictShowsTheContactWrench) {
+  const contact::Log log = base();
+  expect_predicted_contact(log, {});
+  expect_rotation_refused(log, {});
+}
+
+TEST_F(Contact, BaseSensorRobustIdentifyRejectsTheContact) {
+  expect_identified_through_contact(base(), {});
 }
 
 }  // namespace

@@ -317,7 +317,8 @@ TEST(Warnings, NameNoOptionAndCarryTheSettingsAsHints) {
   s.samples = 30;
   s.per_sample_test = true;
   s.outlier_threshold = 4.0;
-  for (int i = 0; i < 10; ++i) s.outliers.push_back({i, 2 + i, 5.0 + i});
+  // Scattered (3 rows apart: no run of consecutive samples, so no contact).
+  for (int i = 0; i < 10; ++i) s.outliers.push_back({4 * i, 2 + 4 * i, 5.0 + i});
   w = identify_warnings(s, "data.csv");
   ASSERT_EQ(w.size(), 1u);
   EXPECT_EQ(settings(w[0]), (std::vector<Setting>{Setting::Robust}));
@@ -328,6 +329,27 @@ TEST(Warnings, NameNoOptionAndCarryTheSettingsAsHints) {
   ASSERT_EQ(w.size(), 2u);
   EXPECT_TRUE(w[0].hints.empty());
   EXPECT_EQ(settings(w[1]), (std::vector<Setting>{Setting::Drift}));
+  all.insert(all.end(), w.begin(), w.end());
+  // Consecutive outliers: an external wrench for a while (contact), named
+  // first, with the robust fit as the hint unless it ran.
+  s.robust = false;
+  s.outliers.clear();
+  for (int i = 0; i < 10; ++i) s.outliers.push_back({5 + i, 7 + i, 5.0 + i});
+  w = identify_warnings(s, "data.csv");
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_NE(w[0].message.find("lines 7-16 (10 rows) (d up to 14) carry an external wrench "
+                              "(contact?)"),
+            std::string::npos)
+      << w[0].message;
+  EXPECT_EQ(settings(w[0]), (std::vector<Setting>{Setting::Robust}));
+  EXPECT_EQ(settings(w[1]), (std::vector<Setting>{Setting::Robust}));
+  all.insert(all.end(), w.begin(), w.end());
+  s.robust = true;
+  w = identify_warnings(s, "data.csv");
+  ASSERT_EQ(w.size(), 3u);
+  EXPECT_NE(w[0].message.find("rejected, with any other outliers"), std::string::npos)
+      << w[0].message;
+  EXPECT_TRUE(w[0].hints.empty());
   all.insert(all.end(), w.begin(), w.end());
   for (const Warning& x : all) EXPECT_FALSE(names_an_option(x.message)) << x.message;
 

@@ -21,12 +21,24 @@
 // survives, or that its own identifiability check diagnoses. Each statistic
 // is independent of the others and of the sensor offset, and its threshold is
 // far from what realistic noise and offsets produce (setup_checks.cpp).
+//
+// A wiring verdict (wrench-sign, force-channels, moment-channels,
+// frame-rotation) must hold over the file, not come from a minority of rows:
+// at rest the force is a linear function of gravity, f_i = A g_i + b, whatever
+// the wiring (A = M R, M P, -M), so the rows that a robust fit of that map
+// leaves far beyond the noise (an external wrench acting for a while: contact)
+// are set aside before those checks, as long as they are a minority. Which
+// rows carry an external wrench against a model's prediction is
+// find_contact_episodes' verdict (predict, compensate: the expected result;
+// identify: outliers that --robust rejects).
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
 #include "massid/errors.hpp"
+#include "massid/estimation.hpp"
 #include "massid/model.hpp"
 #include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
@@ -80,5 +92,56 @@ std::vector<SetupFinding> check_setup_file(const Model& model, const std::string
                                            const SetupCheckOptions& options = {});
 
 bool has_error(const std::vector<SetupFinding>& findings);
+
+// The rows of a file that a robust fit of f_i = A g_i + b (any wiring, any
+// offset) leaves beyond the noise, in Samples order: what the wiring checks
+// set aside. Empty when the force is not comparable with gravity (no wrench,
+// gravity from the force) or when such rows would not be a minority.
+std::vector<int> rows_against_gravity(const Samples& samples);
+
+// --- contact: rows that carry an external wrench for a while ----------------
+
+// An episode: consecutive rows whose residual (measured minus the model's
+// wrench) lies beyond the noise.
+struct ContactEpisode {
+  int first = 0, last = 0;            // rows in Samples (inclusive)
+  int first_line = 0, last_line = 0;  // the file's lines
+  int rows = 0;                       // rows beyond the threshold in [first, last]
+  double score = 0.0;      // largest standardised residual d in it (chi, 6 dof; 4 with gravity
+                           // from the force)
+  double threshold = 0.0;  // the d a clean row exceeds with probability 1 % per file
+  // Largest |force| (N) and |moment| (N m) of the residual about its median
+  // (the external wrench); NaN when only the scores are known (identify).
+  double force = 0.0, moment = 0.0;
+};
+
+struct ContactOptions {
+  int min_rows = 3;           // an episode has at least this many rows beyond the threshold...
+  int max_gap = 2;            // ...with at most this many rows within the noise between two
+  double probability = 0.01;  // a clean file has a row beyond the threshold with this probability
+};
+
+// From a model's prediction: residual [N x 6] = measured - predicted, per
+// row of samples. Each axis is standardised by the robust scale of its
+// residual (1.4826 MAD about the median), so a constant offset and the model's
+// small errors stay within the noise; a row is beyond it when d = |r / s|
+// exceeds chi_6 at probability / N.
+std::vector<ContactEpisode> find_contact_episodes(const Samples& samples,
+                                                  const Eigen::MatrixXd& residual,
+                                                  const ContactOptions& options = {});
+
+// From rows an outlier test already flagged (identify: IdentifySummary::outliers,
+// with its threshold): the same grouping rule; force and moment NaN.
+std::vector<ContactEpisode> find_contact_episodes(const std::vector<Outlier>& flagged,
+                                                  double threshold,
+                                                  const ContactOptions& options = {});
+
+// "lines 122-342 (221 rows)": an episode's place, for messages.
+std::string contact_place(const ContactEpisode& e);
+
+// The note predict and compensate print for an episode: "FILE: lines L1-L2
+// (n rows) carry an external wrench of up to X N, Y N m (d up to D, beyond
+// the noise's T) (contact): fx_comp..mz_comp hold it".
+std::string contact_note(const std::string& source, const ContactEpisode& e);
 
 }  // namespace massid
