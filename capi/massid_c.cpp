@@ -159,17 +159,10 @@ int sensor_frame(const massid_predictor* p, const double* qu, const double* qdu,
   if (!finite(root_gravity, 3) || !finite(qu, nu) ||
       (moving && (!finite(qdu, nu) || !finite(qddu, nu))))
     return MASSID_ERROR_NOT_FINITE;
-  using Vector = Eigen::Map<const Eigen::VectorXd>;
-  const Vector none(kNoJoints, 0);
-  const massid::SensorPose pose = massid::upstream_kinematics(
-      p->model(), Vector(joint_array(qu, nu), nu), moving ? Vector(joint_array(qdu, nu), nu) : none,
-      moving ? Vector(joint_array(qddu, nu), nu) : none);
-  Eigen::Map<Eigen::Vector3d>{gravity} = pose.rotation.transpose() * Eigen::Vector3d(root_gravity);
-  if (moving) {
-    Eigen::Map<Eigen::Vector3d>{sensor_motion} = pose.motion.omega;
-    Eigen::Map<Eigen::Vector3d>{sensor_motion + 3} = pose.motion.omega_dot;
-    Eigen::Map<Eigen::Vector3d>{sensor_motion + 6} = pose.motion.accel;
-  }
+  massid::upstream_sensor_frame(p->model(), joint_array(qu, nu),
+                                moving ? joint_array(qdu, nu) : nullptr,
+                                moving ? joint_array(qddu, nu) : nullptr,
+                                Eigen::Vector3d(root_gravity), gravity, sensor_motion);
   return MASSID_OK;
 }
 

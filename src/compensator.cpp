@@ -59,18 +59,16 @@ Eigen::Vector3d Compensator::Impl::gravity(FrameMotion& sensor) const {
     case GravityFrom::Columns:
       break;
   }
-  // The joints above the sensor link (resolve_upstream, samples.hpp).
+  // The joints above the sensor link (upstream_sensor_frame, kinematics.hpp).
   if (gravity_from == GravityFrom::Upstream || upstream_motion) {
-    const VectorMap qu(v + c.q_up, c.num_upstream);
-    const VectorMap none(v, 0);
     const Model& model = identified.model();
-    const SensorPose pose =
-        upstream_motion ? upstream_kinematics(model, qu, VectorMap(v + c.qd_up, c.num_upstream),
-                                              VectorMap(v + c.qdd_up, c.num_upstream))
-                        : upstream_kinematics(model, qu, none, none);
-    if (upstream_motion) sensor = pose.motion;
-    if (gravity_from == GravityFrom::Upstream)
-      return pose.rotation.transpose() * options.root_gravity;
+    Eigen::Vector3d g;
+    Eigen::Matrix<double, 9, 1> m;
+    upstream_sensor_frame(model, v + c.q_up, upstream_motion ? v + c.qd_up : nullptr,
+                          upstream_motion ? v + c.qdd_up : nullptr, options.root_gravity, g.data(),
+                          upstream_motion ? m.data() : nullptr);
+    if (upstream_motion) sensor = {m.head<3>(), m.segment<3>(3), m.tail<3>()};
+    if (gravity_from == GravityFrom::Upstream) return g;
   }
   return Eigen::Vector3d(v[c.gravity], v[c.gravity + 1], v[c.gravity + 2]);
 }

@@ -13,6 +13,7 @@
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/read_samples.hpp"
+#include "massid/kinematics.hpp"
 #include "massid/samples.hpp"
 
 namespace massid::detail {
@@ -236,6 +237,47 @@ void throw_not_integer(std::string_view text, size_t line_begin, const SampleCol
   const int col = c.column_of[c.block];
   throw InputError(fmt::format("{}:{}:{}: column '{}': '{}' is not an integer", c.source, line_no,
                                offsets[col], c.header[col], format_number(value)));
+}
+
+Samples read_file_samples(const Model& model, const std::string& path, int max_rows,
+                          const SampleOptions& read, std::vector<std::string>* header) {
+  const MappedFile file(path);
+  const std::string_view text = file.text();
+  const SampleColumns cols = bind_columns(model, text, path, read);
+  if (header) *header = cols.header;
+  const int nj = model.num_joints(), w = cols.wrench_value();
+  const size_t limit = static_cast<size_t>(std::max(1, max_rows));
+  std::vector<double> q, g, wrench;
+  std::vector<int> line;
+  struct Enough {};  // max_rows read: the lines after are not parsed
+  try {
+    parse_block(text, cols, cols.data_begin, text.size(), [&](const double* v, size_t, int l) {
+      q.insert(q.end(), v, v + nj);
+      const size_t at = g.size();
+      g.resize(at + 3);
+      if (cols.gravity_from_upstream)
+        upstream_sensor_frame(model, v + cols.q_up, nullptr, nullptr, cols.root_gravity,
+                              g.data() + at, nullptr);
+      else
+        std::copy_n(v + cols.gravity_value(), 3, g.data() + at);
+      wrench.insert(wrench.end(), v + w, v + w + 6);
+      line.push_back(cols.header_line + 1 + l);
+      if (line.size() == limit) throw Enough{};
+    });
+  } catch (const Enough&) {
+  }
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const Eigen::Index n = static_cast<Eigen::Index>(line.size());
+  Samples s;
+  s.source = path;
+  s.gravity_from_force = cols.gravity_from_force;
+  s.gravity_from_upstream = cols.gravity_from_upstream;
+  s.root_gravity = read.root_gravity;
+  s.q = Eigen::Map<const RowMajor>(q.data(), n, nj);
+  s.gravity = Eigen::Map<const RowMajor>(g.data(), n, 3);
+  s.wrench = Eigen::Map<const RowMajor>(wrench.data(), n, 6);
+  s.line = std::move(line);
+  return s;
 }
 
 void throw_zero_force(std::string_view text, size_t line_begin, const SampleColumns& c) {

@@ -124,6 +124,14 @@ bool parse_line_slow(std::string_view text, std::size_t line_begin, std::size_t 
 // The same for one line held alone ('\r' removed), `line_no` its number for messages.
 bool parse_row_slow(std::string_view line, int line_no, const SampleColumns& c, double* vals);
 
+// The first max_rows samples of a data file (q, gravity, wrench, line: what
+// the static binding reads), with the rules and errors of read_csv +
+// read_samples (WrenchColumns::Required); lines after the last sample read are
+// not looked at. header: the file's column names. The one reader of a whole
+// file (identify_file) and of its head (read_samples_head).
+Samples read_file_samples(const Model& model, const std::string& path, int max_rows,
+                          const SampleOptions& read, std::vector<std::string>* header = nullptr);
+
 // Throws the zero-force error of read_samples for the line at `line_begin`.
 [[noreturn]] void throw_zero_force(std::string_view text, std::size_t line_begin,
                                    const SampleColumns& c);

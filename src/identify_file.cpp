@@ -4,10 +4,10 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "csv_stream.hpp"
 #include "massid/csv.hpp"
 #include "massid/read_samples.hpp"
 #include "massid/rest_windows.hpp"
-#include "massid/setup_checks.hpp"
 #include "massid/streaming.hpp"
 
 namespace massid {
@@ -29,7 +29,7 @@ constexpr int kContinuousHeadRows = 20000;
 bool continuous_log(const Model& model, const std::string& path, const RestWindowOptions& o,
                     const SampleOptions& read) {
   if (o.detection == RestDetection::Off) return false;
-  return find_rest_windows(read_samples_head(model, path, kContinuousHeadRows, nullptr, read), o)
+  return find_rest_windows(detail::read_file_samples(model, path, kContinuousHeadRows, read), o)
       .continuous;
 }
 
@@ -59,7 +59,7 @@ IdentifySummary identify_file(const Model& model, const BaseParameters& base,
   // Implausible residuals: the in-memory fit (the same estimate) names the samples.
   if (largest_residuals_implausible(summary) && small_enough_to_name_samples(path))
     return in_memory();
-  if (samples) *samples = read_samples_head(model, path, INT_MAX, nullptr, read);
+  if (samples) *samples = detail::read_file_samples(model, path, INT_MAX, read);
   return summary;
 }
 

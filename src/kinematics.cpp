@@ -158,6 +158,23 @@ SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen:
   return out;
 }
 
+void upstream_sensor_frame(const Model& model, const double* qu, const double* qdu,
+                           const double* qddu, const Eigen::Vector3d& root_gravity, double* gravity,
+                           double* sensor_motion) {
+  using Map = Eigen::Map<const Eigen::VectorXd>;
+  const int nu = model.num_upstream_joints();
+  const Map none(qu, 0);
+  const SensorPose pose = sensor_motion
+                              ? upstream_kinematics(model, Map(qu, nu), Map(qdu, nu), Map(qddu, nu))
+                              : upstream_kinematics(model, Map(qu, nu), none, none);
+  if (gravity) Eigen::Map<Eigen::Vector3d>{gravity} = pose.rotation.transpose() * root_gravity;
+  if (sensor_motion) {
+    Eigen::Map<Eigen::Vector3d>{sensor_motion} = pose.motion.omega;
+    Eigen::Map<Eigen::Vector3d>{sensor_motion + 3} = pose.motion.omega_dot;
+    Eigen::Map<Eigen::Vector3d>{sensor_motion + 6} = pose.motion.accel;
+  }
+}
+
 double reach(const Model& model) {
   KinematicsData kin(model);
   std::mt19937_64 rng(20261202);

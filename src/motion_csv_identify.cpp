@@ -45,32 +45,6 @@ using detail::thread_count;
 namespace detail {
 namespace {
 
-// resolve_upstream (samples.cpp) for one sample: the sensor pose from the
-// joints above it; gravity = R^T root_gravity when `gravity` is given, the
-// sensor's motion when `sensor` is (then qdu, qddu are the joints' velocities
-// and accelerations). The same calls and arithmetic, so the same bits.
-void resolve_upstream_row(const Model& model, const double* qu, const double* qdu,
-                          const double* qddu, const Eigen::Vector3d& root_gravity, double* gravity,
-                          double* sensor) {
-  const int nu = model.num_upstream_joints();
-  const Eigen::Map<const Eigen::VectorXd> q(qu, nu);
-  const Eigen::VectorXd none(0);
-  const SensorPose pose =
-      sensor ? upstream_kinematics(model, q, Eigen::Map<const Eigen::VectorXd>(qdu, nu),
-                                   Eigen::Map<const Eigen::VectorXd>(qddu, nu))
-             : upstream_kinematics(model, q, none, none);
-  if (gravity) {
-    const Eigen::Vector3d g = pose.rotation.transpose() * root_gravity;
-    for (int k = 0; k < 3; ++k) gravity[k] = g[k];
-  }
-  if (sensor)
-    for (int k = 0; k < 3; ++k) {
-      sensor[k] = pose.motion.omega[k];
-      sensor[3 + k] = pose.motion.omega_dot[k];
-      sensor[6 + k] = pose.motion.accel[k];
-    }
-}
-
 // How the rows of a motion log become samples, as read_samples and
 // prepare_motion_samples make them: the values of a parsed line, gravity from
 // the force or from the upstream joints, their sensor motion (read_samples);
@@ -172,10 +146,10 @@ struct MotionPlan {
     if (has_sm_columns) std::copy_n(v + cols.sensor, 9, row + o_sm);
     std::copy_n(v + cols.wrench, 6, row + o_w);
     if (read_resolve)
-      resolve_upstream_row(*model, v + cols.q_up, has_qdu ? v + cols.qd_up : nullptr,
-                           has_qdu ? v + cols.qdd_up : nullptr, cols.root_gravity,
-                           cols.gravity_from_upstream ? row + o_g : nullptr,
-                           read_sensor ? row + o_sm : nullptr);
+      upstream_sensor_frame(*model, v + cols.q_up, has_qdu ? v + cols.qd_up : nullptr,
+                            has_qdu ? v + cols.qdd_up : nullptr, cols.root_gravity,
+                            cols.gravity_from_upstream ? row + o_g : nullptr,
+                            read_sensor ? row + o_sm : nullptr);
     row[width] = cols.time >= 0 ? v[cols.time] : 0.0;
     row[width + 1] = cols.block >= 0 ? v[cols.block] : 0.0;
   }
@@ -387,9 +361,9 @@ void prepared_rows(const MotionPlan& plan, const FilterSetup* f, const ParsedBlo
         r[W + 1],
         line};
     if (plan.post_resolve) {
-      resolve_upstream_row(*plan.model, out.qu, out.qdu, out.qddu, plan.cols.root_gravity,
-                           plan.cols.gravity_from_upstream ? gravity : nullptr,
-                           plan.post_moving ? sensor : nullptr);
+      upstream_sensor_frame(*plan.model, out.qu, out.qdu, out.qddu, plan.cols.root_gravity,
+                            plan.cols.gravity_from_upstream ? gravity : nullptr,
+                            plan.post_moving ? sensor : nullptr);
       if (plan.cols.gravity_from_upstream) out.g = gravity;
       if (plan.post_moving) out.sm = sensor;
     }

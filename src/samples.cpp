@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "argument_checks.hpp"
 #include "column_map.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
@@ -148,21 +149,24 @@ void resolve_upstream(const Model& model, Samples& s) {
   if (s.q_upstream.cols() == 0 || model.num_upstream_joints() == 0) return;
   const bool moving = s.qd_upstream.cols() > 0 && s.sensor_motion.cols() == 0;
   if (!s.gravity_from_upstream && !moving) return;
+  const int nu = model.num_upstream_joints();
+  detail::check_size("resolve_upstream", "q_upstream", s.q_upstream.cols(), nu,
+                     "the joints above the sensor");
   if (moving) s.sensor_motion.resize(s.size(), 9);
-  const Eigen::VectorXd none(0);
+  Eigen::VectorXd qu(nu), qdu(nu), qddu(nu);
+  Eigen::Vector3d g;
+  Eigen::Matrix<double, 9, 1> motion;
   for (int i = 0; i < s.size(); ++i) {
-    const Eigen::VectorXd qu = s.q_upstream.row(i).transpose();
-    const SensorPose pose = moving
-                                ? upstream_kinematics(model, qu, s.qd_upstream.row(i).transpose(),
-                                                      s.qdd_upstream.row(i).transpose())
-                                : upstream_kinematics(model, qu, none, none);
-    if (s.gravity_from_upstream)
-      s.gravity.row(i) = (pose.rotation.transpose() * s.root_gravity).transpose();
+    qu = s.q_upstream.row(i).transpose();
     if (moving) {
-      s.sensor_motion.block<1, 3>(i, 0) = pose.motion.omega.transpose();
-      s.sensor_motion.block<1, 3>(i, 3) = pose.motion.omega_dot.transpose();
-      s.sensor_motion.block<1, 3>(i, 6) = pose.motion.accel.transpose();
+      qdu = s.qd_upstream.row(i).transpose();
+      qddu = s.qdd_upstream.row(i).transpose();
     }
+    upstream_sensor_frame(model, qu.data(), qdu.data(), qddu.data(), s.root_gravity,
+                          s.gravity_from_upstream ? g.data() : nullptr,
+                          moving ? motion.data() : nullptr);
+    if (s.gravity_from_upstream) s.gravity.row(i) = g.transpose();
+    if (moving) s.sensor_motion.row(i) = motion.transpose();
   }
 }
 

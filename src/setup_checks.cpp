@@ -25,6 +25,7 @@
 
 #include "chi_square.hpp"
 #include "csv_fields.hpp"
+#include "csv_stream.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
@@ -996,76 +997,7 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
 
 Samples read_samples_head(const Model& model, const std::string& path, int max_rows,
                           std::vector<std::string>* header, const SampleOptions& read) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open file", path));
-  // Pieces of kChunk rows go through parse_csv + read_samples, which give the
-  // same values and errors as for the whole file: the first piece is the
-  // file's text from its start, a later one is the header line followed by the
-  // piece's lines, padded with empty lines so that line numbers are the file's.
-  constexpr int kChunk = 8192;
-  std::string prefix, header_text, chunk, line;
-  int header_line = 0, line_no = 0, chunk_rows = 0, chunk_first = 0, total = 0;
-  std::vector<Samples> parts;
-  auto flush = [&] {
-    std::string text;
-    if (parts.empty()) {
-      text = prefix + chunk;
-    } else {
-      text.assign(static_cast<size_t>(header_line - 1), '\n');
-      text += header_text + '\n';
-      text.append(static_cast<size_t>(chunk_first - header_line - 1), '\n');
-      text += chunk;
-    }
-    const CsvTable table = parse_csv(text, path);
-    if (header && parts.empty()) *header = table.header;
-    parts.push_back(read_samples(model, table, WrenchColumns::Required, read));
-    chunk.clear();
-    chunk_rows = 0;
-  };
-  max_rows = std::max(1, max_rows);
-  while (total < max_rows && std::getline(in, line)) {
-    ++line_no;
-    std::string_view content(line);
-    if (line_no == 1 && content.substr(0, 3) == "\xEF\xBB\xBF") content.remove_prefix(3);
-    content = detail::trim(content);
-    const bool row = !content.empty() && content.front() != '#';
-    if (header_line == 0) {
-      prefix += line + '\n';
-      if (row) {
-        header_line = line_no;
-        header_text = line;
-      }
-      continue;
-    }
-    if (chunk.empty()) chunk_first = line_no;
-    chunk += line + '\n';
-    if (row) {
-      ++total;
-      if (++chunk_rows == kChunk) flush();
-    }
-  }
-  if (parts.empty() || chunk_rows > 0) flush();
-
-  Samples s;
-  s.source = path;
-  s.gravity_from_force = parts.front().gravity_from_force;
-  s.gravity_from_upstream = parts.front().gravity_from_upstream;
-  s.root_gravity = read.root_gravity;
-  Eigen::Index n = 0;
-  for (const Samples& p : parts) n += p.size();
-  s.q.resize(n, model.num_joints());
-  s.gravity.resize(n, 3);
-  s.wrench.resize(n, 6);
-  s.line.reserve(static_cast<size_t>(n));
-  Eigen::Index at = 0;
-  for (const Samples& p : parts) {
-    s.q.middleRows(at, p.size()) = p.q;
-    s.gravity.middleRows(at, p.size()) = p.gravity;
-    s.wrench.middleRows(at, p.size()) = p.wrench;
-    s.line.insert(s.line.end(), p.line.begin(), p.line.end());
-    at += p.size();
-  }
-  return s;
+  return detail::read_file_samples(model, path, max_rows, read, header);
 }
 
 std::vector<SetupFinding> check_setup_file(const Model& model, const std::string& path,

@@ -469,24 +469,151 @@ using detail::AccumulatorState;
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-// A parsed row's gravity: read (or from the force: parse_block), or from the
-// joints above the sensor link as read_samples takes it (resolve_upstream,
-// the root gravity bound with the columns) when the file has no gx,gy,gz but has them.
-struct UpstreamGravity {
-  const Model& model;
-  const detail::SampleColumns& cols;
-  UpstreamGravity(const Model& m, const detail::SampleColumns& c) : model(m), cols(c) {}
-  const double* operator()(const double* v, double* buffer) const {
-    if (!cols.gravity_from_upstream) return v + cols.gravity_value();
-    const int nu = model.num_upstream_joints();
-    const Eigen::VectorXd none(0);
-    const SensorPose pose = upstream_kinematics(
-        model, Eigen::Map<const Eigen::VectorXd>(v + cols.q_up, nu), none, none);
-    const Eigen::Vector3d g = pose.rotation.transpose() * cols.root_gravity;
-    for (int k = 0; k < 3; ++k) buffer[k] = g[k];
-    return buffer;
+// The rows of identification come from a source cut into fixed blocks:
+// block(k, sink) calls sink(MotionRow) for block k's rows in order. The passes
+// below (accumulate_rows, residual_max_rows) are the one code over every source:
+// Samples in memory (SamplesRows) and a data CSV file (CsvRows).
+
+// Samples in memory, `rows` a block (sample i copied into a buffer: q, qd, qdd,
+// g, sensor motion, w; with a static base only q, g, w).
+struct SamplesRows {
+  const Samples& samples;
+  size_t rows = 1;
+  int nj = 0;
+  bool velocities = false, sensor = false;
+  int no_line = 1;  // a sample's line when samples.line has none: i + no_line (0 if < 0)
+
+  SamplesRows(const Samples& s, bool motion, size_t block_rows, int line_base)
+      : samples(s),
+        rows(std::max<size_t>(block_rows, 1)),
+        nj(static_cast<int>(s.q.cols())),
+        velocities(motion && s.qd.cols() == nj && s.qdd.cols() == nj),
+        sensor(motion && s.has_sensor_motion()),
+        no_line(line_base) {
+    if (!s.has_wrench())
+      throw InputError(s.source + ": no measured wrench (columns fx,fy,fz,mx,my,mz)");
+  }
+  size_t size() const { return static_cast<size_t>(samples.size()); }
+  size_t blocks() const { return (size() + rows - 1) / rows; }
+  void set_source(IdentifyAccumulator& acc) const {
+    acc.set_source(samples.source, samples.gravity_from_force, samples.gravity_from_upstream);
+  }
+  template <class Sink>
+  void range(size_t begin, size_t end, Sink&& sink) const {
+    std::vector<double> b(3 * static_cast<size_t>(nj) + 18);
+    double* const v = b.data();
+    double* const g = v + 3 * nj;
+    const MotionRow row{v, velocities ? v + nj : nullptr, velocities ? v + 2 * nj : nullptr,
+                        g, sensor ? g + 3 : nullptr,      g + 12};
+    for (size_t i = begin; i < end; ++i) {
+      const Eigen::Index r = static_cast<Eigen::Index>(i);
+      for (int j = 0; j < nj; ++j) v[j] = samples.q(r, j);
+      if (velocities)
+        for (int j = 0; j < nj; ++j) {
+          v[nj + j] = samples.qd(r, j);
+          v[2 * nj + j] = samples.qdd(r, j);
+        }
+      for (int k = 0; k < 3; ++k) g[k] = samples.gravity(r, k);
+      if (sensor)
+        for (int k = 0; k < 9; ++k) g[3 + k] = samples.sensor_motion(r, k);
+      for (int k = 0; k < 6; ++k) g[12 + k] = samples.wrench(r, k);
+      MotionRow at = row;
+      at.line = i < samples.line.size() ? samples.line[i]
+                : no_line < 0           ? 0
+                                        : static_cast<int>(i) + no_line;
+      sink(at);
+    }
+  }
+  template <class Sink>
+  void block(size_t k, Sink&& sink) const {
+    range(k * rows, std::min(size(), (k + 1) * rows), sink);
   }
 };
+
+// A data CSV file, memory-mapped, `bytes` a block (cut at line starts), the
+// pages of a block released once parsed. Gravity as read_samples takes it:
+// read, from the force (parse_block), or from the joints above the sensor
+// link (upstream_sensor_frame, the root gravity bound with the columns).
+struct CsvRows {
+  const Model& model;
+  detail::MappedFile file;
+  std::string_view text;
+  detail::SampleColumns cols;
+  size_t bytes = 1;
+
+  CsvRows(const Model& m, const std::string& path, const SampleOptions& read,
+          const StreamOptions& stream)
+      : model(m),
+        file(path),
+        text(file.text()),
+        cols(detail::bind_columns(m, text, path, read)),
+        bytes(std::max<size_t>(stream.block_bytes, 1)) {}
+  size_t blocks() const { return detail::num_blocks(text, cols, bytes); }
+  void set_source(IdentifyAccumulator& acc) const {
+    acc.set_source(cols.source, cols.gravity_from_force, cols.gravity_from_upstream);
+  }
+  template <class Sink>
+  void range(size_t begin, size_t end, Sink&& sink) const {
+    const int w = cols.wrench_value();
+    double gb[3];
+    detail::parse_block(text, cols, begin, end, [&](const double* v, size_t) {
+      const double* g = v + cols.gravity_value();
+      if (cols.gravity_from_upstream) {
+        upstream_sensor_frame(model, v + cols.q_up, nullptr, nullptr, cols.root_gravity, gb,
+                              nullptr);
+        g = gb;
+      }
+      sink(MotionRow{v, nullptr, nullptr, g, nullptr, v + w});
+    });
+  }
+  template <class Sink>
+  void block(size_t k, Sink&& sink) const {
+    const auto [begin, end] = detail::block_range(text, cols, bytes, k);
+    range(begin, end, sink);
+    file.release(begin, end);
+  }
+  // The end of the first `pilot_bytes` (at a line start).
+  size_t pilot_end(size_t pilot_bytes) const {
+    return detail::block_range(text, cols, std::max<size_t>(pilot_bytes, 1), 0).second;
+  }
+};
+
+// Every row of `src` folded, blocks on threads merged in block order; with
+// `xhat`, each tracking the residuals at it (track_residuals).
+template <class Source>
+IdentifyAccumulator accumulate_rows(const Model& model, const BaseParameters& base,
+                                    const Source& src, const StreamOptions& stream,
+                                    const std::optional<Eigen::VectorXd>& xhat = std::nullopt) {
+  IdentifyAccumulator total(model, base);
+  src.set_source(total);
+  if (xhat) total.track_residuals(*xhat);
+  ordered_blocks<IdentifyAccumulator>(
+      src.blocks(), thread_count(stream),
+      [&](size_t k) {
+        IdentifyAccumulator acc(model, base);
+        if (xhat) acc.track_residuals(*xhat);
+        src.block(k, [&](const MotionRow& r) { acc.add(r); });
+        return acc;
+      },
+      [&](IdentifyAccumulator&& acc) { total.merge(std::move(acc)); });
+  return total;
+}
+
+// The largest residual per axis of `value` over every row of `src`.
+template <class Source>
+Vector6d residual_max_rows(const Model& model, const BaseParameters& base, const Source& src,
+                           const Eigen::VectorXd& value, const StreamOptions& stream) {
+  ResidualMax total(model, base, value);
+  ordered_blocks<ResidualMax>(
+      src.blocks(), thread_count(stream),
+      [&](size_t k) {
+        ResidualMax part(model, base, value);
+        src.block(k, [&](const MotionRow& r) { part.add(r); });
+        return part;
+      },
+      [&](ResidualMax&& part) { total.merge(part); });
+  return total.max();
+}
 
 }  // namespace
 
@@ -506,34 +633,8 @@ void IdentifyAccumulator::add(const double* q, const double* gravity, const doub
 void IdentifyAccumulator::add(const MotionRow& row) { state_->add_motion(row); }
 
 void IdentifyAccumulator::add(const Samples& samples) {
-  if (!samples.has_wrench())
-    throw InputError(samples.source + ": no measured wrench (columns fx,fy,fz,mx,my,mz)");
-  const Eigen::Index nj = samples.q.cols();
-  const bool motion = state_->motion;
-  const bool velocities = motion && samples.qd.cols() == nj && samples.qdd.cols() == nj;
-  const bool sensor = motion && samples.has_sensor_motion();
-  std::vector<double> q(nj), qd(nj), qdd(nj);
-  double sm[9];
-  for (int i = 0; i < samples.size(); ++i) {
-    for (Eigen::Index j = 0; j < nj; ++j) q[j] = samples.q(i, j);
-    const Eigen::Vector3d g = samples.gravity.row(i).transpose();
-    const Vector6d w = samples.wrench.row(i).transpose();
-    const int line = i < static_cast<int>(samples.line.size()) ? samples.line[i] : 0;
-    if (!motion) {
-      state_->add(q.data(), g.data(), w.data(), line);
-      continue;
-    }
-    if (velocities)
-      for (Eigen::Index j = 0; j < nj; ++j) {
-        qd[j] = samples.qd(i, j);
-        qdd[j] = samples.qdd(i, j);
-      }
-    if (sensor)
-      for (int k = 0; k < 9; ++k) sm[k] = samples.sensor_motion(i, k);
-    state_->add_motion(MotionRow{q.data(), velocities ? qd.data() : nullptr,
-                                 velocities ? qdd.data() : nullptr, g.data(), sensor ? sm : nullptr,
-                                 w.data(), line});
-  }
+  const SamplesRows rows(samples, state_->motion, 1, -1);
+  rows.range(0, rows.size(), [&](const MotionRow& r) { state_->add_motion(r); });
 }
 
 void IdentifyAccumulator::merge(IdentifyAccumulator&& later) { state_->merge(*later.state_); }
@@ -807,151 +908,42 @@ Eigen::Matrix<double, 6, 1> ResidualMax::max() const {
 IdentifySummary identify_streaming(const Model& model, const BaseParameters& base,
                                    const Samples& samples, const IdentifyOptions& options,
                                    const StreamOptions& stream) {
-  if (!samples.has_wrench())
-    throw InputError(samples.source + ": no measured wrench (columns fx,fy,fz,mx,my,mz)");
-  const size_t N = static_cast<size_t>(samples.size());
-  const size_t rows = static_cast<size_t>(std::max(1, stream.block_rows));
-  const size_t blocks = (N + rows - 1) / rows;
-  const int nj = model.num_joints();
-  const bool motion = base.motion();
-  const bool velocities = motion && samples.qd.cols() == nj && samples.qdd.cols() == nj;
-  const bool sensor = motion && samples.has_sensor_motion();
-  // Sample i copied into a buffer: q, qd, qdd, g, sensor motion, w.
-  struct Buffer {
-    std::vector<double> v;
-    explicit Buffer(int nj) : v(3 * static_cast<size_t>(nj) + 18) {}
-  };
-  auto row = [&](size_t i, Buffer& b) {
-    const Eigen::Index r = static_cast<Eigen::Index>(i);
-    double* v = b.v.data();
-    for (int j = 0; j < nj; ++j) v[j] = samples.q(r, j);
-    if (velocities)
-      for (int j = 0; j < nj; ++j) {
-        v[nj + j] = samples.qd(r, j);
-        v[2 * nj + j] = samples.qdd(r, j);
-      }
-    double* g = v + 3 * nj;
-    for (int k = 0; k < 3; ++k) g[k] = samples.gravity(r, k);
-    if (sensor)
-      for (int k = 0; k < 9; ++k) g[3 + k] = samples.sensor_motion(r, k);
-    for (int k = 0; k < 6; ++k) g[12 + k] = samples.wrench(r, k);
-    return MotionRow{v,
-                     velocities ? v + nj : nullptr,
-                     velocities ? v + 2 * nj : nullptr,
-                     g,
-                     sensor ? g + 3 : nullptr,
-                     g + 12,
-                     i < samples.line.size() ? samples.line[i] : static_cast<int>(i) + 1};
-  };
-  IdentifyAccumulator total(model, base);
-  total.set_source(samples.source, samples.gravity_from_force, samples.gravity_from_upstream);
-  ordered_blocks<IdentifyAccumulator>(
-      blocks, thread_count(stream),
-      [&](size_t k) {
-        IdentifyAccumulator acc(model, base);
-        Buffer b(nj);
-        for (size_t i = k * rows; i < std::min(N, (k + 1) * rows); ++i) {
-          const MotionRow r = row(i, b);
-          if (motion)
-            acc.add(r);
-          else
-            acc.add(r.q, r.gravity, r.wrench, r.line);
-        }
-        return acc;
-      },
-      [&](IdentifyAccumulator&& acc) { total.merge(std::move(acc)); });
-  IdentifySummary out = total.finish(options);
-  if (stream.residual_max) {
-    ResidualMax rmax(model, base, out.value);
-    ordered_blocks<ResidualMax>(
-        blocks, thread_count(stream),
-        [&](size_t k) {
-          ResidualMax part(model, base, out.value);
-          Buffer b(nj);
-          for (size_t i = k * rows; i < std::min(N, (k + 1) * rows); ++i) part.add(row(i, b));
-          return part;
-        },
-        [&](ResidualMax&& part) { rmax.merge(part); });
-    out.residual_max = rmax.max();
-  }
+  const SamplesRows rows(samples, base.motion(), static_cast<size_t>(stream.block_rows), 1);
+  IdentifySummary out = accumulate_rows(model, base, rows, stream).finish(options);
+  if (stream.residual_max)
+    out.residual_max = residual_max_rows(model, base, rows, out.value, stream);
   return out;
 }
 
 IdentifyAccumulator accumulate_csv(const Model& model, const BaseParameters& base,
                                    const std::string& path, const StreamOptions& stream,
                                    const SampleOptions& read) {
-  const detail::MappedFile file(path);
-  const std::string_view text = file.text();
-  const detail::SampleColumns cols = detail::bind_columns(model, text, path, read);
-  const size_t bytes = std::max<size_t>(stream.block_bytes, 1);
-  IdentifyAccumulator total(model, base);
-  total.set_source(path, cols.gravity_from_force, cols.gravity_from_upstream);
-  const int w = cols.wrench_value();
-  const UpstreamGravity gravity(model, cols);
+  const CsvRows rows(model, path, read, stream);
   // The largest residual in the same pass: a provisional estimate from the
   // rows of the first 2 MB (a pilot, read twice) selects candidate rows, and
   // finish() proves the maximum from them (else it stays NaN and a second pass
   // is needed). Files within the pilot are cheap to read twice anyway.
   std::optional<Eigen::VectorXd> xhat;
-  if (stream.residual_max) {
-    const size_t pilot_end =
-        detail::block_range(text, cols, std::max<size_t>(stream.pilot_bytes, 1), 0).second;
-    if (pilot_end < text.size()) {
-      IdentifyAccumulator pilot(model, base);
-      double gb[3];
-      detail::parse_block(text, cols, cols.data_begin, pilot_end,
-                          [&](const double* v, size_t) { pilot.add(v, gravity(v, gb), v + w); });
-      xhat = pilot.rough_estimate();
-      total.track_residuals(*xhat);
-    }
+  const size_t pilot_end = rows.pilot_end(stream.pilot_bytes);
+  if (stream.residual_max && pilot_end < rows.text.size()) {
+    IdentifyAccumulator pilot(model, base);
+    rows.range(rows.cols.data_begin, pilot_end, [&](const MotionRow& r) { pilot.add(r); });
+    xhat = pilot.rough_estimate();
   }
-  ordered_blocks<IdentifyAccumulator>(
-      detail::num_blocks(text, cols, bytes), thread_count(stream),
-      [&](size_t k) {
-        const auto [begin, end] = detail::block_range(text, cols, bytes, k);
-        IdentifyAccumulator acc(model, base);
-        if (xhat) acc.track_residuals(*xhat);
-        double gb[3];
-        detail::parse_block(text, cols, begin, end,
-                            [&](const double* v, size_t) { acc.add(v, gravity(v, gb), v + w); });
-        file.release(begin, end);
-        return acc;
-      },
-      [&](IdentifyAccumulator&& acc) { total.merge(std::move(acc)); });
-  return total;
+  return accumulate_rows(model, base, rows, stream, xhat);
 }
 
 Eigen::Matrix<double, 6, 1> residual_max_csv(const Model& model, const BaseParameters& base,
                                              const std::string& path, const Eigen::VectorXd& value,
                                              const StreamOptions& stream,
                                              const SampleOptions& read) {
-  const detail::MappedFile file(path);
-  const std::string_view text = file.text();
-  const detail::SampleColumns cols = detail::bind_columns(model, text, path, read);
-  const size_t bytes = std::max<size_t>(stream.block_bytes, 1);
-  ResidualMax total(model, base, value);
-  const int w = cols.wrench_value();
-  const UpstreamGravity gravity(model, cols);
-  ordered_blocks<ResidualMax>(
-      detail::num_blocks(text, cols, bytes), thread_count(stream),
-      [&](size_t k) {
-        const auto [begin, end] = detail::block_range(text, cols, bytes, k);
-        ResidualMax part(model, base, value);
-        double gb[3];
-        detail::parse_block(text, cols, begin, end,
-                            [&](const double* v, size_t) { part.add(v, gravity(v, gb), v + w); });
-        file.release(begin, end);
-        return part;
-      },
-      [&](ResidualMax&& part) { total.merge(part); });
-  return total.max();
+  return residual_max_rows(model, base, CsvRows(model, path, read, stream), value, stream);
 }
 
 IdentifySummary identify_csv(const Model& model, const BaseParameters& base,
                              const std::string& path, const IdentifyOptions& options,
                              const StreamOptions& stream) {
-  const IdentifyAccumulator acc = accumulate_csv(model, base, path, stream);
-  IdentifySummary out = acc.finish(options);
+  IdentifySummary out = accumulate_csv(model, base, path, stream).finish(options);
   if (stream.residual_max)
     out.residual_max = residual_max_csv(model, base, path, out.value, stream);
   return out;

@@ -75,6 +75,16 @@ SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen:
 // sensor frame then turns with them and is no single vector.
 Eigen::Vector3d fixed_sensor_gravity(const Model& model, const Eigen::Vector3d& root_gravity);
 
+// Gravity and the sensor frame's motion from the joints above the sensor link,
+// the one computation of every reader, the compensator and the C interface.
+// qu [num_upstream_joints]; gravity [3], when not null: R^T root_gravity in
+// the sensor frame; sensor_motion [9], when not null: wx wy wz, dwx dwy dwz,
+// ax ay az (samples.hpp), qdu and qddu [num_upstream_joints] then being the
+// joints' velocities and accelerations (else unused: at rest).
+void upstream_sensor_frame(const Model& model, const double* qu, const double* qdu,
+                           const double* qddu, const Eigen::Vector3d& root_gravity, double* gravity,
+                           double* sensor_motion);
+
 // The robot's size: the largest distance from the sensor origin of a link
 // origin or centre of mass over 256 configurations spread over the joints'
 // ranges (limits where given, else a full turn or +-1 m; a fixed seed: a

@@ -80,9 +80,10 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
                                       const std::vector<std::string>& header,
                                       const SetupCheckOptions& options = {});
 
-// The first max_rows samples of a data file, read in pieces (memory bounded by
-// max_rows, whatever the file's size), with read_csv's and read_samples' rules
-// and errors. header: the file's column names.
+// The first max_rows samples of a data file, read by the one streaming reader
+// of data files (memory-mapped; memory bounded by max_rows, whatever the
+// file's size; lines after the last sample read are not looked at), with
+// read_csv's and read_samples' rules and errors. header: the file's column names.
 Samples read_samples_head(const Model& model, const std::string& path, int max_rows,
                           std::vector<std::string>* header = nullptr,
                           const SampleOptions& read = {});
