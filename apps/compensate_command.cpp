@@ -19,9 +19,9 @@
 #include "latency_histogram.hpp"
 #include "massid/compensator.hpp"
 #include "massid/errors.hpp"
+#include "massid/identified_model.hpp"
 #include "massid/params_file.hpp"
 #include "massid/urdf.hpp"
-#include "massid/identified_model.hpp"
 #include "options.hpp"
 
 namespace massid::cli {

@@ -9,6 +9,7 @@
 #include "massid/errors.hpp"
 #include "massid/identification.hpp"
 #include "massid/params_file.hpp"
+#include "massid/params_json.hpp"
 #include "massid/physical.hpp"
 #include "massid/report.hpp"
 #include "massid/setup_checks.hpp"

@@ -4,13 +4,14 @@
 
 #include <iostream>
 
-#include "massid/urdf.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/errors.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/model.hpp"
 #include "massid/params_file.hpp"
+#include "massid/params_json.hpp"
 #include "massid/report.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid::cli {
 

@@ -4,18 +4,18 @@
 
 #include <iostream>
 
-#include "massid/read_samples.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/identified_model.hpp"
-#include "massid/setup_checks.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/motion_predictor.hpp"
 #include "massid/params_file.hpp"
 #include "massid/predictor.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/report.hpp"
 #include "massid/samples.hpp"
+#include "massid/setup_checks.hpp"
 #include "python_report.hpp"
 
 namespace massid::cli {

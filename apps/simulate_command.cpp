@@ -4,12 +4,12 @@
 
 #include <iostream>
 
-#include "massid/read_samples.hpp"
-#include "massid/urdf.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
 #include "massid/model.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid::cli {
 

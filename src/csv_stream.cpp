@@ -12,8 +12,8 @@
 #include "csv_fields.hpp"
 #include "massid/csv.hpp"
 #include "massid/errors.hpp"
-#include "massid/read_samples.hpp"
 #include "massid/kinematics.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 
 namespace massid::detail {

@@ -1,4 +1,3 @@
-#include "massid/urdf.hpp"
 #include "massid/identified_model.hpp"
 
 #include <fmt/format.h>
@@ -8,6 +7,7 @@
 #include "massid/identification.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/physical.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid {
 
@@ -131,7 +131,7 @@ bool IdentifiedModel::sensor_moving() const {
 }
 std::optional<Eigen::Vector3d> IdentifiedModel::fixed_gravity() const {
   const BaseParameters& b = checked("IdentifiedModel::fixed_gravity").base;
-  if (b.motion() && b.fixed_gravity) return b.gravity;
+  if (b.motion() && b.fixed_gravity) return b.sensor_gravity;
   return std::nullopt;
 }
 const Wrench& IdentifiedModel::offset() const { return checked("IdentifiedModel::offset").offset; }

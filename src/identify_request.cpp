@@ -1,5 +1,3 @@
-#include "massid/read_samples.hpp"
-#include "massid/urdf.hpp"
 #include "massid/identify_request.hpp"
 
 #include <fmt/format.h>
@@ -11,7 +9,9 @@
 #include "massid/csv.hpp"
 #include "massid/delay.hpp"
 #include "massid/physical.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/rest_windows.hpp"
+#include "massid/urdf.hpp"
 
 namespace massid {
 

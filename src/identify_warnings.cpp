@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "massid/identification.hpp"
-#include "massid/setup_checks.hpp"
 #include "massid/read_samples.hpp"
+#include "massid/setup_checks.hpp"
 
 namespace massid {
 

@@ -93,7 +93,8 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     json motion;
     motion["gravity"] = base.fixed_gravity ? "fixed" : "varying";
     if (base.fixed_gravity)
-      motion["gravity_vector"] = json::array({base.sensor_gravity[0], base.sensor_gravity[1], base.sensor_gravity[2]});
+      motion["gravity_vector"] =
+          json::array({base.sensor_gravity[0], base.sensor_gravity[1], base.sensor_gravity[2]});
     motion["sensor_moving"] = base.sensor_moving;
     j["motion"] = motion;
   }

@@ -17,10 +17,10 @@
 
 #include "cli_support.hpp"
 #include "latency_histogram.hpp"
-#include "massid/read_samples.hpp"
 #include "massid/csv.hpp"
 #include "massid/identified_model.hpp"
 #include "massid/motion_data.hpp"
+#include "massid/read_samples.hpp"
 
 namespace massid_cli_test {
 namespace {
@@ -225,7 +225,8 @@ class CliCompensate : public Cli {
   // offsets; truth.csv the URDF's own wrench there (noise-free, no offset).
   void SetUp() override {
     Cli::SetUp();
-    Result r = run({"simulate", kPumaUrdf, kHoldout, "-o", path("fit.csv"), "--sensor-offset", kOffset});
+    Result r =
+        run({"simulate", kPumaUrdf, kHoldout, "-o", path("fit.csv"), "--sensor-offset", kOffset});
     ASSERT_EQ(r.code, 0) << r;
     r = run({"identify", kPumaUrdf, path("fit.csv"), "--offset", "--sigma-force", "0.05",
              "--sigma-moment", "0.005", "-o", path("params.json")});
@@ -602,8 +603,9 @@ TEST_F(Cli, CompensateInMotionWithADynamicFit) {
       return c == "gx" || c == "gy" || c == "gz";
     });
     write_file(path("arm_" + name), to_csv(arm));
-    const Result s = run({"simulate", ur, path("arm_" + name), "-o", path(name), "--dynamic",
-                          "--sensor", "wrist_3_link", "--sensor-offset", "0.1,0.2,0.3,0.01,0.02,0.03"});
+    const Result s =
+        run({"simulate", ur, path("arm_" + name), "-o", path(name), "--dynamic", "--sensor",
+             "wrist_3_link", "--sensor-offset", "0.1,0.2,0.3,0.01,0.02,0.03"});
     EXPECT_EQ(s.code, 0) << s;
     return arm.rows.size();
   };

@@ -8,7 +8,6 @@
 #include <fstream>
 #include <random>
 
-#include "massid/urdf.hpp"
 #include "massid/base_parameters.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
@@ -16,7 +15,9 @@
 #include "massid/identified_model.hpp"
 #include "massid/motion_data.hpp"
 #include "massid/params_file.hpp"
+#include "massid/params_json.hpp"
 #include "massid/simulate.hpp"
+#include "massid/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

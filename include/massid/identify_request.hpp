@@ -18,12 +18,12 @@
 #include <utility>
 #include <vector>
 
-#include "massid/read_samples.hpp"
 #include "massid/errors.hpp"
 #include "massid/estimation.hpp"
 #include "massid/identification.hpp"
 #include "massid/model.hpp"
 #include "massid/motion_data.hpp"
+#include "massid/read_samples.hpp"
 #include "massid/samples.hpp"
 
 namespace massid {
