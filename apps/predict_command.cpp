@@ -89,6 +89,29 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   return 0;
 }
 
+}  // namespace
+
+void add_predict_command(CLI::App& app, PredictCommand& c) {
+  c.app = app.add_subcommand("predict", "Gravity wrench predicted at every row of a CSV");
+  CLI::App* pred = c.app;
+  pred->add_option("robot", c.urdf, "Robot URDF")->required();
+  pred->add_option("params", c.params, "Params JSON from identify")->required();
+  pred->add_option("data", c.data, "Plan or data CSV")->required();
+  pred->add_option("-o,--output", c.output, "CSV to write: input plus *_pred (and *_comp)");
+  pred->add_option("--report", c.report,
+                   "Also write an HTML report (plots; needs Python with matplotlib)");
+  pred->add_option("--root-gravity", c.motion.root_gravity,
+                   "Gravity in the URDF root frame, gx,gy,gz (sensor below movable joints)");
+  pred->add_option("--cutoff", c.motion.cutoff,
+                   "Dynamic params, log without JOINT_vel/_acc: low-pass cutoff, Hz")
+      ->check(CLI::PositiveNumber);
+  pred->add_flag("--physical", c.physical,
+                 "Predict from the params file's physical parameters (identify --physical) "
+                 "instead of its base parameters");
+  pred->add_flag("--no-checks", c.no_checks,
+                 "Skip the file's set-up checks (joint and wrench units, signs, frame, columns)");
+}
+
 int run_predict(const PredictCommand& c) {
   return run_predict(c.urdf, c.params, c.data, c.output, c.report, c.motion, !c.no_checks,
                      c.physical);

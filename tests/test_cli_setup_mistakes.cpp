@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "cli_support.hpp"
+#include "massid/urdf.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/model.hpp"
 #include "massid/samples.hpp"
