@@ -1,4 +1,5 @@
 #include "massid/identification.hpp"
+#include "massid/identified_model.hpp"
 
 #include <fmt/format.h>
 
@@ -397,6 +398,23 @@ Identification read_identification(const std::string& path) {
     throw InputError(fmt::format("{}: not a massid identification record: {}", path, e.what()));
   }
   return out;
+}
+
+// Declared in identified_model.hpp (live), defined here with the
+// identification it reads, so that the live part needs nothing of identify.
+IdentifiedModel IdentifiedModel::from_identification(const Identification& ident,
+                                                     const IdentifiedModelOptions& options) {
+  Eigen::VectorXd values = ident.summary.value;
+  if (options.physical) {
+    if (!ident.physical)
+      throw InputError("predicting from physical parameters needs an identification with them");
+    values.head(ident.base.num_mass()) =
+        base_values_of_standard(ident.model, ident.base, ident.physical->standard);
+  }
+  return from_values(ident.model, ident.base, std::move(values),
+                     options.physical ? Eigen::VectorXd() : ident.summary.stddev,
+                     options.physical ? Eigen::MatrixXd() : ident.summary.covariance,
+                     "the identification");
 }
 
 }  // namespace massid

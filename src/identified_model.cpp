@@ -4,9 +4,7 @@
 
 #include "argument_checks.hpp"
 #include "massid/errors.hpp"
-#include "massid/identification.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/physical.hpp"
+#include "massid/standard_parameters.hpp"
 #include "massid/urdf.hpp"
 
 namespace massid {
@@ -79,20 +77,6 @@ IdentifiedModel IdentifiedModel::load(const std::string& urdf_path, const std::s
   return load(urdf_path, read_params(params_path), options);
 }
 
-IdentifiedModel IdentifiedModel::from_identification(const Identification& ident,
-                                                     const IdentifiedModelOptions& options) {
-  Eigen::VectorXd values = ident.summary.value;
-  if (options.physical) {
-    if (!ident.physical)
-      throw InputError("predicting from physical parameters needs an identification with them");
-    values.head(ident.base.num_mass()) =
-        base_values_of_standard(ident.model, ident.base, ident.physical->standard);
-  }
-  return from_values(ident.model, ident.base, std::move(values),
-                     options.physical ? Eigen::VectorXd() : ident.summary.stddev,
-                     options.physical ? Eigen::MatrixXd() : ident.summary.covariance,
-                     "the identification");
-}
 
 const IdentifiedModel::Impl& IdentifiedModel::checked(const char* function) const {
   if (!impl_)

@@ -1,5 +1,7 @@
 #include "massid/motion_predictor.hpp"
 
+#include "massid/base_regressor.hpp"
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstring>
@@ -605,6 +607,30 @@ void predict_motion(const MotionPredictor& predictor, MotionPredictorData& d,
             any ? qdd.data() + i : nullptr, stride, g, rest, w);
     for (int k = 0; k < 6; ++k) wrenches(i, k) = w[k];
   }
+}
+
+Eigen::MatrixXd predict_samples(const MotionPredictor& predictor, MotionPredictorData& data,
+                                const Samples& s) {
+  const int nj = predictor.num_joints;
+  const bool moving = nj > 0 && s.qd.cols() == nj && s.qdd.cols() == nj;
+  const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(s.size(), nj);
+  const Eigen::MatrixXd& qd = moving ? s.qd : none;
+  const Eigen::MatrixXd& qdd = moving ? s.qdd : none;
+  Eigen::MatrixXd P(s.size(), 6);
+  if (!s.has_sensor_motion()) {
+    predict_motion(predictor, data, s.q, qd, qdd, s.gravity, P);
+  } else {  // the sensor frame moves: row by row with its motion
+    Eigen::VectorXd q(nj), v(nj), a(nj);
+    for (int i = 0; i < s.size(); ++i) {
+      q = s.q.row(i).transpose();
+      v = qd.row(i).transpose();
+      a = qdd.row(i).transpose();
+      P.row(i) = predict_motion(predictor, data, q.data(), v.data(), a.data(),
+                                s.gravity.row(i).transpose(), sensor_motion(s, i))
+                     .transpose();
+    }
+  }
+  return P;
 }
 
 }  // namespace massid

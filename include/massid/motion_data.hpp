@@ -44,11 +44,5 @@ Samples read_motion_samples(const Model& model, const std::string& path, WrenchC
 // frame when the samples' sensor motion is not zero.
 BaseParameterOptions motion_base_options(const Samples& samples, bool offset);
 
-// [N x 6] the mechanism's wrench predicted at every sample (weight and
-// motion, the sensor's own motion where the samples have it), WITHOUT the
-// identified offsets (IdentifiedModel::compensate subtracts them; with level
-// data they hold what the offsets absorbed, the weight among it).
-Eigen::MatrixXd predict_samples(const MotionPredictor& predictor, MotionPredictorData& data,
-                                const Samples& samples);
 
 }  // namespace massid

@@ -61,6 +61,7 @@
 #include "massid/kinematics.hpp"
 #include "massid/model.hpp"
 #include "massid/predictor.hpp"
+#include "massid/samples.hpp"
 
 namespace massid {
 
@@ -138,5 +139,12 @@ void predict_motion(const MotionPredictor& predictor, MotionPredictorData& data,
                     const Eigen::Ref<const Eigen::MatrixXd>& qdd,
                     const Eigen::Ref<const Eigen::MatrixXd>& gravity,
                     Eigen::Ref<Eigen::MatrixXd> wrenches);
+
+// [N x 6] the mechanism's wrench predicted at every sample (weight and
+// motion, the sensor's own motion where the samples have it), WITHOUT the
+// identified offsets (IdentifiedModel::compensate subtracts them; with level
+// data they hold what the offsets absorbed, the weight among it).
+Eigen::MatrixXd predict_samples(const MotionPredictor& predictor, MotionPredictorData& data,
+                                const Samples& samples);
 
 }  // namespace massid
