@@ -384,10 +384,5 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
   return out;
 }
 
-bool PhysicalSummary::consistent() const {
-  for (const PhysicalLink& l : links)
-    if (!l.consistent) return false;
-  return true;
-}
 
 }  // namespace massid

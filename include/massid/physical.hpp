@@ -113,7 +113,13 @@ struct PhysicalSummary {
   bool converged = false;
   std::string message;  // Ceres' termination message
 
-  bool consistent() const;  // every link
+  // Every link (inline: writing a params file asks, and must not bring in
+  // the fit's solver).
+  bool consistent() const {
+    for (const PhysicalLink& l : links)
+      if (!l.consistent) return false;
+    return true;
+  }
 };
 
 // Throws InputError when the summary does not belong to `base`.
