@@ -10,15 +10,15 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "massid/base_parameters.hpp"
-#include "massid/base_regressor.hpp"
-#include "massid/csv.hpp"
-#include "massid/motion_predictor.hpp"
-#include "massid/predictor.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/simulate.hpp"
-#include "massid/streaming.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/streaming.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "options.hpp"
 
 namespace massid::cli {

@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "massid/csv.hpp"
-#include "massid/motion_data.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/io/csv.hpp"
 #include "options.hpp"
 
 namespace massid::cli {

@@ -17,11 +17,11 @@
 #include <vector>
 
 #include "latency_histogram.hpp"
-#include "massid/compensator.hpp"
-#include "massid/errors.hpp"
-#include "massid/identified_model.hpp"
-#include "massid/params_file.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/live/compensator.hpp"
+#include "massid/live/identified_model.hpp"
 #include "options.hpp"
 
 namespace massid::cli {

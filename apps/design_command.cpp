@@ -8,13 +8,13 @@
 #include <optional>
 
 #include "hints.hpp"
-#include "massid/csv.hpp"
-#include "massid/design.hpp"
-#include "massid/errors.hpp"
-#include "massid/excitation.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/report.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/design/design.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/report/report.hpp"
 #include "options.hpp"
 
 namespace massid::cli {

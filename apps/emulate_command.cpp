@@ -7,16 +7,16 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "atomic_file.hpp"
 #include "hints.hpp"
-#include "massid/csv.hpp"
+#include "io/atomic_file.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/regressor.hpp"
 #include "massid/emulator/emulation.hpp"
-#include "massid/errors.hpp"
-#include "massid/identified_model.hpp"
-#include "massid/params_file.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/regressor.hpp"
-#include "massid/urdf.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/live/identified_model.hpp"
 #include "options.hpp"
 
 namespace massid::cli {

@@ -99,10 +99,7 @@ std::string name(Hint::Setting setting) {
 SettingSpelling spelling() { return {&name, &spell}; }
 
 std::string with_hints(const std::string& message, const std::vector<Hint>& hints) {
-  if (hints.empty()) return message;
-  std::string out = message + " (";
-  for (size_t i = 0; i < hints.size(); ++i) out += (i ? "; " : "") + spell(hints[i]);
-  return out + ")";
+  return massid::with_hints(message, hints, &spell);
 }
 
 }  // namespace massid::cli

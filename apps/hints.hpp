@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "massid/errors.hpp"
-#include "massid/identify_request.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/identify/identify_request.hpp"
 
 namespace massid::cli {
 

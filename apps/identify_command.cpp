@@ -4,16 +4,16 @@
 
 #include <iostream>
 
-#include "atomic_file.hpp"
 #include "hints.hpp"
-#include "massid/errors.hpp"
-#include "massid/identification.hpp"
-#include "massid/params_file.hpp"
-#include "massid/params_json.hpp"
-#include "massid/physical.hpp"
-#include "massid/report.hpp"
-#include "massid/setup_checks.hpp"
-#include "massid/urdf_inertials.hpp"
+#include "io/atomic_file.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/identify/identification.hpp"
+#include "massid/identify/params_json.hpp"
+#include "massid/identify/physical.hpp"
+#include "massid/identify/setup_checks.hpp"
+#include "massid/identify/urdf_inertials.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/report/report.hpp"
 #include "options.hpp"
 #include "python_report.hpp"
 

@@ -1,5 +1,5 @@
 // `massid identify`: options, registration with CLI11, and the run. The
-// options only become an IdentifyRequest (massid/identify_request.hpp), whose
+// options only become an IdentifyRequest (massid/identify/identify_request.hpp), whose
 // rules check them; this file prints what the library returns.
 #pragma once
 
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "massid/identify_request.hpp"
+#include "massid/identify/identify_request.hpp"
 
 namespace massid::cli {
 

@@ -12,7 +12,7 @@
 #include "emulate_command.hpp"
 #include "hints.hpp"
 #include "identify_command.hpp"
-#include "massid/errors.hpp"
+#include "massid/core/errors.hpp"
 #include "massid/version.hpp"
 #include "model_command.hpp"
 #include "predict_command.hpp"

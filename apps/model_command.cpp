@@ -4,14 +4,14 @@
 
 #include <iostream>
 
-#include "massid/base_parameters.hpp"
-#include "massid/errors.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/model.hpp"
-#include "massid/params_file.hpp"
-#include "massid/params_json.hpp"
-#include "massid/report.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/model.hpp"
+#include "massid/identify/params_json.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/report/report.hpp"
 
 namespace massid::cli {
 

@@ -6,7 +6,7 @@
 #include <iostream>
 
 #include "hints.hpp"
-#include "massid/errors.hpp"
+#include "massid/core/errors.hpp"
 
 namespace massid::cli {
 

@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "massid/estimation.hpp"
-#include "massid/setup_checks.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/setup_checks.hpp"
 
 namespace massid::cli {
 

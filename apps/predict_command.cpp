@@ -4,18 +4,18 @@
 
 #include <iostream>
 
-#include "massid/base_parameters.hpp"
-#include "massid/csv.hpp"
-#include "massid/errors.hpp"
-#include "massid/identified_model.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/motion_predictor.hpp"
-#include "massid/params_file.hpp"
-#include "massid/predictor.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/report.hpp"
-#include "massid/samples.hpp"
-#include "massid/setup_checks.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/identify/setup_checks.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/live/identified_model.hpp"
+#include "massid/report/report.hpp"
 #include "python_report.hpp"
 
 namespace massid::cli {

@@ -14,7 +14,7 @@
 #include <iostream>
 
 #include "hints.hpp"
-#include "massid/errors.hpp"
+#include "massid/core/errors.hpp"
 
 extern char** environ;
 

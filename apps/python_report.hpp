@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "massid/identification.hpp"
+#include "massid/identify/identification.hpp"
 
 namespace massid::cli {
 

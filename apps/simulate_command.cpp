@@ -4,12 +4,12 @@
 
 #include <iostream>
 
-#include "massid/csv.hpp"
-#include "massid/errors.hpp"
-#include "massid/model.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/samples.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace massid::cli {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "command_support.hpp"
-#include "massid/simulate.hpp"
+#include "massid/core/simulate.hpp"
 
 namespace massid::cli {
 

@@ -34,12 +34,12 @@
 #include <random>
 #include <string>
 
-#include "massid/base_parameters.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/core/simulate.hpp"
 #include "massid/emulator/mujoco_plant.hpp"
-#include "massid/model.hpp"
-#include "massid/motion_predictor.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace {
 

@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "example_robots.hpp"
-#include "massid/base_parameters.hpp"
-#include "massid/compensator.hpp"
-#include "massid/csv.hpp"
-#include "massid/parameters.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/parameters.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/live/compensator.hpp"
 
 namespace {
 

@@ -6,17 +6,17 @@
 
 #include "chain_robot.hpp"
 #include "example_robots.hpp"
-#include "massid/base_parameters.hpp"
-#include "massid/base_regressor.hpp"
-#include "massid/csv.hpp"
-#include "massid/design.hpp"
-#include "massid/estimation.hpp"
-#include "massid/excitation.hpp"
-#include "massid/motion_predictor.hpp"
-#include "massid/predictor.hpp"
-#include "massid/regressor.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/design.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace {
 

@@ -3,11 +3,11 @@
 // at least 20x faster than real time at 1 kHz).
 #include <benchmark/benchmark.h>
 
-#include "massid/base_parameters.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/regressor.hpp"
 #include "massid/emulator/controller.hpp"
 #include "massid/emulator/emulation.hpp"
-#include "massid/regressor.hpp"
-#include "massid/urdf.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace {
 

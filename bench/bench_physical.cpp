@@ -7,12 +7,12 @@
 #include <filesystem>
 
 #include "chain_robot.hpp"
-#include "massid/estimation.hpp"
-#include "massid/excitation.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/physical.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/identify/physical.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace massid::bench {
 namespace {

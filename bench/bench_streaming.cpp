@@ -12,14 +12,14 @@
 #include <map>
 #include <random>
 
-#include "massid/base_parameters.hpp"
-#include "massid/csv.hpp"
-#include "massid/estimation.hpp"
-#include "massid/excitation.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/simulate.hpp"
-#include "massid/streaming.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/identify/streaming.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace {
 

@@ -8,8 +8,8 @@
 #include <fstream>
 #include <string>
 
-#include "massid/model.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/model.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace massid::bench {
 

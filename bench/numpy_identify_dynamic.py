@@ -14,7 +14,7 @@ differentiated once for the acceleration) and the wrench are smoothed by the
 same kernel, the regressor is built from the smoothed positions and
 derivatives, gravity is only trimmed, the edges (one half width at each end)
 are dropped and, with --decimate D, every D-th row is kept. (massid's filter,
-src/motion_filter.cpp, differs: half width 3/cutoff, a passband-flattening
+src/identify/motion_filter.cpp, differs: half width 3/cutoff, a passband-flattening
 taper, decimation floor(rate/(2 cutoff)) by default; --span 3 --decimate D
 come close.)
 Forward recursion of the link velocities and accelerations from the sensor

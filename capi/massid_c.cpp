@@ -15,13 +15,13 @@
 #include <vector>
 
 #include "massid.h"
-#include "massid/errors.hpp"
-#include "massid/identified_model.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/model.hpp"
-#include "massid/params_file.hpp"
-#include "massid/predictor.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/live/identified_model.hpp"
 
 namespace {
 

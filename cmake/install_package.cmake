@@ -9,6 +9,9 @@ set(MASSID_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/massid)
 # Without MASSID_EMULATOR (the library alone, as on aarch64) the package has
 # massid::core and massid::c only.
 set(MASSID_INSTALLED_LIBRARIES massid_core)
+foreach(part IN LISTS MASSID_PARTS)
+  list(APPEND MASSID_INSTALLED_LIBRARIES massid_part_${part})
+endforeach()
 if(TARGET massid_emulator)
   list(APPEND MASSID_INSTALLED_LIBRARIES massid_emulator)
 endif()

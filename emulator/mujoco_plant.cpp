@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "massid/errors.hpp"
+#include "massid/core/errors.hpp"
 
 namespace massid::emulator {
 

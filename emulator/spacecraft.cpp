@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "massid/errors.hpp"
+#include "massid/core/errors.hpp"
 
 namespace massid::emulator {
 namespace {

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "atomic_file.hpp"
-#include "json_text.hpp"
-#include "massid/errors.hpp"
+#include "io/atomic_file.hpp"
+#include "io/json_text.hpp"
+#include "massid/core/errors.hpp"
 
 namespace massid::emulator {
 namespace {

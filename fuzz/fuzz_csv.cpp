@@ -10,11 +10,11 @@
 #include <string>
 
 #include "fuzz_support.hpp"
-#include "massid/base_parameters.hpp"
-#include "massid/csv.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/samples.hpp"
-#include "massid/streaming.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/identify/streaming.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
 
 namespace {
 

@@ -5,10 +5,10 @@
 #include <Eigen/Core>
 
 #include "fuzz_support.hpp"
-#include "massid/base_parameters.hpp"
-#include "massid/params_file.hpp"
-#include "massid/predictor.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/urdf.hpp"
 
 using namespace massid;
 

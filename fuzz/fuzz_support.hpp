@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "massid/errors.hpp"
-#include "massid/model.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/model.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace massid::fuzz {
 

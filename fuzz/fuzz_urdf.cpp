@@ -6,13 +6,13 @@
 #include <Eigen/Core>
 
 #include "fuzz_support.hpp"
-#include "massid/base_parameters.hpp"
-#include "massid/params_file.hpp"
-#include "massid/params_json.hpp"
-#include "massid/predictor.hpp"
-#include "massid/regressor.hpp"
-#include "massid/report.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/identify/params_json.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/report/report.hpp"
 
 using namespace massid;
 

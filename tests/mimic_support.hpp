@@ -17,7 +17,7 @@
 #include <sstream>
 #include <string>
 
-#include "massid/model.hpp"
+#include "massid/core/model.hpp"
 
 namespace massid::test {
 

@@ -19,8 +19,8 @@
 #include <random>
 #include <vector>
 
-#include "massid/kinematics.hpp"
-#include "massid/model.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/model.hpp"
 
 namespace massid::test {
 

@@ -18,7 +18,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "massid/model.hpp"
+#include "massid/core/model.hpp"
 
 namespace massid::mujoco_test {
 

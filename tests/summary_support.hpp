@@ -9,7 +9,7 @@
 #include <cmath>
 #include <string>
 
-#include "massid/estimation.hpp"
+#include "massid/identify/estimation.hpp"
 
 namespace massid::test {
 

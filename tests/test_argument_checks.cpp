@@ -5,18 +5,18 @@
 
 #include <string>
 
-#include "massid/base_parameters.hpp"
-#include "massid/base_regressor.hpp"
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/model.hpp"
-#include "massid/motion_predictor.hpp"
-#include "massid/predictor.hpp"
-#include "massid/regressor.hpp"
-#include "massid/samples.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -7,11 +7,11 @@
 #include <iterator>
 #include <random>
 
-#include "massid/base_parameters.hpp"
-#include "massid/base_regressor.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/regressor.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "massid/model.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/model.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace {
 

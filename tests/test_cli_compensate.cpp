@@ -17,10 +17,10 @@
 
 #include "cli_support.hpp"
 #include "latency_histogram.hpp"
-#include "massid/csv.hpp"
-#include "massid/identified_model.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/read_samples.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/live/identified_model.hpp"
 
 namespace massid_cli_test {
 namespace {

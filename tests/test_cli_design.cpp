@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/model.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/model.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace {
 

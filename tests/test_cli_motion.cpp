@@ -8,9 +8,9 @@
 #include <Eigen/Core>
 
 #include "cli_support.hpp"
-#include "massid/model.hpp"
-#include "massid/parameters.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/parameters.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace massid_cli_test {
 namespace {

@@ -6,8 +6,8 @@
 #include <Eigen/Eigenvalues>
 
 #include "cli_support.hpp"
-#include "massid/model.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/model.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace massid_cli_test {
 namespace {

@@ -21,10 +21,10 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "massid/urdf.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/model.hpp"
-#include "massid/samples.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace {
 

@@ -3,11 +3,11 @@
 // stops smoothly before the legs reach their limits.
 #include <gtest/gtest.h>
 
-#include "massid/base_parameters.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/simulate.hpp"
 #include "massid/emulator/controller.hpp"
-#include "massid/regressor.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid::emulator {

@@ -7,11 +7,11 @@
 
 #include <cmath>
 
-#include "massid/delay.hpp"
-#include "massid/errors.hpp"
-#include "massid/excitation.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/identify/delay.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -7,13 +7,13 @@
 #include <cmath>
 #include <numbers>
 
-#include "massid/base_parameters.hpp"
-#include "massid/design.hpp"
-#include "massid/estimation.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/regressor.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/design.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

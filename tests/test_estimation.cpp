@@ -11,15 +11,15 @@
 #include <iostream>
 #include <random>
 
-#include "massid/base_parameters.hpp"
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/identification.hpp"
-#include "massid/regressor.hpp"
-#include "massid/report.hpp"
-#include "massid/simulate.hpp"
-#include "massid/streaming.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/identification.hpp"
+#include "massid/identify/streaming.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/report/report.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -11,16 +11,16 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "massid/csv.hpp"
-#include "massid/errors.hpp"
-#include "massid/excitation.hpp"
-#include "massid/identification.hpp"
-#include "massid/identify_request.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/report.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/identify/identification.hpp"
+#include "massid/identify/identify_request.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/report/report.hpp"
 #include "summary_support.hpp"
 #include "test_support.hpp"
 

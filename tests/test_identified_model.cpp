@@ -8,16 +8,16 @@
 #include <fstream>
 #include <random>
 
-#include "massid/base_parameters.hpp"
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/identification.hpp"
-#include "massid/identified_model.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/params_file.hpp"
-#include "massid/params_json.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/identification.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/identify/params_json.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/live/identified_model.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -7,18 +7,18 @@
 #include <limits>
 #include <sstream>
 
-#include "atomic_file.hpp"
-#include "massid/base_parameters.hpp"
-#include "massid/csv.hpp"
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/params_file.hpp"
-#include "massid/params_json.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/regressor.hpp"
-#include "massid/samples.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "io/atomic_file.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/params_json.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

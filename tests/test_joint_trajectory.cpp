@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "massid/core/errors.hpp"
+#include "massid/core/model.hpp"
 #include "massid/emulator/joint_trajectory.hpp"
-#include "massid/errors.hpp"
-#include "massid/model.hpp"
-#include "massid/urdf.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace massid::emulator {
 namespace {

@@ -2,9 +2,9 @@
 
 #include <string>
 
-#include "massid/errors.hpp"
-#include "massid/model.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/model.hpp"
+#include "massid/io/urdf.hpp"
 
 TEST(Model, LoadsPuma) {
   const auto m = massid::load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");

@@ -16,10 +16,10 @@
 #include <Eigen/SVD>
 #include <random>
 
-#include "massid/base_parameters.hpp"
-#include "massid/base_regressor.hpp"
-#include "massid/regressor.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

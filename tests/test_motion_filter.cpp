@@ -11,8 +11,8 @@
 #include <random>
 #include <string>
 
-#include "massid/errors.hpp"
-#include "massid/motion_filter.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/identify/motion_filter.hpp"
 
 namespace massid {
 namespace {

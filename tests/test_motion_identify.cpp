@@ -11,14 +11,14 @@
 #include <cmath>
 #include <random>
 
-#include "massid/base_regressor.hpp"
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/excitation.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -6,16 +6,16 @@
 
 #include <random>
 
-#include "massid/base_parameters.hpp"
-#include "massid/base_regressor.hpp"
-#include "massid/errors.hpp"
-#include "massid/motion_predictor.hpp"
-#include "massid/predictor.hpp"
-#include "massid/regressor.hpp"
-#include "massid/urdf.hpp"
-#include "motion_predictor_plan.hpp"
+#include "core/motion_predictor_plan.hpp"
+#include "core/vector_paths.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
-#include "vector_paths.hpp"
 
 namespace massid {
 namespace {

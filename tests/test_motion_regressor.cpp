@@ -51,14 +51,14 @@
 #include <string>
 #include <vector>
 
-#include "massid/kinematics.hpp"
-#include "massid/model.hpp"
-#include "massid/parameters.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/regressor.hpp"
-#include "massid/samples.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/parameters.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "motion_support.hpp"
 #include "test_support.hpp"
 

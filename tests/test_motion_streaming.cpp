@@ -17,22 +17,22 @@
 #include <numbers>
 #include <random>
 
-#include "identify_file.hpp"
-#include "massid/base_parameters.hpp"
-#include "massid/csv.hpp"
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/excitation.hpp"
-#include "massid/identification.hpp"
-#include "massid/identify_request.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/regressor.hpp"
-#include "massid/setup_checks.hpp"
-#include "massid/simulate.hpp"
-#include "massid/streaming.hpp"
-#include "massid/urdf.hpp"
+#include "identify/identify_file.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/identification.hpp"
+#include "massid/identify/identify_request.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/identify/setup_checks.hpp"
+#include "massid/identify/streaming.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "summary_support.hpp"
 #include "test_support.hpp"
 
@@ -452,6 +452,36 @@ TEST_F(MotionCsvTest, WristSensorWithTheArmJointsAbove) {
     const MotionIdentification m = compare(f, log, small_blocks());
     EXPECT_TRUE(m.base.sensor_moving);
     EXPECT_EQ(m.report.derived, !given);
+  }
+}
+
+TEST_F(MotionCsvTest, RootGravityHoldsAfterTheFilterInMemoryAsInTheStream) {
+  // Gravity from the arm joints above a wrist sensor, in a root frame whose
+  // gravity is not the default, velocities derived: after the filter the
+  // in-memory samples' gravity is the given root gravity turned into the
+  // sensor frame at the filtered upstream positions (it once fell back to
+  // the default root gravity there, which the stream never did).
+  MotionLog log;
+  log.sensor = "wrist_3_link";
+  log.gravity_columns = false;
+  log.upstream_velocities = false;
+  log.offset = false;
+  const std::string f = write("root_gravity.csv", log);
+  MotionDataOptions data;
+  data.samples.root_gravity = Eigen::Vector3d(1.2, -0.7, -9.7);
+  const MotionIdentification m = compare(f, log, small_blocks(), data);
+  EXPECT_TRUE(m.report.derived);
+  const Model model = load_urdf(test::kUrLikeUrdf, log.sensor);
+  MotionDataReport report;
+  const Samples s = in_memory(model, f, data, report);
+  ASSERT_GT(s.size(), 0);
+  for (const int i : {0, s.size() / 2, s.size() - 1}) {
+    const Eigen::VectorXd qu = s.q_upstream.row(i).transpose();
+    Eigen::Vector3d g;
+    upstream_sensor_frame(model, qu.data(), nullptr, nullptr, data.samples.root_gravity, g.data(),
+                          nullptr);
+    EXPECT_EQ(s.gravity.row(i).transpose(), g) << "sample " << i;
+    EXPECT_NEAR(s.gravity.row(i).norm(), data.samples.root_gravity.norm(), 1e-12);
   }
 }
 

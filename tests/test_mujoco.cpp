@@ -51,13 +51,13 @@
 #include <string>
 #include <vector>
 
-#include "massid/csv.hpp"
-#include "massid/model.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/samples.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
-#include "massid/urdf_inertials.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/urdf_inertials.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "mujoco_support.hpp"
 
 namespace {

@@ -59,11 +59,11 @@
 #include <string>
 #include <vector>
 
-#include "massid/kinematics.hpp"
-#include "massid/model.hpp"
-#include "massid/parameters.hpp"
-#include "massid/regressor.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/parameters.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/io/urdf.hpp"
 #include "motion_support.hpp"
 #include "mujoco_support.hpp"
 

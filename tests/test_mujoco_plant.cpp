@@ -29,19 +29,19 @@
 #include <iostream>
 #include <string>
 
-#include "massid/base_parameters.hpp"
-#include "massid/csv.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/core/simulate.hpp"
 #include "massid/emulator/emulation.hpp"
 #include "massid/emulator/mujoco_plant.hpp"
 #include "massid/emulator/spacecraft.hpp"
 #include "massid/emulator/stewart_platform.hpp"
-#include "massid/estimation.hpp"
-#include "massid/model.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/regressor.hpp"
-#include "massid/samples.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "mimic_support.hpp"
 
 namespace {

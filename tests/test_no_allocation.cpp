@@ -7,14 +7,14 @@
 #include <cstddef>
 #include <random>
 
-#include "massid/base_parameters.hpp"
-#include "massid/compensator.hpp"
-#include "massid/csv.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/regressor.hpp"
 #include "massid/emulator/controller.hpp"
-#include "massid/motion_predictor.hpp"
-#include "massid/predictor.hpp"
-#include "massid/regressor.hpp"
-#include "massid/urdf.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/live/compensator.hpp"
 #include "test_support.hpp"
 
 extern "C" {

@@ -19,14 +19,14 @@
 #include <string>
 #include <vector>
 
-#include "massid/base_parameters.hpp"
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/model.hpp"
-#include "massid/regressor.hpp"
-#include "massid/simulate.hpp"
-#include "massid/streaming.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/streaming.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -11,16 +11,16 @@
 #include <fstream>
 #include <random>
 
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/excitation.hpp"
-#include "massid/identification.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/params_file.hpp"
-#include "massid/params_json.hpp"
-#include "massid/physical.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/identification.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/identify/params_json.hpp"
+#include "massid/identify/physical.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -5,17 +5,17 @@
 
 #include <random>
 
-#include "massid/base_parameters.hpp"
-#include "massid/base_regressor.hpp"
-#include "massid/estimation.hpp"
-#include "massid/predictor.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/report.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
-#include "predictor_plan.hpp"
+#include "core/predictor_plan.hpp"
+#include "core/vector_paths.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/report/report.hpp"
 #include "test_support.hpp"
-#include "vector_paths.hpp"
 
 namespace massid {
 namespace {

@@ -23,16 +23,16 @@
 #include <string>
 #include <vector>
 
-#include "atomic_file.hpp"
-#include "massid/base_parameters.hpp"
-#include "massid/model.hpp"
-#include "massid/motion_predictor.hpp"
-#include "massid/predictor.hpp"
-#include "massid/urdf.hpp"
-#include "motion_predictor_plan.hpp"
-#include "predictor_plan.hpp"
+#include "core/motion_predictor_plan.hpp"
+#include "core/predictor_plan.hpp"
+#include "core/vector_paths.hpp"
+#include "io/atomic_file.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/io/urdf.hpp"
 #include "ulps.hpp"
-#include "vector_paths.hpp"
 
 namespace massid {
 namespace {

@@ -7,9 +7,9 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "massid/kinematics.hpp"
-#include "massid/regressor.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

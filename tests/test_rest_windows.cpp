@@ -12,13 +12,13 @@
 #include <numbers>
 #include <random>
 
-#include "identify_file.hpp"
-#include "massid/csv.hpp"
-#include "massid/estimation.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/rest_windows.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "identify/identify_file.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/rest_windows.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -10,16 +10,16 @@
 #include <regex>
 #include <set>
 
-#include "massid/base_parameters.hpp"
-#include "massid/design.hpp"
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/identification.hpp"
-#include "massid/physical.hpp"
-#include "massid/regressor.hpp"
-#include "massid/report.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/design/design.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/identification.hpp"
+#include "massid/identify/physical.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/report/report.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -17,12 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "massid/csv.hpp"
-#include "massid/errors.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/setup_checks.hpp"
-#include "massid/simulate.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/setup_checks.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
 namespace massid {

@@ -1,4 +1,4 @@
-// The predictor's vectorised sin/cos (src/sincos.hpp) against libm, and the
+// The predictor's vectorised sin/cos (src/core/sincos.hpp) against libm, and the
 // two-lane (SSE2) and four-lane (AVX2) forms against each other.
 #include <gtest/gtest.h>
 
@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "sincos.hpp"
+#include "core/sincos.hpp"
+#include "core/vector_paths.hpp"
 #include "ulps.hpp"
-#include "vector_paths.hpp"
 
 #pragma GCC diagnostic ignored "-Wpsabi"  // four-lane vectors, inlined into the AVX2 function
 

@@ -9,8 +9,8 @@
 #include <sstream>
 #include <vector>
 
+#include "massid/core/errors.hpp"
 #include "massid/emulator/spacecraft.hpp"
-#include "massid/errors.hpp"
 
 namespace massid::emulator {
 namespace {

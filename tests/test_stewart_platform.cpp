@@ -9,8 +9,8 @@
 #include <random>
 #include <string>
 
+#include "massid/core/errors.hpp"
 #include "massid/emulator/stewart_platform.hpp"
-#include "massid/errors.hpp"
 
 namespace massid::emulator {
 namespace {

@@ -1,5 +1,5 @@
 // Streaming identification (streaming.hpp) against identify(): the same
-// estimator (src/axis_least_squares.hpp) fed rows computed another way (the
+// estimator (src/identify/axis_least_squares.hpp) fed rows computed another way (the
 // stacked regressor in memory; the chunked kernels, blocks and merges when
 // streamed): every reported figure agrees to 1e-10 relative; block and thread
 // splits do not change the result; the CSV reader accepts and rejects exactly
@@ -12,16 +12,16 @@
 #include <numbers>
 #include <random>
 
-#include "../src/csv_stream.hpp"  // private: the fast number scanner
-#include "massid/base_parameters.hpp"
-#include "massid/csv.hpp"
-#include "massid/errors.hpp"
-#include "massid/estimation.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/regressor.hpp"
-#include "massid/simulate.hpp"
-#include "massid/streaming.hpp"
-#include "massid/urdf.hpp"
+#include "../src/io/csv_stream.hpp"  // private: the fast number scanner
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/streaming.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 #include "summary_support.hpp"
 #include "test_support.hpp"
 

@@ -9,14 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "massid/base_parameters.hpp"
-#include "massid/csv.hpp"
-#include "massid/estimation.hpp"
-#include "massid/model.hpp"
-#include "massid/predictor.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/regressor.hpp"
-#include "massid/samples.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
 
 namespace massid::test {
 

@@ -6,11 +6,11 @@
 #include <regex>
 #include <sstream>
 
-#include "massid/errors.hpp"
-#include "massid/model.hpp"
-#include "massid/parameters.hpp"
-#include "massid/urdf.hpp"
-#include "massid/urdf_inertials.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/parameters.hpp"
+#include "massid/identify/urdf_inertials.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace massid {
 namespace {

@@ -1,4 +1,4 @@
-// Experiment design (massid/design.hpp): massid.design and its Plan.
+// Experiment design (massid/design/design.hpp): massid.design and its Plan.
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
@@ -7,8 +7,8 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 #include "hints.hpp"
-#include "massid/errors.hpp"
-#include "massid/report.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/report/report.hpp"
 
 namespace massid::python {
 

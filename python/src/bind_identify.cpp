@@ -1,4 +1,4 @@
-// Identification (massid/estimation.hpp, identify_file.hpp, setup_checks.hpp,
+// Identification (massid/identify/estimation.hpp, identify_file.hpp, setup_checks.hpp,
 // params_file.hpp, report.hpp): massid.identify and its result.
 #include <fmt/format.h>
 #include <pybind11/stl.h>
@@ -7,20 +7,20 @@
 #include <climits>
 #include <limits>
 
-#include "atomic_file.hpp"
 #include "bindings.hpp"
 #include "convert.hpp"
 #include "hints.hpp"
-#include "identify_file.hpp"
-#include "massid/delay.hpp"
-#include "massid/errors.hpp"
-#include "massid/identify_request.hpp"
-#include "massid/params_file.hpp"
-#include "massid/params_json.hpp"
-#include "massid/physical.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/report.hpp"
-#include "massid/setup_checks.hpp"
+#include "identify/identify_file.hpp"
+#include "io/atomic_file.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/identify/delay.hpp"
+#include "massid/identify/identify_request.hpp"
+#include "massid/identify/params_json.hpp"
+#include "massid/identify/physical.hpp"
+#include "massid/identify/setup_checks.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/report/report.hpp"
 
 namespace massid::python {
 
@@ -114,8 +114,9 @@ std::optional<Eigen::VectorXd> optional_vector(bool present, const Eigen::Vector
 }  // namespace
 
 void bind_identify(py::module_& m) {
-  py::class_<PhysicalLink>(m, "PhysicalLink",
-                           "One link's physically consistent parameters (massid/physical.hpp).")
+  py::class_<PhysicalLink>(
+      m, "PhysicalLink",
+      "One link's physically consistent parameters (massid/identify/physical.hpp).")
       .def_readonly("name", &PhysicalLink::name)
       .def_readonly("mass", &PhysicalLink::mass, "kg")
       .def_readonly("com", &PhysicalLink::com, "[3] centre of mass, link frame, m")
@@ -134,7 +135,7 @@ void bind_identify(py::module_& m) {
       });
   py::class_<PhysicalSummary>(m, "PhysicalSummary",
                               "Physically consistent standard parameters fitted to identified "
-                              "base parameters (massid/physical.hpp).")
+                              "base parameters (massid/identify/physical.hpp).")
       .def_readonly("standard", &PhysicalSummary::standard,
                     "[10 num_links] m, mx, my, mz, ixx .. izz per link (inertia about the link "
                     "origin)")
@@ -386,7 +387,7 @@ void bind_identify(py::module_& m) {
       },
       py::arg("path"),
       R"(An identification from the record `massid identify --report` hands to the report
-(massid/identification.hpp): the fit the command printed, with its samples, without
+(massid/identify/identification.hpp): the fit the command printed, with its samples, without
 fitting again. Loads the URDF named in it. Raises InputError for a file that is not such
 a record or whose URDF no longer gives the same base parameters.)");
   m.def("identify", &run_identify, py::arg("robot"), py::arg("data"), py::kw_only(),

@@ -1,4 +1,4 @@
-// Model, base parameters and regressors (massid/model.hpp, base_parameters.hpp,
+// Model, base parameters and regressors (massid/core/model.hpp, base_parameters.hpp,
 // regressor.hpp, base_regressor.hpp).
 #include <fmt/format.h>
 #include <pybind11/stl.h>
@@ -8,14 +8,14 @@
 
 #include "bindings.hpp"
 #include "convert.hpp"
-#include "massid/base_regressor.hpp"
-#include "massid/errors.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/params_file.hpp"
-#include "massid/params_json.hpp"
-#include "massid/regressor.hpp"
-#include "massid/report.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/regressor.hpp"
+#include "massid/identify/params_json.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/urdf.hpp"
+#include "massid/report/report.hpp"
 
 namespace massid::python {
 

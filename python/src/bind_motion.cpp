@@ -1,5 +1,5 @@
 // Motion: the options of identification in motion, and exciting trajectories
-// (massid/motion_data.hpp, excitation.hpp): massid.fourier_trajectory.
+// (massid/identify/motion_data.hpp, excitation.hpp): massid.fourier_trajectory.
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 
@@ -7,9 +7,9 @@
 
 #include "bindings.hpp"
 #include "convert.hpp"
-#include "massid/errors.hpp"
-#include "massid/excitation.hpp"
-#include "massid/read_samples.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/design/excitation.hpp"
+#include "massid/io/read_samples.hpp"
 
 namespace massid::python {
 

@@ -1,4 +1,4 @@
-// Params files, the predictor and simulated measurements (massid/params_file.hpp,
+// Params files, the predictor and simulated measurements (massid/io/params_file.hpp,
 // predictor.hpp, simulate.hpp).
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -7,18 +7,18 @@
 #include <limits>
 #include <memory>
 
-#include "atomic_file.hpp"
 #include "bindings.hpp"
 #include "convert.hpp"
-#include "massid/base_regressor.hpp"
-#include "massid/errors.hpp"
-#include "massid/identified_model.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/motion_predictor.hpp"
-#include "massid/params_file.hpp"
-#include "massid/predictor.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/simulate.hpp"
+#include "io/atomic_file.hpp"
+#include "massid/core/base_regressor.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/core/predictor.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/motion_data.hpp"
+#include "massid/io/params_file.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/live/identified_model.hpp"
 
 namespace massid::python {
 

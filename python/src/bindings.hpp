@@ -11,14 +11,14 @@
 #include <utility>
 #include <vector>
 
-#include "massid/base_parameters.hpp"
-#include "massid/design.hpp"
-#include "massid/estimation.hpp"
-#include "massid/identification.hpp"
-#include "massid/kinematics.hpp"
-#include "massid/model.hpp"
-#include "massid/motion_data.hpp"
-#include "massid/samples.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/design/design.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/identify/identification.hpp"
+#include "massid/identify/motion_data.hpp"
 
 namespace massid::python {
 

@@ -4,9 +4,9 @@
 #include <fmt/ranges.h>
 #include <pybind11/stl.h>
 
-#include "massid/errors.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/urdf.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 
 namespace massid::python {
 

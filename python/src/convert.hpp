@@ -16,10 +16,10 @@
 #include <utility>
 #include <vector>
 
-#include "massid/csv.hpp"
-#include "massid/model.hpp"
-#include "massid/read_samples.hpp"
-#include "massid/samples.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
 
 namespace massid::python {
 

@@ -1,4 +1,4 @@
-// The library's hints (massid/errors.hpp) spelled as this module's keyword
+// The library's hints (massid/core/errors.hpp) spelled as this module's keyword
 // arguments, and massid's exceptions raised with them.
 #pragma once
 
@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "massid/errors.hpp"
-#include "massid/identify_request.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/identify/identify_request.hpp"
 
 namespace massid::python {
 

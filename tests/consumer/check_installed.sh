@@ -13,7 +13,7 @@ trap 'rm -rf "$stage"' EXIT
 prefix=/opt/massid
 DESTDIR="$stage" cmake --install "$build" --prefix "$prefix" >/dev/null
 root="$stage$prefix"
-[ -f "$root/include/massid/predictor.hpp" ] || { echo "headers not installed"; exit 1; }
+[ -f "$root/include/massid/core/predictor.hpp" ] || { echo "headers not installed"; exit 1; }
 for private in json_text.hpp atomic_file.hpp identify_file.hpp; do
   [ ! -e "$root/include/massid/$private" ] || { echo "private header installed: $private"; exit 1; }
 done

@@ -6,15 +6,15 @@
 //   consumer ROBOT.urdf PARAMS.json MEASUREMENTS.csv
 #include <cstdio>
 #include <exception>
-#include <massid/csv.hpp>
-#include <massid/model.hpp>
-#include <massid/params_file.hpp>
-#include <massid/predictor.hpp>
-#include <massid/samples.hpp>
+#include <massid/core/model.hpp>
+#include <massid/core/predictor.hpp>
+#include <massid/core/samples.hpp>
+#include <massid/io/csv.hpp>
+#include <massid/io/params_file.hpp>
 #include <massid/version.hpp>
 
-#include "massid/read_samples.hpp"
-#include "massid/urdf.hpp"
+#include "massid/io/read_samples.hpp"
+#include "massid/io/urdf.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 4) {

@@ -19,7 +19,7 @@
 
 #include "massid/emulator/spacecraft.hpp"
 #include "massid/emulator/stewart_platform.hpp"
-#include "massid/identified_model.hpp"
+#include "massid/live/identified_model.hpp"
 
 namespace massid::emulator {
 

@@ -7,11 +7,11 @@
 
 #include <string>
 
+#include "massid/core/errors.hpp"
+#include "massid/core/model.hpp"
 #include "massid/emulator/controller.hpp"
 #include "massid/emulator/joint_trajectory.hpp"
 #include "massid/emulator/mujoco_plant.hpp"
-#include "massid/errors.hpp"
-#include "massid/model.hpp"
 
 namespace massid::emulator {
 

@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <functional>
 
-#include "massid/model.hpp"
+#include "massid/core/model.hpp"
 
 namespace massid::emulator {
 

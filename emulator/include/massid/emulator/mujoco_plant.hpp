@@ -63,9 +63,9 @@
 #include <string>
 #include <vector>
 
+#include "massid/core/model.hpp"
 #include "massid/emulator/spacecraft.hpp"
 #include "massid/emulator/stewart_platform.hpp"
-#include "massid/model.hpp"
 
 namespace massid::emulator {
 

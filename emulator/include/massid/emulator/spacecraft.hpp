@@ -41,7 +41,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "massid/predictor.hpp"  // massid::Wrench: fx fy fz mx my mz
+#include "massid/core/predictor.hpp"  // massid::Wrench: fx fy fz mx my mz
 
 namespace massid::emulator {
 

@@ -1,0 +1,63 @@
+// Rest windows of a continuous log: the static method (paper eqs. 32-36)
+// needs the wrench of a mechanism at rest, while people record one log as the
+// robot moves from pose to pose. The rows recorded while the joints (or the
+// platform) move, and while the wrench still rings after a stop, are not
+// static data: they are dropped, and each window of rest rows enters the fit.
+//
+// Every rest row is kept as a sample: for rows of one pose the least-squares
+// estimate and its covariance are exactly those of the window's average
+// weighted by its length (the within-window scatter does not depend on the
+// parameters), while the outlier test still sees each row.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "massid/core/samples.hpp"
+
+namespace massid {
+
+enum class RestDetection {
+  Auto,  // a log with t sampled at 10 Hz or faster whose joints, gravity or wrench move
+  Off,   // every row is a sample (a plan-like log)
+};
+
+struct RestWindowOptions {
+  RestDetection detection = RestDetection::Auto;
+  double lag = 0.05;          // s: a row moves when it differs from the rows `lag` before and after
+  double settle = 0.25;       // s dropped after each motion (the wrench rings), and `lag` before
+  double min_duration = 0.1;  // s: shorter windows are dropped
+  double max_step = 0.1;      // s: a log sampled slower is a set of poses, not a continuous log
+};
+
+struct RestWindow {
+  int first = 0, last = 0;  // rows [first, last] of the samples
+};
+
+struct RestWindows {
+  bool continuous = false;          // motion was found: only the windows' rows are samples
+  std::vector<RestWindow> windows;  // in row order (one over every row when !continuous)
+  int rows = 0;                     // rows of the log
+  int samples = 0;                  // rows inside the windows
+  int moving = 0;                   // rows found moving (joints, gravity or wrench)
+  std::string criterion;            // what showed the motion: "joints", "gravity", "wrench"
+};
+
+// The rest windows of `samples` (rows in time order; needs time for Auto).
+// Per signal (each joint, the gravity direction, the force) the tolerance is
+// 8 times its noise, sigma = 1.4826 median|x[i+1] - x[i]| / sqrt(2), at least
+// 1e-3 (rad, m, rad of gravity direction; the force: 1e-3 of its median
+// magnitude). A row moves when some signal differs by more than its tolerance
+// both from the row `lag` before and from the row `lag` after: rows between
+// two poses, not the last or first row of a pose (a plan-like log whose
+// poses change from one row to the next has no moving row). The log is
+// continuous when joints or gravity moved, or, with gravity from the force,
+// the force turned; the force then also marks the ringing after a stop. A
+// force that jumps while nothing moves (a bump) leaves the log whole: the
+// outlier test judges it.
+RestWindows find_rest_windows(const Samples& samples, const RestWindowOptions& options = {});
+
+// The samples inside the windows (all of them when !windows.continuous).
+Samples rest_samples(const Samples& samples, const RestWindows& windows);
+
+}  // namespace massid

@@ -1,0 +1,199 @@
+#include "massid/core/kinematics.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "core/argument_checks.hpp"
+#include "massid/core/errors.hpp"
+
+namespace massid {
+namespace {
+
+// One joint of the recursion: the child's pose in its parent (R, t) at q.
+struct JointPose {
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+};
+
+JointPose joint_pose(JointType type, const Eigen::Isometry3d& origin, const Eigen::Vector3d& axis,
+                     double q) {
+  JointPose j{origin.linear(), origin.translation()};
+  if (type == JointType::Revolute) {
+    const double s = std::sin(q), c = std::cos(q);
+    // An axis +-e_i (most URDFs): the rotation turns the other two columns.
+    for (int i = 0; i < 3; ++i) {
+      const int u = (i + 1) % 3, v = (i + 2) % 3;
+      if (std::abs(axis[i]) != 1.0 || axis[u] != 0.0 || axis[v] != 0.0) continue;
+      const double ss = axis[i] * s;
+      const Eigen::Vector3d cu = j.R.col(u), cv = j.R.col(v);
+      j.R.col(u) = c * cu + ss * cv;
+      j.R.col(v) = c * cv - ss * cu;
+      return j;
+    }
+    j.R = j.R * Eigen::AngleAxisd(q, axis).toRotationMatrix();
+  } else if (type == JointType::Prismatic) {
+    j.t += j.R * (q * axis);
+  }
+  return j;
+}
+
+// The child's motion from its parent's (header: the forward recursion).
+void propagate_motion(JointType type, const Eigen::Vector3d& s, const JointPose& j, double qd,
+                      double qdd, const Eigen::Vector3d& wp, const Eigen::Vector3d& dwp,
+                      const Eigen::Vector3d& ap, Eigen::Vector3d& w, Eigen::Vector3d& dw,
+                      Eigen::Vector3d& a) {
+  const auto Rt = j.R.transpose();
+  w.noalias() = Rt * wp;
+  dw.noalias() = Rt * dwp;
+  const Eigen::Vector3d at = ap + dwp.cross(j.t) + wp.cross(wp.cross(j.t));
+  a.noalias() = Rt * at;
+  if (type == JointType::Revolute) {
+    w += s * qd;
+    dw += s * qdd + w.cross(s * qd);
+  } else if (type == JointType::Prismatic) {
+    a += s * qdd + 2.0 * w.cross(s * qd);
+  }
+}
+
+template <bool kMotion>
+void recursion(const Model& model, KinematicsData& data, const Eigen::Ref<const Eigen::VectorXd>& q,
+               const double* qd, const double* qdd) {
+  data.rotation[0].setIdentity();
+  data.position[0].setZero();
+  for (int l = 1; l < model.num_links(); ++l) {
+    const Link& link = model.links[l];
+    const int p = link.parent, j = link.joint_index;
+    // A mimic joint follows its master: scale q_master + offset (1 and 0 otherwise).
+    const double qj = j >= 0 ? link.joint_scale * q[j] + link.joint_offset : 0.0;
+    const JointPose jp = joint_pose(link.type, link.origin, link.axis, qj);
+    const Eigen::Matrix3d& Rp = data.rotation[p];
+    data.rotation[l].noalias() = Rp * jp.R;
+    data.position[l].noalias() = data.position[p] + Rp * jp.t;
+    if constexpr (kMotion)
+      propagate_motion(link.type, link.axis, jp, j >= 0 ? link.joint_scale * qd[j] : 0.0,
+                       j >= 0 ? link.joint_scale * qdd[j] : 0.0, data.omega[p], data.omega_dot[p],
+                       data.accel[p], data.omega[l], data.omega_dot[l], data.accel[l]);
+  }
+}
+
+}  // namespace
+
+KinematicsData::KinematicsData(const Model& model)
+    : rotation(model.links.size(), Eigen::Matrix3d::Identity()),
+      position(model.links.size(), Eigen::Vector3d::Zero()),
+      omega(model.links.size(), Eigen::Vector3d::Zero()),
+      omega_dot(model.links.size(), Eigen::Vector3d::Zero()),
+      accel(model.links.size(), Eigen::Vector3d::Zero()) {}
+
+void forward_kinematics(const Model& model, KinematicsData& data,
+                        const Eigen::Ref<const Eigen::VectorXd>& q) {
+  detail::check_size("forward_kinematics", "q", q.size(), model.num_joints(), "the model's joints");
+  detail::check_size("forward_kinematics", "data", static_cast<Eigen::Index>(data.rotation.size()),
+                     model.num_links(), "a workspace for the model's links");
+  recursion<false>(model, data, q, nullptr, nullptr);
+}
+
+void forward_kinematics(const Model& model, KinematicsData& data,
+                        const Eigen::Ref<const Eigen::VectorXd>& q,
+                        const Eigen::Ref<const Eigen::VectorXd>& qd,
+                        const Eigen::Ref<const Eigen::VectorXd>& qdd,
+                        const Eigen::Vector3d& gravity, const FrameMotion& sensor) {
+  const int n = model.num_joints();
+  detail::check_size("forward_kinematics", "q", q.size(), n, "the model's joints");
+  detail::check_size("forward_kinematics", "qd", qd.size(), n, "the model's joints");
+  detail::check_size("forward_kinematics", "qdd", qdd.size(), n, "the model's joints");
+  detail::check_size("forward_kinematics", "data", static_cast<Eigen::Index>(data.rotation.size()),
+                     model.num_links(), "a workspace for the model's links");
+  data.omega[0] = sensor.omega;
+  data.omega_dot[0] = sensor.omega_dot;
+  data.accel[0] = sensor.accel - gravity;
+  recursion<true>(model, data, q, qd.data(), qdd.data());
+}
+
+Eigen::Vector3d fixed_sensor_gravity(const Model& model, const Eigen::Vector3d& root_gravity) {
+  if (model.num_upstream_joints() > 0) {
+    std::string names;
+    for (const Joint& j : model.upstream_joints) names += (names.empty() ? "" : ", ") + j.name;
+    throw InputError(fmt::format(
+        "{}: sensor link '{}' is below movable joints ({}): gravity in its frame turns with "
+        "them and is no single level vector; use the varying gravity model",
+        model.source, model.sensor_link(), names));
+  }
+  const Eigen::VectorXd none(0);
+  return upstream_kinematics(model, none, none, none).rotation.transpose() * root_gravity;
+}
+
+SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,
+                               const Eigen::Ref<const Eigen::VectorXd>& qdu,
+                               const Eigen::Ref<const Eigen::VectorXd>& qddu) {
+  const int nu = model.num_upstream_joints();
+  detail::check_size("upstream_kinematics", "qu", qu.size(), nu, "the joints above the sensor");
+  if (qdu.size() > 0 || qddu.size() > 0) {
+    detail::check_size("upstream_kinematics", "qdu", qdu.size(), nu, "the joints above the sensor");
+    detail::check_size("upstream_kinematics", "qddu", qddu.size(), nu,
+                       "the joints above the sensor");
+  }
+  SensorPose out;
+  const bool moving = qdu.size() > 0;
+  Eigen::Vector3d w = Eigen::Vector3d::Zero(), dw = w, a = w;
+  for (const ChainStep& step : model.upstream) {
+    const int j = step.joint_index;
+    const JointPose jp = joint_pose(step.type, step.origin, step.axis,
+                                    j >= 0 ? step.joint_scale * qu[j] + step.joint_offset : 0.0);
+    out.rotation = out.rotation * jp.R;
+    if (moving) {
+      Eigen::Vector3d wc, dwc, ac;
+      propagate_motion(step.type, step.axis, jp, j >= 0 ? step.joint_scale * qdu[j] : 0.0,
+                       j >= 0 ? step.joint_scale * qddu[j] : 0.0, w, dw, a, wc, dwc, ac);
+      w = wc;
+      dw = dwc;
+      a = ac;
+    }
+  }
+  out.motion = {w, dw, a};
+  return out;
+}
+
+void upstream_sensor_frame(const Model& model, const double* qu, const double* qdu,
+                           const double* qddu, const Eigen::Vector3d& root_gravity, double* gravity,
+                           double* sensor_motion) {
+  using Map = Eigen::Map<const Eigen::VectorXd>;
+  const int nu = model.num_upstream_joints();
+  const Map none(qu, 0);
+  const SensorPose pose = sensor_motion
+                              ? upstream_kinematics(model, Map(qu, nu), Map(qdu, nu), Map(qddu, nu))
+                              : upstream_kinematics(model, Map(qu, nu), none, none);
+  if (gravity) Eigen::Map<Eigen::Vector3d>{gravity} = pose.rotation.transpose() * root_gravity;
+  if (sensor_motion) {
+    Eigen::Map<Eigen::Vector3d>{sensor_motion} = pose.motion.omega;
+    Eigen::Map<Eigen::Vector3d>{sensor_motion + 3} = pose.motion.omega_dot;
+    Eigen::Map<Eigen::Vector3d>{sensor_motion + 6} = pose.motion.accel;
+  }
+}
+
+double reach(const Model& model) {
+  KinematicsData kin(model);
+  std::mt19937_64 rng(20261202);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Eigen::VectorXd q(model.num_joints());
+  double out = 0.0;
+  for (int trial = 0; trial < 256; ++trial) {
+    for (int j = 0; j < model.num_joints(); ++j) {
+      const Joint& jt = model.joints[j];
+      q[j] = jt.limited ? jt.lower + (jt.upper - jt.lower) * u(rng) : jt.generic_position(u(rng));
+    }
+    forward_kinematics(model, kin, q);
+    for (int l = 0; l < model.num_links(); ++l) {
+      out = std::max(out, kin.position[l].norm());
+      if (model.links[l].mass > 0)
+        out = std::max(out, (kin.position[l] + kin.rotation[l] * model.links[l].com).norm());
+    }
+  }
+  return out;
+}
+
+}  // namespace massid

@@ -1,0 +1,219 @@
+#include "design/design_space.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "massid/core/errors.hpp"
+
+namespace massid {
+
+DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
+    : model_(model), level_(o.level_gravity), min_height_(o.min_height), kin_(model) {
+  if (!(level_.norm() > 0.0))
+    throw InputError("design: the level gravity vector is zero",
+                     {{Hint::Setting::LevelGravity, ""}});
+  for (const auto& [name, range] : o.limits)
+    if (model.find_joint(name) < 0)
+      throw InputError(
+          fmt::format("design: joint range for '{}', which is not a movable joint below the "
+                      "sensor link",
+                      name),
+          {{Hint::Setting::Limits, name + "=LO:HI"}});
+  for (int j = 0; j < model.num_joints(); ++j) {
+    const Joint& joint = model.joints[j];
+    double lo = joint.generic_position(0.0), hi = joint.generic_position(1.0);
+    if (joint.limited) lo = joint.lower, hi = joint.upper;
+    if (auto l = o.limits.find(joint.name); l != o.limits.end()) {
+      lo = std::max(lo, l->second.first);
+      hi = std::min(hi, l->second.second);
+      if (!(hi > lo))
+        throw InputError(
+            fmt::format("design: the range {}:{} of joint '{}' is empty within the URDF limits "
+                        "[{}, {}]",
+                        l->second.first, l->second.second, joint.name, joint.lower, joint.upper),
+            {{Hint::Setting::Limits,
+              fmt::format("{}={}:{}", joint.name, l->second.first, l->second.second)}});
+    }
+    free_.push_back({j, lo, hi});
+  }
+  if (o.tilt_max) {
+    cone_ = true;
+    tilt_max_ = *o.tilt_max;
+    groups_ = std::max(0, o.tilt_groups);
+    if (!(tilt_max_ >= 0.0 && tilt_max_ < std::numbers::pi / 2))
+      throw InputError("design: the largest tilt must be between 0 and 90 degrees",
+                       {{Hint::Setting::TiltMax, ""}});
+    tilts_ = cone_tilts(level_, tilt_max_, groups_);  // tilt groups start on the rim
+  } else {
+    tilts_ = o.tilts.empty() ? std::vector<Tilt>{Tilt{}} : o.tilts;
+  }
+  for (size_t k = 0; k < tilts_.size() && !cone_; ++k)
+    if (tilt_angle(level_, tilts_[k]) < 1e-12) {
+      level_group_ = static_cast<int>(k);
+      break;
+    }
+  // The points checked for clearance, those that move: compare forward
+  // kinematics at random poses.
+  std::vector<Point> all;
+  for (int l = 0; l < model.num_links(); ++l) {
+    const Link& link = model.links[l];
+    all.push_back({l, Eigen::Vector3d::Zero(), 0.0});
+    if (link.mass > 0.0) all.push_back({l, link.com, 0.0});
+    for (const Link::Sphere& c : link.collision) all.push_back({l, c.centre, c.radius});
+  }
+  // Only points whose height changes: one that moves at a constant height
+  // (a centre of mass off a vertical axis) is where the mount puts it, as
+  // the fixed links are.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Eigen::Vector3d up = -level_.normalized();
+  std::vector<double> first(all.size());
+  std::vector<bool> moves(all.size(), false);
+  for (int trial = 0; trial < 6; ++trial) {
+    Eigen::VectorXd q(model.num_joints());
+    for (int j = 0; j < model.num_joints(); ++j) q[j] = model.joints[j].generic_position(u(rng));
+    forward_kinematics(model, kin_, q);
+    for (size_t i = 0; i < all.size(); ++i) {
+      const double h = up.dot(kin_.position[all[i].link] + kin_.rotation[all[i].link] * all[i].p);
+      if (trial == 0) first[i] = h;
+      if (std::abs(h - first[i]) > 1e-9) moves[i] = true;
+    }
+  }
+  for (size_t i = 0; i < all.size(); ++i)
+    if (moves[i]) points_.push_back(all[i]);
+}
+
+bool DesignSpace::level_allowed() const { return cone_ || level_group_ >= 0; }
+
+bool DesignSpace::tilts_other_than_level() const {
+  if (cone_) return tilt_max_ > 0.0;
+  for (const Tilt& t : tilts_)
+    if (tilt_angle(level_, t) >= 1e-12) return true;
+  return false;
+}
+
+double DesignSpace::clearance(const Eigen::VectorXd& q, int* link) {
+  forward_kinematics(model_, kin_, q);
+  const Eigen::Vector3d up = -level_.normalized();
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const Point& pt : points_) {
+    const double h = up.dot(kin_.position[pt.link] + kin_.rotation[pt.link] * pt.p) - pt.radius;
+    if (h < lowest) {
+      lowest = h;
+      if (link) *link = pt.link;
+    }
+  }
+  return lowest;
+}
+
+void DesignSpace::relax_min_height_if_infeasible(bool required) {
+  if (!min_height_ || required || points_.empty()) return;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Eigen::VectorXd q(model_.num_joints());
+  for (int attempt = 0; attempt < 2000; ++attempt) {
+    for (const Free& f : free_) q[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
+    if (clearance(q) >= *min_height_) return;
+  }
+  min_height_.reset();
+  relaxed_ = true;
+}
+
+bool DesignSpace::high_enough(const Eigen::VectorXd& q) {
+  return !min_height_ || clearance(q) >= *min_height_;
+}
+
+namespace {
+
+// The tilt scaled back onto the cone of half-angle tilt_max when outside it.
+Tilt clamp_to_cone(const Eigen::Vector3d& level, double tilt_max, Tilt t) {
+  if (tilt_angle(level, t) <= tilt_max) return t;
+  double lo = 0.0, hi = 1.0;  // scale the tilt back onto the cone
+  for (int i = 0; i < 50; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (tilt_angle(level, {mid * t.x, mid * t.y}) <= tilt_max ? lo : hi) = mid;
+  }
+  return {lo * t.x, lo * t.y};
+}
+
+}  // namespace
+
+std::vector<Tilt> cone_tilts(const Eigen::Vector3d& level, double tilt_max, int count) {
+  std::vector<Tilt> out;
+  for (int k = 0; k < count; ++k) {
+    const double az = 2 * std::numbers::pi * (k + 0.25) / count;
+    out.push_back(clamp_to_cone(level, tilt_max,
+                                {1.5 * tilt_max * std::cos(az), 1.5 * tilt_max * std::sin(az)}));
+  }
+  return out;
+}
+
+Tilt DesignSpace::clamp_to_cone(Tilt t) const {
+  return massid::clamp_to_cone(level_, tilt_max_, t);
+}
+
+PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  PlanPose pose;
+  pose.q.resize(model_.num_joints());
+  for (int attempt = 0; attempt < 10000; ++attempt) {
+    for (const Free& f : free_) pose.q[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
+    if (!high_enough(pose.q)) continue;
+    pose.level = level;
+    if (level) {
+      pose.tilt = Tilt{};
+      pose.group = cone_ ? -1 : level_group_;
+    } else if (own_tilt()) {
+      // Half on the cone's rim (where good plans go: overshoot, then clamp), half inside.
+      const double az = 2 * std::numbers::pi * u(rng);
+      const double angle = u(rng) < 0.5 ? 1.5 * tilt_max_ : tilt_max_ * std::sqrt(u(rng));
+      pose.tilt = clamp_to_cone({angle * std::cos(az), angle * std::sin(az)});
+    } else {
+      pose.group = std::min<int>(num_tilts() - 1, static_cast<int>(u(rng) * num_tilts()));
+      pose.tilt = tilts_[pose.group];
+    }
+    pose.gravity = tilted_gravity(level_, pose.tilt);
+    return pose;
+  }
+  throw InputError(
+      fmt::format(
+          "design: no pose satisfies the constraints (a clearance of {} m above the platform plane "
+          "with the joint ranges given): lower it, or turn it off to allow links below the plane",
+          min_height_.value_or(0.0)),
+      {{Hint::Setting::MinHeight, "lower"}, {Hint::Setting::MinHeight, "none"}});
+}
+
+Eigen::VectorXd DesignSpace::coordinates(const PlanPose& pose) const {
+  Eigen::VectorXd x(dimension());
+  for (size_t i = 0; i < free_.size(); ++i) x[i] = pose.q[free_[i].joint];
+  if (own_tilt()) x.tail<2>() << pose.tilt.x, pose.tilt.y;
+  return x;
+}
+
+bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPose& out) {
+  out.q.resize(model_.num_joints());
+  for (size_t i = 0; i < free_.size(); ++i)
+    out.q[free_[i].joint] = std::clamp(x[i], free_[i].lo, free_[i].hi);
+  out.group = like.group;
+  out.level = like.level;
+  out.tilt = own_tilt() && !like.level ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]})
+                                       : like.tilt;
+  out.gravity = tilted_gravity(level_, out.tilt);
+  return high_enough(out.q);
+}
+
+Eigen::VectorXd DesignSpace::steps() const {
+  Eigen::VectorXd s(dimension());
+  for (size_t i = 0; i < free_.size(); ++i) s[i] = 0.25 * (free_[i].hi - free_[i].lo);
+  if (own_tilt()) s.tail<2>().setConstant(0.5 * tilt_max_);
+  return s;
+}
+
+Tilt DesignSpace::set_tilt(int k, Tilt t) { return tilts_[k] = clamp_to_cone(t); }
+
+}  // namespace massid

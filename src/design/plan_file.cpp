@@ -1,0 +1,27 @@
+#include <numbers>
+
+#include "massid/design/design.hpp"
+#include "massid/io/csv.hpp"
+
+namespace massid {
+
+void write_plan(const std::string& path, const Model& model, const std::vector<PlanPose>& plan) {
+  std::vector<std::string> header;
+  for (const Joint& j : model.joints) header.push_back(j.name);
+  for (const auto& [name, value] : model.held) header.push_back(name);
+  for (const char* c : {"gx", "gy", "gz", "tilt_x_deg", "tilt_y_deg"}) header.push_back(c);
+  std::vector<std::vector<std::string>> rows;
+  const double deg = 180.0 / std::numbers::pi;
+  for (const PlanPose& p : plan) {
+    std::vector<std::string> row;
+    for (int j = 0; j < model.num_joints(); ++j) row.push_back(format_number(p.q[j]));
+    for (const auto& [name, value] : model.held) row.push_back(format_number(value));
+    for (int k = 0; k < 3; ++k) row.push_back(format_number(p.gravity[k]));
+    row.push_back(format_number(p.tilt.x * deg));
+    row.push_back(format_number(p.tilt.y * deg));
+    rows.push_back(std::move(row));
+  }
+  write_csv(path, header, rows);
+}
+
+}  // namespace massid

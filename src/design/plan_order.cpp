@@ -1,0 +1,97 @@
+#include "design/plan_order.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace massid {
+namespace {
+
+double gravity_angle(const PlanPose& a, const PlanPose& b) {
+  return std::atan2(a.gravity.cross(b.gravity).norm(), a.gravity.dot(b.gravity));
+}
+
+double joint_distance(const PlanPose& a, const PlanPose& b) { return (a.q - b.q).cwiseAbs().sum(); }
+
+// Open path through `poses` from the one nearest to `from`: nearest neighbour,
+// then 2-opt on the given distance.
+template <class Distance>
+void order_path(std::vector<PlanPose>& poses, const PlanPose* from, Distance d) {
+  const size_t n = poses.size();
+  if (n < 2) return;
+  size_t first = 0;
+  if (from)
+    for (size_t i = 1; i < n; ++i)
+      if (d(*from, poses[i]) < d(*from, poses[first])) first = i;
+  std::swap(poses[0], poses[first]);
+  for (size_t i = 1; i < n; ++i) {
+    size_t best = i;
+    for (size_t k = i + 1; k < n; ++k)
+      if (d(poses[i - 1], poses[k]) < d(poses[i - 1], poses[best])) best = k;
+    std::swap(poses[i], poses[best]);
+  }
+  const size_t keep = from ? 0 : 1;  // without a predecessor the first pose may move too
+  for (bool improved = true; improved;) {
+    improved = false;
+    for (size_t i = std::max<size_t>(1, keep); i + 1 < n; ++i) {
+      for (size_t k = i + 1; k < n; ++k) {
+        const double tail_before = k + 1 < n ? d(poses[k], poses[k + 1]) : 0.0;
+        const double tail_after = k + 1 < n ? d(poses[i], poses[k + 1]) : 0.0;
+        if (d(poses[i - 1], poses[k]) + tail_after <
+            d(poses[i - 1], poses[i]) + tail_before - 1e-12) {
+          std::reverse(poses.begin() + i, poses.begin() + k + 1);
+          improved = true;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<PlanPose> order_plan(std::vector<PlanPose> poses) {
+  // Groups of poses with the same gravity direction (the same tilt).
+  std::vector<std::vector<PlanPose>> groups;
+  for (PlanPose& p : poses) {
+    auto g = std::find_if(groups.begin(), groups.end(),
+                          [&](const auto& grp) { return gravity_angle(grp.front(), p) < 1e-9; });
+    if (g == groups.end())
+      groups.push_back({p});
+    else
+      g->push_back(p);
+  }
+  // Tilts: from the least tilted, each next the nearest in gravity direction.
+  std::vector<PlanPose> heads;
+  for (const auto& g : groups) heads.push_back(g.front());
+  size_t least = 0;
+  for (size_t i = 1; i < heads.size(); ++i)
+    if (std::hypot(heads[i].tilt.x, heads[i].tilt.y) <
+        std::hypot(heads[least].tilt.x, heads[least].tilt.y))
+      least = i;
+  std::swap(groups[0], groups[least]);
+  for (size_t i = 1; i < groups.size(); ++i) {
+    size_t best = i;
+    for (size_t k = i + 1; k < groups.size(); ++k)
+      if (gravity_angle(groups[i - 1].front(), groups[k].front()) <
+          gravity_angle(groups[i - 1].front(), groups[best].front()))
+        best = k;
+    std::swap(groups[i], groups[best]);
+  }
+  // Within each tilt, short joint travel, starting near where the last one ended.
+  std::vector<PlanPose> out;
+  for (auto& g : groups) {
+    order_path(g, out.empty() ? nullptr : &out.back(), joint_distance);
+    out.insert(out.end(), g.begin(), g.end());
+  }
+  return out;
+}
+
+PlanTravel plan_travel(const std::vector<PlanPose>& poses) {
+  PlanTravel t;
+  for (size_t i = 1; i < poses.size(); ++i) {
+    if (gravity_angle(poses[i - 1], poses[i]) > 1e-9) ++t.tilt_changes;
+    t.joint_travel += joint_distance(poses[i - 1], poses[i]);
+  }
+  return t;
+}
+
+}  // namespace massid

@@ -1,0 +1,256 @@
+#include "identify/axis_least_squares.hpp"
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+
+#include "identify/householder_fold.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/identify/identifiability.hpp"
+
+namespace massid::detail {
+namespace {
+
+// Rows folded at once (householder_fold.hpp): the chunk stays in cache while
+// it is reduced, and the per-chunk cost of R's rows is small against it.
+constexpr int kFoldRows = 128;
+
+// 1 / the norm of each column of G, 1 for a zero column.
+Eigen::VectorXd column_scale(const Eigen::MatrixXd& G) {
+  Eigen::VectorXd scale(G.cols());
+  for (Eigen::Index c = 0; c < G.cols(); ++c) {
+    const double n = G.col(c).norm();
+    scale[c] = n > 0 ? 1.0 / n : 1.0;
+  }
+  return scale;
+}
+
+}  // namespace
+
+AxisFactors fold_stacked(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
+                         const Eigen::VectorXd& w) {
+  const Eigen::Index N = w.size(), q = M.cols();
+  AxisFactors f;
+  std::vector<double> B;  // [kFoldRows x n] the axis' rows being folded, column-major
+  for (int a = 0; a < 6; ++a) {
+    AxisFactor& ax = f[a];
+    for (Eigen::Index c = 0; c < q; ++c)
+      for (Eigen::Index i = 0; i < N; ++i)
+        if (M(6 * i + a, c) != 0.0) {
+          ax.unknown.push_back(static_cast<int>(c));
+          break;
+        }
+    const int n = static_cast<int>(ax.unknown.size()) + 1;
+    ax.R = Eigen::MatrixXd::Zero(n, n);
+    B.resize(static_cast<size_t>(kFoldRows) * n);
+    int m = 0;
+    for (Eigen::Index i = 0; i < N; ++i) {
+      if (!(w[i] > 0)) continue;
+      const double s = std::sqrt(w[i]);
+      const Eigen::Index r = 6 * i + a;
+      for (int c = 0; c + 1 < n; ++c)
+        B[static_cast<size_t>(c) * kFoldRows + m] = s * M(r, ax.unknown[c]);
+      B[static_cast<size_t>(n - 1) * kFoldRows + m] = s * y[r];
+      if (++m == kFoldRows) {
+        fold_rows(ax.R.data(), n, B.data(), m, kFoldRows);
+        m = 0;
+      }
+    }
+    if (m > 0) fold_rows(ax.R.data(), n, B.data(), m, kFoldRows);
+  }
+  return f;
+}
+
+Eigen::MatrixXd stacked_factors(const AxisFactors& f, int q) {
+  int rows = 0;
+  for (const AxisFactor& ax : f) rows += static_cast<int>(ax.unknown.size());
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(rows, q);
+  for (int a = 0, r0 = 0; a < 6; ++a) {
+    const AxisFactor& ax = f[a];
+    const int n = static_cast<int>(ax.unknown.size());
+    for (int i = 0; i < n; ++i)
+      for (int j = i; j < n; ++j)
+        if (ax.unknown[j] < q) G(r0 + i, ax.unknown[j]) = ax.R(i, j);
+    r0 += n;
+  }
+  return G;
+}
+
+// ---------------------------------------------------------------- checks
+
+void check_unknowns(const std::string& source, const BaseParameters& base, bool gravity_from_force,
+                    long long samples) {
+  if (base.offset && gravity_from_force)
+    throw IdentifiabilityError(
+        source +
+            ": the sensor offsets cannot be estimated when gravity is taken from the measured "
+            "force "
+            "(no gx,gy,gz columns): a force offset would bend the gravity direction. Add gx,gy,gz "
+            "columns, or identify without the offsets.",
+        {{Hint::Setting::Offset, "off"}});
+  const int p = base.num_unknowns();
+  if (6 * samples < p)
+    throw IdentifiabilityError(source + ": " + std::to_string(samples) +
+                               " samples give fewer equations than the " + std::to_string(p) +
+                               " unknowns; record more poses");
+}
+
+void check_identifiable(const Model& model, const BaseParameters& base, const Samples& hints,
+                        long long samples, const AxisFactors& f, double rank_tolerance) {
+  const IdentifiabilityReport report = check_identifiability(
+      model, base, hints, stacked_factors(f, base.num_unknowns()), rank_tolerance);
+  if (report.ok()) return;
+  std::string message = report.message;
+  const std::string said =
+      hints.source + ": the " + std::to_string(hints.size()) + " samples determine only";
+  if (hints.size() != samples && message.starts_with(said))
+    message = hints.source + ": the " + std::to_string(samples) + " samples determine only" +
+              message.substr(said.size());
+  throw IdentifiabilityError(message, report.hints);
+}
+
+// ---------------------------------------------------------------- the solve
+
+FactorSolution solve_factors(const AxisFactors& f, int q, const Vector6d& sigma) {
+  const Eigen::VectorXd scale = column_scale(stacked_factors(f, q));
+  // W [max(sum_a n_a, q + 1) x (q + 1)]: the stacked [R_a S, R_a y] / sigma_a.
+  int rows = 0;
+  for (const AxisFactor& ax : f) rows += static_cast<int>(ax.R.rows());
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(std::max(rows, q + 1), q + 1);
+  for (int a = 0, r0 = 0; a < 6; ++a) {
+    const AxisFactor& ax = f[a];
+    const int n = static_cast<int>(ax.R.rows());
+    for (int i = 0; i < n; ++i) {
+      for (int j = i; j < n - 1; ++j)
+        W(r0 + i, ax.unknown[j]) = ax.R(i, j) * scale[ax.unknown[j]] / sigma[a];
+      W(r0 + i, q) = ax.R(i, n - 1) / sigma[a];
+    }
+    r0 += n;
+  }
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
+  const Eigen::MatrixXd Rw = qr.matrixQR().topRows(q + 1).triangularView<Eigen::Upper>();
+  const auto Rp = Rw.topLeftCorner(q, q).triangularView<Eigen::Upper>();
+  FactorSolution out;
+  out.x = scale.asDiagonal() * Rp.solve(Rw.col(q).head(q));
+  const Eigen::MatrixXd Rinv = Rp.solve(Eigen::MatrixXd::Identity(q, q));
+  out.covariance = scale.asDiagonal() * (Rinv * Rinv.transpose()) * scale.asDiagonal();
+  for (int a = 0; a < 6; ++a) {
+    const AxisFactor& ax = f[a];
+    const int n = static_cast<int>(ax.R.rows());
+    // SSR_a = |M_a x - y_a|^2 = |R_a [x_a; -1]|^2.
+    Eigen::VectorXd xa(n);
+    for (int j = 0; j < n - 1; ++j) xa[j] = out.x[ax.unknown[j]];
+    xa[n - 1] = -1.0;
+    out.ssr[a] = (ax.R.triangularView<Eigen::Upper>() * xa).squaredNorm();
+    // tr(H_aa) = tr(Mw_a^T Mw_a (Mw^T Mw)^-1) = |R_a S_a Rp^-1|_F^2 / sigma_a^2
+    // (Mw_a = M_a S / sigma_a, M_a^T M_a = R_a^T R_a over the axis' columns).
+    Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(n - 1, q);
+    for (int i = 0; i < n - 1; ++i)
+      for (int j = i; j < n - 1; ++j)
+        Z.row(i) += (ax.R(i, j) * scale[ax.unknown[j]]) * Rinv.row(ax.unknown[j]);
+    out.leverage[a] = Z.squaredNorm() / (sigma[a] * sigma[a]);
+  }
+  return out;
+}
+
+NoiseFit fit_noise(const AxisFactors& f, int q, double used, const IdentifyOptions& options) {
+  const bool estimated = !options.sigma_force || !options.sigma_moment;
+  NoiseFit out;
+  for (int k = 0; k < 6; ++k) {
+    const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
+    out.sigma[k] = user ? *user : 1.0;  // only the ratio matters for the first solve
+  }
+  // Mean square of the force and of the moment measurements: |y_a|^2 is the
+  // squared norm of R_a's y column.
+  double signal[2] = {0.0, 0.0};
+  for (int a = 0; a < 6; ++a)
+    signal[a / 3] += f[a].R.col(f[a].R.cols() - 1).squaredNorm() / (3.0 * std::max(used, 1.0));
+  const int iterations = estimated ? std::max(1, options.weight_iterations) : 1;
+  for (int it = 0; it < iterations; ++it) {
+    out.solution = solve_factors(f, q, out.sigma);
+    if (!estimated) break;
+    // sigma_k^2 = SSR_k / (N - tr(H_kk)): each axis' residuals keep N degrees
+    // of freedom less those the fit spent on its rows (its leverages), which
+    // is unbiased at the right weights. (A force axis' rows involve a few
+    // unknowns, a moment axis' most of them: N - q/6 for every axis would
+    // understate the moment noise when q approaches 6N.)
+    for (int k = 0; k < 6; ++k) {
+      const auto& user = k < 3 ? options.sigma_force : options.sigma_moment;
+      if (user) continue;
+      // Floor for noise-free data: round-off relative to the group's signal.
+      const double floor = 1e-13 * std::sqrt(signal[k / 3]) + 1e-150;
+      out.sigma[k] = std::max(
+          std::sqrt(out.solution.ssr[k] / noise_dof(used, out.solution.leverage[k])), floor);
+    }
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- the summary
+
+IdentifySummary start_summary(long long samples, bool gravity_from_force,
+                              bool gravity_from_upstream, const IdentifyOptions& options) {
+  IdentifySummary out;
+  out.samples = static_cast<int>(samples);
+  out.gravity_from_force = gravity_from_force;
+  out.gravity_from_upstream = gravity_from_upstream;
+  out.sigma_estimated = !options.sigma_force || !options.sigma_moment;
+  out.sigma_force_given = options.sigma_force.has_value();
+  out.sigma_moment_given = options.sigma_moment.has_value();
+  return out;
+}
+
+void fill_summary(IdentifySummary& out, const NoiseFit& fit, int p, double used) {
+  const FactorSolution& s = fit.solution;
+  const Eigen::Index q = s.x.size();
+  out.value = s.x.head(p);
+  out.sigma = fit.sigma;
+  out.covariance = s.covariance.topLeftCorner(p, p);
+  out.stddev = out.covariance.diagonal().cwiseSqrt();
+  double chi2 = 0.0;
+  for (int k = 0; k < 6; ++k) {
+    out.residual_dof[k] = used - s.leverage[k];
+    out.residual_rms[k] = std::sqrt(s.ssr[k] / std::max(used, 1.0));
+    chi2 += s.ssr[k] / (fit.sigma[k] * fit.sigma[k]);
+  }
+  out.chi2_per_dof = 6 * used > q ? chi2 / (6 * used - q) : 0.0;
+}
+
+double condition_number(const Eigen::MatrixXd& M) {
+  if (M.cols() == 0) return 1.0;
+  Eigen::MatrixXd R = M;
+  if (M.rows() > M.cols()) {
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);
+    R = qr.matrixQR().topRows(M.cols()).triangularView<Eigen::Upper>();
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R);
+  const auto& s = svd.singularValues();
+  return s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
+}
+
+double condition_number(const BaseParameters& base, const AxisFactors& f) {
+  const int p = base.num_unknowns();
+  if (base.motion()) return scaled_condition_number(stacked_factors(f, p));
+  // At rest: the moment axes' factors over the moment unknowns, stacked, have
+  // the singular values of the stacked moment rows over those unknowns.
+  std::vector<int> position(p, -1);
+  int cols = 0;
+  for (int c = 0; c < p; ++c)
+    if (base.is_moment_unknown(c)) position[c] = cols++;
+  int rows = 0;
+  for (int a = 3; a < 6; ++a) rows += static_cast<int>(f[a].unknown.size());
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(rows, cols);
+  for (int a = 3, r0 = 0; a < 6; ++a) {
+    const AxisFactor& ax = f[a];
+    const int n = static_cast<int>(ax.unknown.size());
+    for (int i = 0; i < n; ++i)
+      for (int j = i; j < n; ++j)
+        if (ax.unknown[j] < p && position[ax.unknown[j]] >= 0)
+          M(r0 + i, position[ax.unknown[j]]) = ax.R(i, j);
+    r0 += n;
+  }
+  return condition_number(M);
+}
+
+}  // namespace massid::detail

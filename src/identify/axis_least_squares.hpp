@@ -1,0 +1,115 @@
+// Private: the one weighted least-squares estimator of identify() and of the
+// streamed fit (streaming.hpp), on per-axis triangular factors.
+//
+// A stacked problem M x ~ y (eq. 33: six rows per sample, fx ... mz, M the
+// base regressor and in memory the drift columns beside it) is kept as six
+// factors, one per wrench axis a: the triangular factor R_a of that axis' rows
+// over the unknowns they involve, with the measurements as the last column,
+//   R_a^T R_a = [M_a y_a]^T [M_a y_a].
+// R_a is the same for any split or order of the rows (in exact arithmetic),
+// so the streamed fit folds its chunks into it (householder_fold.hpp) and the
+// in-memory fit folds its stacked rows (fold_stacked). Everything the fit
+// reports follows from the six factors: the weighted solve for any per-axis
+// noise, the residual sum of squares per axis, the leverages, the
+// covariance, the identifiability rank and eq. 36.
+//
+// Shapes: q unknowns (columns of M); axis a involves n_a - 1 of them
+// (AxisFactor::unknown), R_a is n_a x n_a upper triangular; the six stacked
+// over the unknowns, G (stacked_factors), is sum_a (n_a - 1) x q with
+// G^T G = M^T M. The weighted solve's system is the stacked
+// [R_a S / sigma_a | R_a's y column / sigma_a], sum_a n_a x (q + 1), a few
+// dozen rows for any number of samples.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/model.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/identify/estimation.hpp"
+
+namespace massid::detail {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+// One wrench axis' rows of the stacked problem, folded.
+struct AxisFactor {
+  std::vector<int> unknown;  // [n - 1] the column of M of each of R's columns but the last
+  Eigen::MatrixXd R;         // [n x n] upper triangular; its last column is y's
+};
+using AxisFactors = std::array<AxisFactor, 6>;
+
+// The factors of M x ~ y ([6N x q], [6N]) with sample i's six rows weighted
+// by sqrt(w_i) (w [N]; rows with w_i = 0 are left out). Axis a's unknowns are
+// the columns with a nonzero entry in its rows (any weight).
+AxisFactors fold_stacked(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
+                         const Eigen::VectorXd& w);
+
+// G [sum_a (n_a - 1) x q]: the factors' columns of unknowns below q stacked,
+// G^T G = M^T M over those unknowns (same singular values).
+Eigen::MatrixXd stacked_factors(const AxisFactors& f, int q);
+
+// ---------------------------------------------------------------- checks
+
+// Before any fit: offsets with gravity from the force (eq. 37), fewer
+// equations than unknowns. IdentifiabilityError naming `source`.
+void check_unknowns(const std::string& source, const BaseParameters& base, bool gravity_from_force,
+                    long long samples);
+
+// The unweighted factors of every sample determine the base parameters
+// (check_identifiability on G), else IdentifiabilityError with its message.
+// `hints`: the samples the diagnosis re-tests with perturbed poses (all of
+// them, or the streamed fit's kept ones: the count in the message is then
+// replaced by `samples`).
+void check_identifiable(const Model& model, const BaseParameters& base, const Samples& hints,
+                        long long samples, const AxisFactors& f, double rank_tolerance);
+
+// ---------------------------------------------------------------- the solve
+
+// One weighted least-squares solve on the factors: axis a's rows divided by
+// sigma_a (paper eq. 34), columns scaled to unit norm (S), Householder QR of
+// the stacked weighted factors.
+struct FactorSolution {
+  Eigen::VectorXd x;           // [q]
+  Eigen::MatrixXd covariance;  // [q x q] S R^-1 R^-T S = (M^T W M)^-1
+  Vector6d ssr;                // per axis, (weighted) residual sum of squares |R_a [x_a; -1]|^2
+  // Per axis, tr(H_aa): the fit's leverages summed over the axis' rows (the
+  // degrees of freedom it spent there; they sum to q).
+  Vector6d leverage;
+};
+FactorSolution solve_factors(const AxisFactors& f, int q, const Vector6d& sigma);
+
+// The solve with the per-axis noise: given (options.sigma_force,
+// sigma_moment), else re-estimated options.weight_iterations times from unit
+// weights, sigma_k^2 = SSR_k / noise_dof(used, tr(H_kk)), floored at 1e-13
+// of the axis group's rms signal. `used`: the samples in the factors (the sum
+// of their 0/1 weights).
+struct NoiseFit {
+  FactorSolution solution;
+  Vector6d sigma;  // the noise per axis the solution is weighted with
+};
+NoiseFit fit_noise(const AxisFactors& f, int q, double used, const IdentifyOptions& options);
+
+// ---------------------------------------------------------------- the summary
+
+// What every fit reports of its data and options (samples, where gravity came
+// from, which sigma were given).
+IdentifySummary start_summary(long long samples, bool gravity_from_force,
+                              bool gravity_from_upstream, const IdentifyOptions& options);
+// The fit's part for the first p unknowns (the base parameters and offsets):
+// value, covariance, stddev, sigma, residual_dof, residual_rms and
+// chi2_per_dof (over 6 used - q degrees of freedom). residual_max is left to
+// the caller (it needs the rows).
+void fill_summary(IdentifySummary& out, const NoiseFit& fit, int p, double used);
+
+// eq. 36 from the unweighted factors: at rest the stacked moment axes over
+// the moment unknowns, unscaled; in motion every unknown below base's count,
+// columns scaled (as moment_condition_number of the stacked regressor).
+double condition_number(const BaseParameters& base, const AxisFactors& f);
+// The condition number of a matrix, from the triangular factor of its QR.
+double condition_number(const Eigen::MatrixXd& M);
+
+}  // namespace massid::detail

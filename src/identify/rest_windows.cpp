@@ -1,0 +1,136 @@
+#include "massid/identify/rest_windows.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "core/median.hpp"
+
+namespace massid {
+
+namespace {
+
+using detail::median;
+
+// 8 sigma of a signal's noise from its steps (motion is rare among them), at least `floor`.
+double tolerance(const Eigen::Ref<const Eigen::VectorXd>& x, double floor) {
+  std::vector<double> steps;
+  steps.reserve(static_cast<std::size_t>(std::max<Eigen::Index>(x.size() - 1, 0)));
+  for (Eigen::Index i = 0; i + 1 < x.size(); ++i) steps.push_back(std::abs(x[i + 1] - x[i]));
+  return std::max(8.0 * 1.4826 * median(std::move(steps)) / std::sqrt(2.0), floor);
+}
+
+// Marks the rows of x that differ by more than tol from the rows k before and k after.
+int mark(const Eigen::Ref<const Eigen::VectorXd>& x, int k, double tol, std::vector<char>& moving) {
+  int marked = 0;
+  const int n = static_cast<int>(x.size());
+  for (int i = k; i + k < n; ++i)
+    if (std::abs(x[i] - x[i - k]) > tol && std::abs(x[i + k] - x[i]) > tol && !moving[i]) {
+      moving[i] = 1;
+      ++marked;
+    }
+  return marked;
+}
+
+RestWindows every_row(int n) {
+  RestWindows w;
+  w.rows = w.samples = n;
+  if (n > 0) w.windows.push_back({0, n - 1});
+  return w;
+}
+
+}  // namespace
+
+RestWindows find_rest_windows(const Samples& s, const RestWindowOptions& o) {
+  const int n = s.size();
+  if (o.detection == RestDetection::Off || s.time.size() != n || n < 3) return every_row(n);
+  std::vector<double> steps(static_cast<std::size_t>(n - 1));
+  for (int i = 0; i + 1 < n; ++i) steps[i] = s.time[i + 1] - s.time[i];
+  const double dt = median(steps);
+  if (!(dt > 0.0) || dt > o.max_step) return every_row(n);
+  const int k = std::max(1, static_cast<int>(std::lround(o.lag / dt)));
+
+  std::vector<char> moving(static_cast<std::size_t>(n), 0);
+  std::vector<std::string> criteria;
+  int joints = 0, gravity = 0, wrench = 0;
+  for (int j = 0; j < s.q.cols(); ++j)
+    joints += mark(s.q.col(j), k, tolerance(s.q.col(j), 1e-3), moving);
+  if (!s.gravity_from_force && s.gravity.rows() == n) {
+    // The gravity direction (a tilting platform): unit-vector components, rad.
+    Eigen::MatrixXd dir = s.gravity;
+    for (int i = 0; i < n; ++i)
+      if (dir.row(i).norm() > 0) dir.row(i).normalize();
+    for (int c = 0; c < 3; ++c) gravity += mark(dir.col(c), k, tolerance(dir.col(c), 1e-3), moving);
+  }
+  if (s.has_wrench()) {
+    std::vector<double> magnitude(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) magnitude[i] = s.wrench.row(i).head<3>().norm();
+    const double floor = 1e-3 * median(std::move(magnitude));
+    for (int c = 0; c < 3; ++c)
+      wrench += mark(s.wrench.col(c), k, tolerance(s.wrench.col(c), floor), moving);
+  }
+  // Continuous: the joints or the platform moved, or (gravity from the force)
+  // the force turned. A wrench that jumps while nothing moves is a bump for
+  // the outlier test, not a reason to cut the log.
+  if (joints + gravity == 0 && !(s.gravity_from_force && wrench > 0)) return every_row(n);
+  RestWindows out;
+  out.rows = n;
+  out.moving = joints + gravity + wrench;
+  out.continuous = true;
+  for (auto [count, name] : {std::pair{joints, "joints"}, {gravity, "gravity"}, {wrench, "wrench"}})
+    if (count > 0) out.criterion += (out.criterion.empty() ? "" : ", ") + std::string(name);
+
+  // Rest rows: not moving, not within `settle` after a motion nor `lag` before one.
+  std::vector<char> rest(static_cast<std::size_t>(n), 1);
+  const int settle = static_cast<int>(std::lround(o.settle / dt));
+  for (int i = 0; i < n; ++i) {
+    if (!moving[i]) continue;
+    for (int r = std::max(0, i - k); r <= std::min(n - 1, i + settle); ++r) rest[r] = 0;
+  }
+  const int shortest = std::max(2, static_cast<int>(std::ceil(o.min_duration / dt)));
+  for (int i = 0; i < n;) {
+    if (!rest[i]) {
+      ++i;
+      continue;
+    }
+    int last = i;
+    while (last + 1 < n && rest[last + 1]) ++last;
+    if (last - i + 1 >= shortest) {
+      out.windows.push_back({i, last});
+      out.samples += last - i + 1;
+    }
+    i = last + 1;
+  }
+  return out;
+}
+
+Samples rest_samples(const Samples& s, const RestWindows& w) {
+  if (!w.continuous) return s;
+  std::vector<int> rows;
+  rows.reserve(static_cast<std::size_t>(w.samples));
+  for (const RestWindow& win : w.windows)
+    for (int r = win.first; r <= win.last; ++r) rows.push_back(r);
+  const auto pick = [&rows](auto& m) {
+    if (m.rows() == 0) return;
+    std::decay_t<decltype(m)> out;
+    out.resize(static_cast<Eigen::Index>(rows.size()), m.cols());
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      out.row(static_cast<Eigen::Index>(i)) = m.row(rows[i]);
+    m = std::move(out);
+  };
+  Samples out = s;
+  for_each_joint_stream_array(out, pick);
+  pick(out.wrench);
+  pick(out.time);
+  out.line.clear();
+  out.block.clear();
+  for (int r : rows) {
+    if (!s.line.empty()) out.line.push_back(s.line[r]);
+    if (!s.block.empty()) out.block.push_back(s.block[r]);
+  }
+  return out;
+}
+
+}  // namespace massid

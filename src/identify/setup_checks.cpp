@@ -1,0 +1,1107 @@
+// Set-up checks (setup_checks.hpp). Notation: N samples, f_i the measured
+// force, g_i the gravity columns, M the URDF's total mass (nominal_total_mass),
+// g0 = 9.80665 m/s^2. At rest the data obey f_i = M g_i + b + noise, with b
+// the sensor offset, so
+//   - the centred force f_i - mean(f) depends on the centred gravity
+//     g_i - mean(g) alone: statistics built on centred data ignore b;
+//   - the force does not depend on the joints: sign and frame checks need the
+//     gravity columns only (they do not apply when gravity is taken from the
+//     force, eq. 37: then f and g agree by construction).
+#include "massid/identify/setup_checks.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <numeric>
+#include <stdexcept>
+
+#include "core/median.hpp"
+#include "identify/chi_square.hpp"
+#include "io/csv_fields.hpp"
+#include "io/csv_stream.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/simulate.hpp"
+#include "massid/identify/estimation.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+
+namespace massid {
+namespace {
+
+using detail::median;
+
+using Severity = SetupFinding::Severity;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// --- thresholds -------------------------------------------------------------
+
+// |g| accepted as Earth's gravity: 9.78-9.83 m/s^2 at the surface, with room
+// for an accelerometer's few-% scale error. Every unit mistake (g = 1, mm/s^2,
+// ft/s^2 = 32.2, cm/s^2) is far outside.
+constexpr double kGravityLow = 9.0, kGravityHigh = 10.5;
+// A factor "near 1000": within 10^(3 +- 0.5). A URDF whose masses are off by
+// 3x (or the as-built robot's extra 5 %) stays far below.
+constexpr double kUnitLow = 316.0, kUnitHigh = 3162.0;
+// Frame rotation: the angle must exceed this (warning; error above
+// kRotationError) and 6 standard deviations of its noise. Realistic mounting
+// and calibration errors stay below 1 deg; 2 deg already leaves force residuals
+// of 3.5 % of the weight; 5 deg of 9 %, which biases every first moment.
+constexpr double kRotationWarn = 2.0, kRotationError = 5.0, kRotationSigmas = 6.0;
+// Gravity directions count as distinct when their RMS spread about the mean
+// exceeds 2 % of |g| (1.2 deg of tilt).
+constexpr double kMinSpread = 0.02;
+// Rows the geometry and the nominal wrench are evaluated at (a strided subset).
+constexpr int kNominalRows = 2000;
+// Checks that compare columns over rows need this many rows.
+constexpr int kMinRows = 3;
+
+// --- formatting ---------------------------------------------------------------
+
+// "line 4", "lines 4, 9, 12 and 3 more"; never empty: "no line" for no rows.
+std::string lines_text(const Samples& s, const std::vector<int>& rows) {
+  if (rows.empty()) return "no line";
+  std::string t = rows.size() == 1 ? "line " : "lines ";
+  const size_t shown = std::min<size_t>(rows.size(), 3);
+  for (size_t k = 0; k < shown; ++k) t += fmt::format("{}{}", k ? ", " : "", s.line[rows[k]]);
+  if (rows.size() > shown) t += fmt::format(" and {} more", rows.size() - shown);
+  return t;
+}
+
+std::string joint_column(const Joint& j, const std::vector<std::string>& header) {
+  if (std::find(header.begin(), header.end(), j.name) == header.end() &&
+      std::find(header.begin(), header.end(), j.name + "_deg") != header.end())
+    return j.name + "_deg";
+  return j.name;
+}
+
+std::string vec_text(const Eigen::Vector3d& v, int precision = 4) {
+  return fmt::format("({:.{}f}, {:.{}f}, {:.{}f})", v.x(), precision, v.y(), precision, v.z(),
+                     precision);
+}
+
+std::string matrix_text(const Eigen::Matrix3d& R) {
+  return fmt::format(
+      "[[{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}]]", R(0, 0),
+      R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2));
+}
+
+bool constant(const Eigen::VectorXd& c) { return c.size() > 0 && c.maxCoeff() == c.minCoeff(); }
+
+// The rotation R minimising sum |b_i - R a_i|^2 (Kabsch) from H = sum a_i b_i^T.
+Eigen::Matrix3d kabsch(const Eigen::Matrix3d& H) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  return svd.matrixV() * D * svd.matrixU().transpose();
+}
+
+struct Context {
+  Context(const Model& m, const Samples& samples, const std::vector<std::string>& h,
+          std::vector<SetupFinding>& o)
+      : model(m),
+        s(samples),
+        header(h),
+        out(o),
+        N(samples.size()),
+        M(m.nominal_total_mass()),
+        F(samples.has_wrench() ? Eigen::MatrixXd(samples.wrench.leftCols(3)) : Eigen::MatrixXd()),
+        G(samples.gravity) {}
+  const Model& model;
+  const Samples& s;
+  const std::vector<std::string>& header;
+  std::vector<SetupFinding>& out;
+  int N;
+  double M;              // URDF total mass
+  Eigen::MatrixXd F, G;  // [N x 3] force, gravity
+  std::vector<int> sub;  // strided subset of rows
+  Eigen::MatrixXd nom;   // [sub x 6] URDF wrench at the subset, gravity scaled to g0
+  double reach = 0.0;    // largest distance of a link origin or com from the sensor origin
+
+  void add(Severity sev, const char* code, std::string message, std::vector<Hint> hints = {}) {
+    if (sev == Severity::Error) hints.push_back({Hint::Setting::Checks, "off"});
+    out.push_back({sev, code, std::move(message), std::move(hints)});
+  }
+};
+
+// The URDF's wrench and reach at a strided subset of the rows, gravity scaled
+// to g0 (so that a unit mistake in gx,gy,gz does not hide one in the wrench).
+void nominal(Context& c) {
+  const int stride = std::max(1, (c.N + kNominalRows - 1) / kNominalRows);
+  for (int i = 0; i < c.N; i += stride) c.sub.push_back(i);
+  Samples p;
+  p.q.resize(static_cast<Eigen::Index>(c.sub.size()), c.model.num_joints());
+  p.gravity.resize(static_cast<Eigen::Index>(c.sub.size()), 3);
+  KinematicsData kin(c.model);
+  for (size_t k = 0; k < c.sub.size(); ++k) {
+    const int i = c.sub[k];
+    p.q.row(k) = c.s.q.row(i);
+    const double n = c.G.row(i).norm();
+    p.gravity.row(k).setZero();
+    if (n > 0) p.gravity.row(k) = kStandardGravity / n * c.G.row(i);
+    forward_kinematics(c.model, kin, p.q.row(k).transpose());
+    for (int l = 0; l < c.model.num_links(); ++l) {
+      c.reach = std::max(c.reach, kin.position[l].norm());
+      if (c.model.links[l].mass > 0)
+        c.reach =
+            std::max(c.reach, (kin.position[l] + kin.rotation[l] * c.model.links[l].com).norm());
+    }
+  }
+  c.nom = simulate_wrenches(c.model, p);
+}
+
+// gravity-magnitude. Statistic: the median of |g_i| over the rows, and the rows
+// outside [9.0, 10.5] m/s^2. Error when the median is outside: every
+// identified parameter scales with 1/|g|. Warning for single rows outside
+// while the median is right (a few corrupted rows bias the fit).
+void check_gravity_magnitude(Context& c) {
+  std::vector<double> norms(c.N);
+  std::vector<int> bad;
+  for (int i = 0; i < c.N; ++i) {
+    norms[i] = c.G.row(i).norm();
+    if (!(norms[i] >= kGravityLow && norms[i] <= kGravityHigh)) bad.push_back(i);
+  }
+  const double med = median(norms);
+  if (med >= kGravityLow && med <= kGravityHigh) {
+    if (!bad.empty())
+      c.add(Severity::Warning, "gravity-magnitude",
+            fmt::format("{}: gx,gy,gz have |g| = {:.4g} m/s^2 at {} ({} of {} rows), outside "
+                        "[{}, {}]: fix or remove those rows (gravity in m/s^2, sensor frame)",
+                        c.s.source, norms[bad[0]], lines_text(c.s, bad), bad.size(), c.N,
+                        kGravityLow, kGravityHigh));
+    return;
+  }
+  std::string fix = "give gravity in m/s^2 (level, sensor z up: 0,0,-9.80665)";
+  if (med > 0.9 && med < 1.1)
+    fix = "they look like unit vectors or g units: multiply gx,gy,gz by 9.80665";
+  else if (med > 9000 && med < 10500)
+    fix = "they look like mm/s^2: divide gx,gy,gz by 1000";
+  else if (med > 900 && med < 1050)
+    fix = "they look like cm/s^2: divide gx,gy,gz by 100";
+  else if (med > 29.5 && med < 34.5)
+    fix = "they look like ft/s^2: multiply gx,gy,gz by 0.3048";
+  c.add(Severity::Error, "gravity-magnitude",
+        fmt::format("{}: gx,gy,gz have a median magnitude of {:.6g} m/s^2 (lines {}-{}), not "
+                    "Earth's 9.81: every identified parameter would be off by the same factor; {}",
+                    c.s.source, med, c.s.line.front(), c.s.line.back(), fix));
+}
+
+// Centred gravity and force, and the eigen-decomposition of the gravity scatter
+// C = sum (g_i - mean g)(g_i - mean g)^T (eigenvalues ascending).
+struct Centred {
+  Eigen::MatrixXd Gc, Fc;
+  Eigen::Vector3d lambda;  // ascending
+  Eigen::Matrix3d axes;    // columns: eigenvectors
+  double g = 0.0;          // mean |g_i|
+  bool spread_ok = false;
+};
+
+Centred centre(const Context& c) {
+  Centred r;
+  r.Gc = c.G.rowwise() - c.G.colwise().mean();
+  r.Fc = c.F.rowwise() - c.F.colwise().mean();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(r.Gc.transpose() * r.Gc);
+  r.lambda = eig.eigenvalues().cwiseMax(0.0);
+  r.axes = eig.eigenvectors();
+  r.g = c.G.rowwise().norm().mean();
+  r.spread_ok = c.N >= kMinRows && std::sqrt(r.lambda.sum() / c.N) > kMinSpread * r.g;
+  return r;
+}
+
+// wrench-sign. Statistic: the slope s of the centred force on the centred
+// gravity, s = sum (f_i - mean f).(g_i - mean g) / sum |g_i - mean g|^2 (the
+// total mass, offset-free), when the gravity directions vary enough to
+// determine it to 10 standard deviations; else (one gravity direction) the
+// median over rows of cos(f_i, g_i), flagged below -0.5 (an offset would have
+// to exceed the weight to get there). Error: a negated wrench identifies
+// negated parameters.
+bool check_sign(Context& c, const Centred& k) {
+  bool negative = false;
+  std::string how;
+  const double Sgg = k.lambda.sum();
+  bool decided = false;
+  if (k.spread_ok) {
+    const double s = (k.Fc.array() * k.Gc.array()).sum() / Sgg;
+    const double dof = std::max(1, 3 * c.N - 4);
+    const double sigma = std::sqrt((k.Fc - s * k.Gc).squaredNorm() / dof);
+    if (std::abs(s) > 10.0 * sigma / std::sqrt(Sgg)) {
+      decided = true;
+      negative = s < 0;
+      how = fmt::format("the force changes by {:.4g} kg times the change of gravity", s);
+    }
+  }
+  std::vector<int> against;
+  std::vector<double> cosines;
+  for (int i = 0; i < c.N; ++i) {
+    const double n = c.F.row(i).norm() * c.G.row(i).norm();
+    if (!(n > 0)) continue;
+    const double cs = c.F.row(i).dot(c.G.row(i)) / n;
+    cosines.push_back(cs);
+    if (cs < 0) against.push_back(i);
+  }
+  if (!decided) {
+    const double med = median(cosines);
+    negative = !cosines.empty() && med < -0.5;
+    how = fmt::format("the median angle between force and gravity is {:.0f} deg",
+                      std::acos(std::clamp(med, -1.0, 1.0)) / kDeg);
+  }
+  if (!negative) return false;
+  const double fitted = (c.F.array() * c.G.array()).sum() / c.G.squaredNorm();
+  c.add(Severity::Error, "wrench-sign",
+        fmt::format("{}: the measured force points against gravity (gx,gy,gz) at {} of {} rows "
+                    "({}; {}; total mass along gravity {:.4g} kg, the URDF's {:.4g} kg): massid "
+                    "wants the wrench the bodies exert on the sensor, f = M g at rest. If the "
+                    "sensor reports the reaction (MuJoCo, force plates), negate fx,fy,fz,mx,my,mz; "
+                    "if gx,gy,gz point up instead of along gravity, negate gx,gy,gz",
+                    c.s.source, against.size(), c.N, lines_text(c.s, against), how, fitted, c.M));
+  return true;
+}
+
+// frame-rotation. Statistic: the angle of the best rotation R with
+// f_i - mean f = s R (g_i - mean g) (Kabsch on centred data: offset-free) when
+// the gravity directions span two dimensions; with two directions only (one
+// tilt axis) the rotation about their difference is invisible, and the
+// statistic is the angle between the force's and gravity's principal
+// direction of change. Its noise: for a rotation error w the residuals are
+// s w x g_i, so std(w) <= sigma / (|s| sqrt(l2 + l3)) (l: eigenvalues of the
+// gravity scatter, descending; l1 alone for the 1-D statistic), sigma the
+// per-axis force residual. Flagged above max(2 deg, 6 std): a warning to
+// 5 deg, an error above (the fit's moments would be meaningless).
+void check_rotation(Context& c, const Centred& k) {
+  if (!k.spread_ok) return;  // one gravity direction: a rotation is undetermined
+  const double l1 = k.lambda(2), l23 = k.lambda(0) + k.lambda(1);
+  const bool two_d = l23 > 0.01 * l1 && std::sqrt(k.lambda(1) / c.N) > kMinSpread * k.g;
+  double angle = 0.0, sigma_angle = 0.0;
+  Eigen::Matrix3d R;
+  std::string basis;
+  if (two_d) {
+    R = kabsch(k.Gc.transpose() * k.Fc);
+    const double s = (k.Fc.array() * (k.Gc * R.transpose()).array()).sum() / k.lambda.sum();
+    const double dof = std::max(1, 3 * c.N - 7);
+    const double sigma = std::sqrt((k.Fc - s * k.Gc * R.transpose()).squaredNorm() / dof);
+    angle = Eigen::AngleAxisd(R).angle();
+    sigma_angle = sigma / (std::abs(s) * std::sqrt(l23));
+    basis = "from the centred data, so a sensor offset does not matter";
+  } else {
+    const Eigen::Vector3d dg = k.axes.col(2);
+    const Eigen::VectorXd t = k.Gc * dg;
+    const Eigen::Vector3d v = k.Fc.transpose() * t / l1;
+    const double dof = std::max(1, 3 * c.N - 6);
+    const double sigma = std::sqrt((k.Fc - t * v.transpose()).squaredNorm() / dof);
+    angle = std::acos(std::clamp(v.normalized().dot(dg), -1.0, 1.0));
+    sigma_angle = sigma / (v.norm() * std::sqrt(l1));
+    // The full rotation from the raw vectors (assuming no offset): two
+    // distinct directions determine it.
+    R = kabsch(c.G.transpose() * c.F);
+    basis = fmt::format(
+        "the force's direction of change is {:.2f} deg from gravity's (the plan tilts about one "
+        "axis, so that is a lower bound); the rotation assumes no sensor offset",
+        angle / kDeg);
+  }
+  const double deg = angle / kDeg;
+  if (!(deg > kRotationWarn && angle > kRotationSigmas * sigma_angle)) return;
+  const Eigen::AngleAxisd aa(R);
+  c.add(deg > kRotationError ? Severity::Error : Severity::Warning, "frame-rotation",
+        fmt::format("{}: the force direction disagrees with gx,gy,gz by {:.2f} deg (noise explains "
+                    "{:.2g} deg) over lines {}-{}: the wrench frame is rotated against the gravity "
+                    "columns; best fit f = M R g with R = {} ({:.2f} deg about {}; {}). Rotate "
+                    "fx,fy,fz and mx,my,mz by R^T into the frame of gx,gy,gz (or gx,gy,gz by R if "
+                    "they are the rotated ones), or make the URDF's sensor link the sensor's frame",
+                    c.s.source, deg, kRotationSigmas * sigma_angle / kDeg, c.s.line.front(),
+                    c.s.line.back(), matrix_text(R), aa.angle() / kDeg, vec_text(aa.axis(), 3),
+                    basis));
+}
+
+// --- channel signs and swaps ------------------------------------------------
+
+// The 48 signed permutation matrices P, P(k, perm[k]) = +-1; the identity first.
+const std::vector<Eigen::Matrix3d>& signed_permutations() {
+  static const std::vector<Eigen::Matrix3d> all = [] {
+    std::vector<Eigen::Matrix3d> v;
+    int perm[3] = {0, 1, 2};
+    do {
+      for (int signs = 0; signs < 8; ++signs) {
+        Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+        for (int k = 0; k < 3; ++k) P(k, perm[k]) = (signs >> k) & 1 ? -1.0 : 1.0;
+        v.push_back(P);
+      }
+    } while (std::next_permutation(perm, perm + 3));
+    return v;
+  }();
+  return all;
+}
+
+int changed_channels(const Eigen::Matrix3d& P) {
+  int n = 0;
+  for (int k = 0; k < 3; ++k) n += P(k, k) != 1.0;
+  return n;
+}
+
+// One test of the channels of one kind (force or moment): for each signed
+// permutation P the residual sum of squares `ssr` of the fit that assumes
+// the recorded channels are P times the true ones, and `dof`. Noise is judged
+// from the best fit: the P's within 25 of its variances tie with it.
+// The identity is excluded when it is worse than the best by more than 100
+// variances (10 sigma) and by a factor 4 (model errors such as a 1 deg
+// misalignment or an as-built mass inflate every fit alike; a flipped channel
+// that varies is far worse).
+struct ChannelFit {
+  std::vector<double> ssr;
+  std::vector<bool> tie;
+  bool identity_out = false;
+  double rows = 0.0;
+};
+
+ChannelFit channel_fit(std::vector<double> ssr, double dof, double rows, double total,
+                       const std::vector<bool>* among = nullptr) {
+  const size_t n = ssr.size();
+  ChannelFit f;
+  f.rows = rows;
+  f.tie.assign(n, true);
+  f.ssr = ssr;
+  if (!(dof >= 1)) return f;
+  double best = INFINITY;
+  for (size_t i = 0; i < n; ++i)
+    if (!among || (*among)[i]) best = std::min(best, ssr[i]);
+  const double var = std::max(best / dof, 1e-24 * total / rows + 1e-300);
+  for (size_t i = 0; i < n; ++i) f.tie[i] = (!among || (*among)[i]) && ssr[i] <= best + 25 * var;
+  f.identity_out = !f.tie[0] && ssr[0] - best > 100 * var && ssr[0] > 4 * best;
+  return f;
+}
+
+// The answer of a test: P (the identity unless decisive) and the residual RMS
+// per row as recorded and with P.
+struct ChannelTest {
+  bool tested = false;
+  Eigen::Matrix3d P = Eigen::Matrix3d::Identity();
+  double rms_recorded = 0.0, rms_best = 0.0;
+  std::vector<bool> tie;  // the P's the data cannot tell from the best
+  bool decisive() const { return tested && !P.isIdentity(); }
+};
+
+// Among the ties, the P with the fewest changed channels, or one tied in
+// `other` too (the force and the moment channels agree).
+ChannelTest pick_channels(const ChannelFit& f, const std::vector<bool>* other = nullptr) {
+  const auto& all = signed_permutations();
+  ChannelTest t;
+  t.tested = true;
+  t.tie = f.tie;
+  int pick = -1;
+  for (int pass = 0; pass < 2 && pick < 0; ++pass)
+    for (size_t i = 0; i < all.size(); ++i)
+      if (f.tie[i] && (pass == 1 || !other || (*other)[i]) &&
+          (pick < 0 || changed_channels(all[i]) < changed_channels(all[pick])))
+        pick = static_cast<int>(i);
+  if (pick > 0 && f.identity_out) t.P = all[pick];
+  t.rms_recorded = std::sqrt(std::max(f.ssr[0], 0.0) / f.rows);
+  t.rms_best = std::sqrt(std::max(f.ssr[t.P.isIdentity() ? 0 : pick], 0.0) / f.rows);
+  return t;
+}
+
+// Force channels. Statistics: for every signed permutation P, the residual of
+// the centred fit f_i - mean f = M P (g_i - mean g) with M >= 0 (offset-free),
+// SSR(P) = S_ff - max(0, tr(P H))^2 / S_gg with H = sum (g_i - mean g)(f_i -
+// mean f)^T; where that leaves several P's tied (one gravity direction, or
+// gz the same in every row as in a plan at one tilt), the same fit without
+// centring decides among them (an offset as large as the weight would be
+// needed to fake a flipped channel there).
+ChannelFit force_channels(const Context& c, const Centred& k) {
+  const auto fit = [&](const Eigen::MatrixXd& G, const Eigen::MatrixXd& F, double dof,
+                       const std::vector<bool>* among) {
+    const Eigen::Matrix3d H = G.transpose() * F;
+    const double Sff = F.squaredNorm(), Sgg = G.squaredNorm();
+    std::vector<double> ssr;
+    for (const Eigen::Matrix3d& P : signed_permutations()) {
+      const double t = Sgg > 0 ? std::max(0.0, (P * H).trace()) : 0.0;
+      ssr.push_back(std::max(0.0, Sff - (Sgg > 0 ? t * t / Sgg : 0.0)));
+    }
+    return channel_fit(ssr, dof, c.N, Sff, among);
+  };
+  if (c.N < kMinRows) return {};
+  ChannelFit centred;
+  if (k.spread_ok) {
+    centred = fit(k.Gc, k.Fc, 3.0 * c.N - 4, nullptr);
+    if (centred.identity_out) return centred;
+  }
+  return fit(c.G, c.F, 3.0 * c.N - 1, k.spread_ok ? &centred.tie : nullptr);
+}
+
+// Moment channels. Statistic: for every P, the residual of the least-squares
+// fit of P^T m_i = Y_m(q_i, g_i) pi + b over the URDF's structure (its base
+// parameters and the three moment offsets; no inertial value is used), at the
+// strided subset of rows: SSR(P) = |y_P|^2 - |Q^T y_P|^2, with Q an
+// orthonormal basis of the regressor's moment rows. The fit cannot tell P
+// from -P (negated first moments): when the URDF has masses, the sign whose
+// moments correlate positively with the URDF's is kept.
+ChannelFit moment_channels(const Context& c) {
+  const int n = static_cast<int>(c.sub.size());
+  if (n < kMinRows) return {};
+  Samples s;
+  s.q.resize(n, c.model.num_joints());
+  s.gravity.resize(n, 3);
+  s.wrench.resize(n, 6);
+  for (int k = 0; k < n; ++k) {
+    s.q.row(k) = c.s.q.row(c.sub[k]);
+    s.gravity.row(k) = c.G.row(c.sub[k]);
+    s.wrench.row(k) = c.s.wrench.row(c.sub[k]);
+  }
+  BaseParameterOptions bo;
+  bo.offset = true;
+  const BaseParameters base = find_base_parameters(c.model, bo);
+  const Eigen::MatrixXd A = stacked_regressor(c.model, base, s);
+  Eigen::MatrixXd Am(3 * n, A.cols());
+  Eigen::MatrixXd Y(3, n);
+  for (int k = 0; k < n; ++k) {
+    Am.middleRows(3 * k, 3) = A.middleRows(6 * k + 3, 3);
+    Y.col(k) = s.wrench.row(k).tail<3>().transpose();
+  }
+  for (Eigen::Index j = 0; j < Am.cols(); ++j) {
+    const double norm = Am.col(j).norm();
+    if (norm > 0) Am.col(j) /= norm;
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Am);
+  qr.setThreshold(1e-10);
+  const Eigen::Index r = qr.rank();
+  if (3 * n - r < 6) return {};
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(3 * n, r);
+  // The URDF's moments, centred, for the sign.
+  Eigen::MatrixXd nom = c.nom.rightCols(3).transpose();
+  nom = nom.colwise() - nom.rowwise().mean();
+  const Eigen::MatrixXd Yc = Y.colwise() - Y.rowwise().mean();
+  const bool signed_by_urdf = c.M > 0 && nom.norm() > 0;
+  std::vector<double> ssr;
+  std::vector<bool> sign_ok;
+  for (const Eigen::Matrix3d& P : signed_permutations()) {
+    const Eigen::MatrixXd YP = P.transpose() * Y;  // the true moments if P is right
+    const Eigen::Map<const Eigen::VectorXd> y(YP.data(), 3 * n);
+    ssr.push_back(std::max(0.0, y.squaredNorm() - (Q.transpose() * y).squaredNorm()));
+    sign_ok.push_back(!signed_by_urdf || ((P.transpose() * Yc).array() * nom.array()).sum() >= 0);
+  }
+  ChannelFit f = channel_fit(ssr, static_cast<double>(3 * n - r), n, Y.squaredNorm());
+  if (signed_by_urdf) {
+    bool any = false;
+    for (size_t i = 0; i < ssr.size(); ++i) any |= f.tie[i] && sign_ok[i];
+    if (any)
+      for (size_t i = 0; i < ssr.size(); ++i) f.tie[i] = f.tie[i] && sign_ok[i];
+    f.identity_out = !f.tie[0] && (f.identity_out || !sign_ok[0]);
+  }
+  return f;
+}
+
+// "'fz' is negated", "'fx' holds fy and 'fy' holds fx": what P says about the
+// columns (recorded k = P(k, j) true j), and the fix ("negate fz", ...).
+std::string channels_text(const Eigen::Matrix3d& P, char kind, std::string* fix) {
+  const char axis[3] = {'x', 'y', 'z'};
+  std::vector<std::string> what, how;
+  for (int k = 0; k < 3; ++k) {
+    int j = 0;
+    while (P(k, j) == 0.0) ++j;
+    const bool neg = P(k, j) < 0;
+    if (j == k && !neg) continue;
+    if (j == k) {
+      what.push_back(fmt::format("'{}{}' is negated", kind, axis[k]));
+      how.push_back(fmt::format("negate {}{}", kind, axis[k]));
+    } else {
+      what.push_back(
+          fmt::format("'{}{}' holds {}{}{}", kind, axis[k], neg ? "-" : "", kind, axis[j]));
+      how.push_back(fmt::format("take {}{} from column {}{}{}", kind, axis[j], neg ? "minus " : "",
+                                kind, axis[k]));
+    }
+  }
+  auto join = [](const std::vector<std::string>& v) {
+    std::string t;
+    for (size_t i = 0; i < v.size(); ++i)
+      t += (i ? (i + 1 == v.size() ? " and " : ", ") : "") + v[i];
+    return t;
+  };
+  if (fix) *fix = join(how);
+  return join(what);
+}
+
+// force-channels / moment-channels: a channel negated or two channels swapped
+// (a reflection: no frame rotation explains it), found by the tests above.
+void report_channels(Context& c, const ChannelTest& t, char kind, const ChannelTest* also) {
+  std::string fix, fix_also;
+  const std::string what = channels_text(t.P, kind, &fix);
+  std::string extra;
+  if (also) {
+    extra = fmt::format(
+        "; the moments too: {} (moment residual RMS {:.3g} N m as recorded, {:.3g} "
+        "N m so)",
+        channels_text(also->P, 'm', &fix_also), also->rms_recorded, also->rms_best);
+    fix += " and " + fix_also;
+  }
+  const bool force = kind == 'f';
+  c.add(Severity::Error, force ? "force-channels" : "moment-channels",
+        fmt::format("{}: the {} channels do not fit the URDF with gx,gy,gz as recorded (lines "
+                    "{}-{}), but do if {} ({} residual RMS {:.3g} {} as recorded, {:.3g} {} so){}: "
+                    "a sign or the column mapping is wrong in the sensor's configuration or the "
+                    "logger; {} (massid wants the sensor's own right-handed axes)",
+                    c.s.source, force ? "force" : "moment", c.s.line.front(), c.s.line.back(), what,
+                    force ? "force" : "moment", t.rms_recorded, force ? "N" : "N m", t.rms_best,
+                    force ? "N" : "N m", extra, fix));
+}
+
+// force-units. Statistic: r = median |f_i| / (M g0), the total mass the force
+// implies over the URDF's (offset-robust: the median of magnitudes). Error for
+// r in [316, 3162]: forces in mN.
+void check_force_units(Context& c) {
+  if (!(c.M > 0)) return;
+  std::vector<double> n(c.N);
+  for (int i = 0; i < c.N; ++i) n[i] = c.F.row(i).norm();
+  const double r = median(n) / (c.M * kStandardGravity);
+  if (r >= kUnitLow && r <= kUnitHigh)
+    c.add(
+        Severity::Error, "force-units",
+        fmt::format("{}: fx,fy,fz imply a total mass of {:.4g} kg, {:.0f} times the URDF's {:.4g} "
+                    "kg (median |f| {:.4g} over lines {}-{}): the forces look like mN; divide "
+                    "fx,fy,fz by 1000 (massid wants N)",
+                    c.s.source, r * c.M, r, c.M, median(n), c.s.line.front(), c.s.line.back()));
+}
+
+// moment-units. Statistics: r = RMS |m_i| / RMS |m_URDF,i| (the measured
+// moments over the URDF's, at a subset of rows), and the lever arm they imply,
+// L = RMS |m_i| / (M g0), against the robot's reach (the farthest link origin
+// or centre of mass from the sensor origin). Error when r is in [316, 3162]
+// and L exceeds 3 times the reach plus 1 cm: no offset or inertial error
+// explains a lever arm longer than the robot.
+void check_moment_units(Context& c) {
+  if (!(c.M > 0) || c.sub.empty()) return;
+  double mm = 0, mn = 0;
+  for (size_t k = 0; k < c.sub.size(); ++k) {
+    mm += c.s.wrench.row(c.sub[k]).tail<3>().squaredNorm();
+    mn += c.nom.row(k).tail<3>().squaredNorm();
+  }
+  const double n = static_cast<double>(c.sub.size());
+  const double rms_meas = std::sqrt(mm / n), rms_nom = std::sqrt(mn / n);
+  if (!(rms_nom > 0)) return;
+  const double r = rms_meas / rms_nom, lever = rms_meas / (c.M * kStandardGravity);
+  if (r >= kUnitLow && r <= kUnitHigh && lever > 3.0 * c.reach + 0.01)
+    c.add(Severity::Error, "moment-units",
+          fmt::format("{}: mx,my,mz are {:.0f} times what the URDF predicts (RMS {:.4g}, lever "
+                      "arm {:.3g} m for a robot that reaches {:.3g} m, lines {}-{}): the moments "
+                      "look like N mm; divide mx,my,mz by 1000 (massid wants N m)",
+                      c.s.source, r, rms_meas, lever, c.reach, c.s.line.front(), c.s.line.back()));
+}
+
+// force-units / moment-units when the URDF has no mass (no <inertial> on any
+// measured link): nothing to compare the wrench with but the robot's size.
+// Statistic: the lever arm L = RMS |m_i| / RMS |f_i| (the distance of the
+// centre of mass from the sensor origin across gravity, RMS over the poses)
+// against the reach (the farthest link origin from the sensor origin, over
+// the poses). Moments in N mm make L ~1000 x too long: error when L > 30 x
+// reach + 1 cm (no centre of mass lies that far outside the links). Forces in
+// mN make L ~1000 x too short and the implied mass huge: error when L <
+// reach / 300 and the implied mass median |f| / g0 exceeds 1000 kg per cubic
+// metre of reach^3 (a robot denser than a block of water its own size; the
+// UR5, 21 kg at 0.9 m, is 29 kg/m^3). Needs a reach of at least 5 cm.
+void check_units_without_mass(Context& c) {
+  if (c.M > 0 || c.N < 1 || !(c.reach >= 0.05)) return;
+  const double rms_f = std::sqrt(c.F.squaredNorm() / c.N);
+  const double rms_m = std::sqrt(c.s.wrench.rightCols(3).squaredNorm() / c.N);
+  if (!(rms_f > 0)) return;
+  const double lever = rms_m / rms_f;
+  std::vector<double> n(c.N);
+  for (int i = 0; i < c.N; ++i) n[i] = c.F.row(i).norm();
+  const double mass = median(n) / kStandardGravity;
+  const std::string why = fmt::format(
+      "the URDF has no mass (no <inertial> on a measured link), so the wrench is judged by the "
+      "robot's size: RMS |m| / RMS |f| puts the centre of mass {:.3g} m from the sensor origin, "
+      "for "
+      "a robot that reaches {:.3g} m, lines {}-{}",
+      lever, c.reach, c.s.line.front(), c.s.line.back());
+  if (lever > 30.0 * c.reach + 0.01)
+    c.add(Severity::Error, "moment-units",
+          fmt::format("{}: {}: the moments look like N mm; divide mx,my,mz by 1000 (massid wants "
+                      "N m)",
+                      c.s.source, why));
+  else if (lever < c.reach / 300.0 && mass > 1000.0 * std::pow(c.reach, 3))
+    c.add(Severity::Error, "force-units",
+          fmt::format("{}: {}, and fx,fy,fz imply a total mass of {:.4g} kg: the forces look like "
+                      "mN; divide fx,fy,fz by 1000 (massid wants N)",
+                      c.s.source, why, mass));
+}
+
+// joint-degrees / joint-millimetres. Statistic per joint column named as the
+// joint (not JOINT_deg): the largest excursion beyond the URDF limits, and
+// whether every value divided by 57.2958 (revolute) or 1000 (prismatic) lies
+// within them. Tolerance: 0.05 rad or m plus 5 % of the range. Error for a
+// limited joint more than 0.5 rad (0.05 m plus 10 % of the range) outside
+// while the converted values fit: a joint in the wrong unit makes the
+// kinematics, hence every parameter, wrong. A continuous joint has no limits:
+// more than one turn each way (|q| > 2 pi + 0.5) with |q| / 57.3 within a turn
+// is a warning (a static experiment rarely winds a joint up), more than two
+// turns an error.
+void check_joint_units(Context& c) {
+  for (int j = 0; j < c.model.num_joints(); ++j) {
+    const Joint& joint = c.model.joints[j];
+    if (std::find(c.header.begin(), c.header.end(), joint.name) == c.header.end() &&
+        !c.header.empty())
+      continue;  // a JOINT_deg column
+    const Eigen::VectorXd q = c.s.q.col(j);
+    const double qmax = q.cwiseAbs().maxCoeff();
+    auto rows_where = [&](auto pred) {
+      std::vector<int> r;
+      for (int i = 0; i < c.N; ++i)
+        if (pred(q[i])) r.push_back(i);
+      return r;
+    };
+    if (joint.type == JointType::Revolute) {
+      const double to_rad = kDeg;
+      if (joint.limited) {
+        const double tol = 0.05 + 0.05 * (joint.upper - joint.lower);
+        const double excess =
+            std::max({0.0, q.maxCoeff() - joint.upper, joint.lower - q.minCoeff()});
+        const bool fits = to_rad * q.maxCoeff() <= joint.upper + tol &&
+                          to_rad * q.minCoeff() >= joint.lower - tol;
+        if (excess > 0.5 && excess > tol && fits) {
+          const auto out =
+              rows_where([&](double v) { return v > joint.upper + tol || v < joint.lower - tol; });
+          c.add(Severity::Error, "joint-degrees",
+                fmt::format(
+                    "{}: column '{}' reaches {:.4g} at {}, beyond the URDF limits [{:.4g}, "
+                    "{:.4g}] rad, and every value fits them read as degrees: rename the "
+                    "column '{}_deg' or convert it to radians",
+                    c.s.source, joint.name,
+                    std::abs(q.maxCoeff()) > std::abs(q.minCoeff()) ? q.maxCoeff() : q.minCoeff(),
+                    lines_text(c.s, out), joint.lower, joint.upper, joint.name));
+        }
+      } else if (qmax > 2 * std::numbers::pi + 0.5 &&
+                 to_rad * qmax <= 2 * std::numbers::pi + 0.05) {
+        const auto out = rows_where([&](double v) { return std::abs(v) > 2 * std::numbers::pi; });
+        const bool two_turns = qmax > 4 * std::numbers::pi;
+        c.add(two_turns ? Severity::Error : Severity::Warning, "joint-degrees",
+              fmt::format("{}: continuous joint column '{}' reaches |q| = {:.4g} rad ({:.1f} "
+                          "turns) at {}; read as degrees it stays within one turn: if it is in "
+                          "degrees, rename the column '{}_deg' or convert it to radians",
+                          c.s.source, joint.name, qmax, qmax / (2 * std::numbers::pi),
+                          lines_text(c.s, out), joint.name));
+      }
+    } else if (joint.type == JointType::Prismatic && joint.limited) {
+      const double range = joint.upper - joint.lower;
+      const double tol = 0.05 * range + 0.005;
+      const double excess = std::max({0.0, q.maxCoeff() - joint.upper, joint.lower - q.minCoeff()});
+      const bool fits =
+          q.maxCoeff() / 1000 <= joint.upper + tol && q.minCoeff() / 1000 >= joint.lower - tol;
+      if (excess > 0.05 + 0.1 * range && fits) {
+        const auto out =
+            rows_where([&](double v) { return v > joint.upper + tol || v < joint.lower - tol; });
+        c.add(Severity::Error, "joint-millimetres",
+              fmt::format("{}: prismatic joint column '{}' reaches {:.4g} at {}, beyond the URDF "
+                          "limits [{:.4g}, {:.4g}] m, and every value fits them read as mm: "
+                          "divide the column by 1000 (massid wants m)",
+                          c.s.source, joint.name, q[out.front()], lines_text(c.s, out), joint.lower,
+                          joint.upper));
+      }
+    }
+  }
+}
+
+// duplicate-columns, constant-wrench, constant-joint. Statistics: exact
+// equality of two columns over every row, exact constancy of one (both
+// impossible for a live sensor channel with noise), over at least 3 rows.
+// Wrench columns are judged against the URDF's wrench at the subset of rows,
+// so noise-free data that physics makes constant or equal (fy = 0 when the
+// plan tilts about y only) are not flagged: a constant channel must vary in
+// the URDF's wrench by 5 % of the largest range of its kind (forces, moments),
+// two equal channels must differ there by 1 %.
+// Severity: a dead or duplicated wrench channel feeds wrong numbers into every
+// fit (error); joints that are equal or constant only limit what the data can
+// determine, which identify diagnoses itself (warning).
+// Returns whether a force column is dead or duplicated (then the sign and
+// frame checks, which would only echo it, are skipped).
+bool check_columns(Context& c, const SetupCheckOptions& options) {
+  if (c.N < kMinRows) return false;
+  bool force_broken = false;
+  const Eigen::MatrixXd& W = c.s.wrench;
+  // Ranges of the URDF's wrench per axis, and of its kind.
+  Eigen::Matrix<double, 6, 1> range = Eigen::Matrix<double, 6, 1>::Zero();
+  if (c.nom.rows() > 0) range = c.nom.colwise().maxCoeff() - c.nom.colwise().minCoeff();
+  const double kind_range[2] = {std::max(range.head<3>().maxCoeff(), 0.0),
+                                range.tail<3>().maxCoeff()};
+  const bool wrench = c.s.has_wrench();  // a plan has none
+  bool wrench_constant[6];
+  for (int a = 0; a < 6; ++a) {
+    wrench_constant[a] = wrench && constant(W.col(a));
+    const double scale = kind_range[a / 3];
+    if (wrench_constant[a] && scale > 0 && range[a] > 0.05 * scale) {
+      force_broken |= a < 3;
+      c.add(Severity::Error, "constant-wrench",
+            fmt::format("{}: column '{}' is {} in all {} rows (lines {}-{}), yet the URDF's {} "
+                        "varies by {:.4g} {} over them: the channel looks dead (cable, logger, "
+                        "wrong column); fix the recording",
+                        c.s.source, kWrenchColumns[a], W(0, a), c.N, c.s.line.front(),
+                        c.s.line.back(), kWrenchColumns[a], range[a], a < 3 ? "N" : "N m"));
+    }
+  }
+  for (int a = 0; a < 6; ++a)
+    for (int b = a + 1; b < 6; ++b) {
+      if (!wrench || wrench_constant[a] || wrench_constant[b] || W.col(a) != W.col(b)) continue;
+      const double scale = std::max(kind_range[a / 3], kind_range[b / 3]);
+      const double differ =
+          c.nom.rows() > 0 ? (c.nom.col(a) - c.nom.col(b)).cwiseAbs().maxCoeff() : 0.0;
+      if (!(differ > 0.01 * scale)) continue;
+      force_broken |= a < 3 || b < 3;
+      c.add(Severity::Error, "duplicate-columns",
+            fmt::format("{}: columns '{}' and '{}' are identical in all {} rows (lines {}-{}): one "
+                        "channel was recorded twice; fix the logger's column mapping",
+                        c.s.source, kWrenchColumns[a], kWrenchColumns[b], c.N, c.s.line.front(),
+                        c.s.line.back()));
+    }
+  const int nj = c.model.num_joints();
+  std::vector<bool> joint_constant(nj);
+  for (int j = 0; j < nj; ++j) {
+    joint_constant[j] = constant(c.s.q.col(j));
+    const std::string col = joint_column(c.model.joints[j], c.header);
+    if (joint_constant[j] && options.constant_joints)
+      c.add(
+          Severity::Warning, "constant-joint",
+          fmt::format("{}: column '{}' is {} in all {} rows (lines {}-{}): joint '{}' never "
+                      "moves, so the parameters only its motion separates cannot be identified; "
+                      "move it in the plan, or if it was held still, hold it at its value",
+                      c.s.source, col, format_number(c.s.q(0, j)), c.N, c.s.line.front(),
+                      c.s.line.back(), c.model.joints[j].name),
+          {{Hint::Setting::HoldJoints, c.model.joints[j].name + "=" + format_number(c.s.q(0, j))}});
+  }
+  for (int a = 0; a < nj; ++a)
+    for (int b = a + 1; b < nj; ++b) {
+      if (joint_constant[a] || joint_constant[b] || c.s.q.col(a) != c.s.q.col(b)) continue;
+      c.add(Severity::Warning, "duplicate-columns",
+            fmt::format("{}: joint columns '{}' and '{}' are identical in all {} rows (lines "
+                        "{}-{}): if the logger wrote one joint into both, fix its column mapping; "
+                        "if the joints really moved together, the data cannot separate what each "
+                        "moves (move them independently)",
+                        c.s.source, joint_column(c.model.joints[a], c.header),
+                        joint_column(c.model.joints[b], c.header), c.N, c.s.line.front(),
+                        c.s.line.back()));
+    }
+  return force_broken;
+}
+
+// --- rows against gravity ------------------------------------------------------
+
+// Chi-square with 3 degrees of freedom (a force residual over its per-axis
+// noise): P(X > x) = erfc(sqrt(x/2)) + sqrt(2x/pi) exp(-x/2); the d = sqrt(X)
+// a clean row exceeds with probability p.
+double chi3_quantile(double p) {
+  double lo = 0.0, hi = 2000.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    const double tail =
+        std::erfc(std::sqrt(mid / 2)) + std::sqrt(2 * mid / std::numbers::pi) * std::exp(-mid / 2);
+    (tail > p ? lo : hi) = mid;
+  }
+  return std::sqrt(0.5 * (lo + hi));
+}
+
+// The subset of samples at `rows` (the columns the checks read).
+Samples sample_rows(const Samples& s, const std::vector<int>& rows) {
+  Samples out;
+  out.source = s.source;
+  out.gravity_from_force = s.gravity_from_force;
+  out.gravity_from_upstream = s.gravity_from_upstream;
+  out.root_gravity = s.root_gravity;
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  out.q.resize(n, s.q.cols());
+  out.gravity.resize(n, 3);
+  out.wrench.resize(n, s.wrench.cols());
+  for (Eigen::Index k = 0; k < n; ++k) {
+    out.q.row(k) = s.q.row(rows[k]);
+    out.gravity.row(k) = s.gravity.row(rows[k]);
+    out.wrench.row(k) = s.wrench.row(rows[k]);
+    out.line.push_back(s.line[rows[k]]);
+  }
+  return out;
+}
+
+}  // namespace
+
+// rows_against_gravity. At rest f_i = A g_i + b for every mechanism and every
+// consistent wiring (A = M R for a rotated frame, M P for swapped or negated
+// channels, -M for the reaction), so a file that is consistent fits that map
+// at every row to its noise. The fit is a least trimmed squares one (the
+// majority h = N/2 + 1 of rows with the smallest residuals, concentration
+// steps from the fit on every row and on each eighth of the file: contact
+// comes in runs of consecutive rows, so one eighth is clean), then the noise
+// sigma per axis from the median residual (chi_3 median 2.366) and, refitted
+// on the rows within it, from their residual sum of squares. A row is against
+// gravity when |r_i| / sigma exceeds chi_3 at 1 % / N: a clean file has none
+// with probability 99 %. sigma has a floor of 1e-9 of the RMS force, so
+// noise-free data are judged by round-off, not by nothing.
+std::vector<int> rows_against_gravity(const Samples& s) {
+  const int N = s.size();
+  if (!s.has_wrench() || s.gravity_from_force || s.gravity.rows() != N || N < 8) return {};
+  const Eigen::MatrixXd F = s.wrench.leftCols(3);
+  Eigen::MatrixXd X(N, 4);
+  X.leftCols(3) = s.gravity;
+  const double scale = s.gravity.cwiseAbs().maxCoeff();
+  if (!(scale > 0) || !std::isfinite(scale) || !F.allFinite()) return {};
+  X.leftCols(3) /= scale;
+  X.col(3).setOnes();
+  using Map = Eigen::Matrix<double, 4, 3>;
+  const auto fit = [&](const std::vector<int>& rows) -> Map {
+    Eigen::MatrixXd A(rows.size(), 4), B(rows.size(), 3);
+    for (size_t k = 0; k < rows.size(); ++k) {
+      A.row(static_cast<Eigen::Index>(k)) = X.row(rows[k]);
+      B.row(static_cast<Eigen::Index>(k)) = F.row(rows[k]);
+    }
+    return A.completeOrthogonalDecomposition().solve(B);
+  };
+  const auto squared = [&](const Map& B) -> Eigen::VectorXd {
+    return (F - X * B).rowwise().squaredNorm();
+  };
+  const int h = N / 2 + 1;
+  const auto smallest = [&](const Eigen::VectorXd& r2) {
+    std::vector<int> idx(static_cast<size_t>(N));
+    std::iota(idx.begin(), idx.end(), 0);
+    std::nth_element(idx.begin(), idx.begin() + (h - 1), idx.end(),
+                     [&](int a, int b) { return r2[a] < r2[b]; });
+    idx.resize(static_cast<size_t>(h));
+    std::sort(idx.begin(), idx.end());
+    return idx;
+  };
+  std::vector<std::vector<int>> starts;
+  starts.emplace_back(static_cast<size_t>(N));
+  std::iota(starts.back().begin(), starts.back().end(), 0);
+  for (int b = 0; b < 8; ++b) {
+    std::vector<int> block;
+    for (int i = b * N / 8; i < (b + 1) * N / 8; ++i) block.push_back(i);
+    if (block.size() >= 4) starts.push_back(std::move(block));
+  }
+  Map best = Map::Zero();
+  double best_objective = std::numeric_limits<double>::infinity();
+  for (const std::vector<int>& start : starts) {
+    Map B = fit(start);
+    std::vector<int> kept;
+    for (int step = 0; step < 30; ++step) {
+      std::vector<int> next = smallest(squared(B));
+      if (next == kept) break;
+      kept = std::move(next);
+      B = fit(kept);
+    }
+    const Eigen::VectorXd r2 = squared(B);
+    double objective = 0.0;
+    for (int i : kept) objective += r2[i];
+    if (objective < best_objective) {
+      best_objective = objective;
+      best = B;
+    }
+  }
+  const double floor2 = std::pow(1e-9 * std::sqrt(F.squaredNorm() / N), 2) + 1e-300;
+  const double cut2 = std::pow(chi3_quantile(0.01 / N), 2);
+  Eigen::VectorXd r2 = squared(best);
+  std::vector<double> all(r2.data(), r2.data() + N);
+  double sigma2 = std::max(median(all) / 2.366, floor2);
+  std::vector<int> kept;
+  for (int pass = 0; pass < 2; ++pass) {
+    kept.clear();
+    for (int i = 0; i < N; ++i)
+      if (r2[i] <= cut2 * sigma2) kept.push_back(i);
+    if (static_cast<int>(kept.size()) < h) return {};  // not a minority against the map
+    const Map B = fit(kept);
+    r2 = squared(B);
+    double sum = 0.0;
+    for (int i : kept) sum += r2[i];
+    sigma2 = std::max(sum / std::max(1.0, 3.0 * static_cast<double>(kept.size()) - 12.0), floor2);
+  }
+  std::vector<int> away;
+  for (int i = 0; i < N; ++i)
+    if (r2[i] > cut2 * sigma2) away.push_back(i);
+  if (2 * static_cast<int>(away.size()) >= N) return {};
+  return away;
+}
+
+namespace {
+
+// The wiring checks (channels, sign, rotation) on the rows consistent with
+// gravity: a verdict holds over the file, never from a minority of rows.
+void check_wiring(Context& c) {
+  const Centred k = centre(c);
+  // Which signed permutation of the channels the data fit (a negated or
+  // swapped channel), before the sign and rotation checks: a reflection
+  // is no rotation, and a rotation (180 deg about z: fx, fy negated) no
+  // sign error.
+  const ChannelFit mf = moment_channels(c), ff = force_channels(c, k);
+  const ChannelTest mt = mf.tie.empty() ? ChannelTest{} : pick_channels(mf, &ff.tie);
+  const ChannelTest ft = ff.tie.empty() ? ChannelTest{} : pick_channels(ff, &mf.tie);
+  const bool rotation = ft.decisive() && ft.P.determinant() > 0;
+  const bool negated = ft.decisive() && ft.P == -Eigen::Matrix3d::Identity();
+  const bool same = mt.decisive() && mt.P == ft.P;
+  if (ft.decisive() && !rotation && !negated)
+    report_channels(c, ft, 'f', same ? &mt : nullptr);
+  else if (rotation)
+    check_rotation(c, k);
+  else if (!check_sign(c, k))
+    check_rotation(c, k);
+  if (mt.decisive() && !same) report_channels(c, mt, 'm', nullptr);
+}
+
+}  // namespace
+
+std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples,
+                                      const std::vector<std::string>& header,
+                                      const SetupCheckOptions& options) {
+  std::vector<SetupFinding> out;
+  if (samples.size() == 0) return out;
+  Context c(model, samples, header, out);
+  nominal(c);
+  if (!samples.has_wrench()) {  // a plan: its joints and gravity
+    check_columns(c, options);
+    if (!samples.gravity_from_force) check_gravity_magnitude(c);
+    check_joint_units(c);
+    std::stable_partition(out.begin(), out.end(),
+                          [](const SetupFinding& f) { return f.severity == Severity::Error; });
+    return out;
+  }
+  const bool force_broken = check_columns(c, options);
+  if (!samples.gravity_from_force) {
+    check_gravity_magnitude(c);
+    if (!force_broken && !options.motion) {
+      // The rows an external wrench drives (contact) set aside, when a
+      // minority (rows_against_gravity).
+      const std::vector<int> away = rows_against_gravity(samples);
+      if (away.empty()) {
+        check_wiring(c);
+      } else {
+        std::vector<int> rows;
+        for (int i = 0, k = 0; i < c.N; ++i)
+          if (k < static_cast<int>(away.size()) && away[k] == i)
+            ++k;
+          else
+            rows.push_back(i);
+        const Samples consistent = sample_rows(samples, rows);
+        Context cc(model, consistent, header, out);
+        nominal(cc);
+        check_wiring(cc);
+      }
+    }
+  }
+  check_force_units(c);
+  check_moment_units(c);
+  check_units_without_mass(c);
+  check_joint_units(c);
+  // Errors first: they decide the outcome.
+  std::stable_partition(out.begin(), out.end(),
+                        [](const SetupFinding& f) { return f.severity == Severity::Error; });
+  return out;
+}
+
+Samples read_samples_head(const Model& model, const std::string& path, int max_rows,
+                          std::vector<std::string>* header, const SampleOptions& read) {
+  return detail::read_file_samples(model, path, max_rows, read, header);
+}
+
+std::vector<SetupFinding> check_setup_file(const Model& model, const std::string& path,
+                                           const SetupCheckOptions& options) {
+  std::vector<std::string> header;
+  const Samples s = read_samples_head(model, path, options.max_rows, &header, options.read);
+  return check_setup(model, s, header, options);
+}
+
+bool has_error(const std::vector<SetupFinding>& findings) {
+  return std::any_of(findings.begin(), findings.end(),
+                     [](const SetupFinding& f) { return f.severity == Severity::Error; });
+}
+
+// --- contact episodes ---------------------------------------------------------
+
+std::vector<ContactEpisode> find_contact_episodes(const std::vector<Outlier>& flagged,
+                                                  double threshold, const ContactOptions& options) {
+  std::vector<Outlier> rows = flagged;
+  std::sort(rows.begin(), rows.end(),
+            [](const Outlier& a, const Outlier& b) { return a.sample < b.sample; });
+  std::vector<ContactEpisode> out;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const int min_rows = std::max(1, options.min_rows);
+  size_t k = 0;
+  while (k < rows.size()) {
+    ContactEpisode e;
+    e.first = e.last = rows[k].sample;
+    e.first_line = e.last_line = rows[k].line;
+    e.threshold = threshold;
+    e.force = e.moment = nan;
+    for (; k < rows.size() && rows[k].sample - e.last <= options.max_gap + 1; ++k) {
+      e.last = rows[k].sample;
+      e.last_line = rows[k].line;
+      ++e.rows;
+      e.score = std::max(e.score, rows[k].score);
+    }
+    if (e.rows >= min_rows) out.push_back(e);
+  }
+  return out;
+}
+
+std::vector<ContactEpisode> find_contact_episodes(const Samples& samples,
+                                                  const Eigen::MatrixXd& residual,
+                                                  const ContactOptions& options) {
+  const int N = static_cast<int>(residual.rows());
+  if (N < 2 || residual.cols() != 6 || static_cast<int>(samples.line.size()) != N)
+    throw std::invalid_argument(
+        "find_contact_episodes: residual must be [N x 6] with one file line per row");
+  // Per axis: median and robust scale of the finite residuals; a floor of
+  // 1e-9 of the measured wrench's RMS of its kind (noise-free data: round-off
+  // is no contact), or of the residual's without a measured wrench.
+  Eigen::Matrix<double, 6, 1> centre, scale;
+  double rms[2] = {0.0, 0.0};
+  int finite = 0;
+  const bool measured = samples.wrench.rows() == N && samples.wrench.cols() == 6;
+  for (int i = 0; i < N; ++i)
+    if (residual.row(i).allFinite()) {
+      const auto w = measured && samples.wrench.row(i).allFinite()
+                         ? Eigen::Matrix<double, 1, 6>(samples.wrench.row(i))
+                         : Eigen::Matrix<double, 1, 6>(residual.row(i));
+      rms[0] += w.head<3>().squaredNorm();
+      rms[1] += w.tail<3>().squaredNorm();
+      ++finite;
+    }
+  if (finite < 2) return {};
+  for (int a = 0; a < 6; ++a) {
+    std::vector<double> v;
+    for (int i = 0; i < N; ++i)
+      if (residual.row(i).allFinite()) v.push_back(residual(i, a));
+    centre[a] = median(v);
+    for (double& x : v) x = std::abs(x - centre[a]);
+    scale[a] = std::max(1.4826 * median(v), 1e-9 * std::sqrt(rms[a / 3] / finite) + 1e-300);
+  }
+  const double threshold = detail::chi_quantile(options.probability / finite, 6);
+  std::vector<Outlier> flagged;
+  for (int i = 0; i < N; ++i) {
+    if (!residual.row(i).allFinite()) continue;
+    const double d =
+        ((residual.row(i).transpose() - centre).array() / scale.array()).matrix().norm();
+    if (d > threshold) flagged.push_back({i, samples.line[i], d});
+  }
+  std::vector<ContactEpisode> out = find_contact_episodes(flagged, threshold, options);
+  for (ContactEpisode& e : out) {
+    e.force = e.moment = 0.0;
+    for (int i = e.first; i <= e.last; ++i) {
+      if (!residual.row(i).allFinite()) continue;
+      const Wrench w = residual.row(i).transpose() - centre;
+      e.force = std::max(e.force, w.head<3>().norm());
+      e.moment = std::max(e.moment, w.tail<3>().norm());
+    }
+  }
+  return out;
+}
+
+std::string contact_place(const ContactEpisode& e) {
+  return fmt::format("lines {}-{} ({} rows)", e.first_line, e.last_line, e.last - e.first + 1);
+}
+
+std::string contact_note(const std::string& source, const ContactEpisode& e) {
+  return fmt::format(
+      "{}: {} carry an external wrench of up to {:.3g} N, {:.3g} N m (contact; residual up to "
+      "{:.3g} times the noise, threshold {:.3g}): fx_comp..mz_comp hold it",
+      source, contact_place(e), e.force, e.moment, e.score, e.threshold);
+}
+
+}  // namespace massid

@@ -1,0 +1,77 @@
+// The one binding of a data file's header to the roles of its columns, for
+// every reader: read_samples (a CSV table), samples_from_columns (the Python
+// module's named arrays) and the memory-mapped streaming readers
+// (csv_stream.hpp). Every header error is raised here, once.
+//
+// The roles (docs/formats.md lists them for users):
+//   JOINT or JOINT_deg        position of each joint of Model::joints, rad or m
+//                             (JOINT_deg: a revolute joint in degrees); required
+//   JOINT_vel, JOINT_acc      their velocities and accelerations: every joint or
+//                             none, both or neither
+//   wx wy wz dwx dwy dwz      the sensor frame's angular velocity and
+//   ax ay az                  acceleration, its origin's acceleration (all nine or none)
+//   UP, UP_deg, UP_vel, UP_acc  the joints above the sensor link
+//                             (Model::upstream_joints): all or none, as above
+//   fx fy fz mx my mz         the measured wrench: all six or none
+//   gx gy gz                  gravity in the sensor frame, m/s^2: all or none;
+//                             without them gravity comes from the upstream
+//                             joints (and the root gravity), else along the
+//                             measured force (paper eq. 37)
+//   tilt_x_deg tilt_y_deg     the platform's tilt as design's plans write it,
+//                             degrees (read in rad): both or none; compensate
+//                             turns the level gravity by it when there is no
+//                             gx,gy,gz; the other readers carry it through
+//   t                         time, s
+//   block                     an integer: the sensor re-zeroed between blocks
+// Other columns are ignored.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "massid/core/model.hpp"
+#include "massid/core/samples.hpp"
+#include "massid/io/read_samples.hpp"
+
+namespace massid::detail {
+
+// A column and the factor its numbers are multiplied by (pi/180 for JOINT_deg, else 1).
+struct BoundColumn {
+  int column = -1;
+  double scale = 1.0;
+};
+using ColumnGroup = std::vector<BoundColumn>;  // empty: the group is absent
+
+enum class GravityFrom {
+  Columns,         // gx, gy, gz
+  UpstreamJoints,  // the joints above the sensor link turn the root gravity
+  Force,           // the measured force's direction (eq. 37)
+};
+
+// What a header provides, column by column.
+struct ColumnMap {
+  ColumnGroup q;                          // [num_joints] Model::joints order (always there)
+  ColumnGroup qd, qdd;                    // [num_joints] JOINT_vel, JOINT_acc (both or neither)
+  ColumnGroup sensor_motion;              // [9] wx wy wz dwx dwy dwz ax ay az
+  ColumnGroup q_upstream;                 // [num_upstream] Model::upstream_joints order
+  ColumnGroup qd_upstream, qdd_upstream;  // [num_upstream] (only with q_upstream; both or neither)
+  ColumnGroup wrench;                     // [6] fx fy fz mx my mz
+  ColumnGroup gravity;                    // [3] gx gy gz
+  ColumnGroup tilt;                       // [2] tilt_x_deg tilt_y_deg, scale pi/180
+  int time = -1, block = -1;              // columns t, block; -1 when absent
+  GravityFrom gravity_from = GravityFrom::Columns;
+};
+
+// Binds `header` (the column names) to `model`. `where` starts every message
+// (the header's "file:line", or the arrays' name). InputError for a missing
+// joint, a group given in part, _vel without _acc (or the reverse), no wrench
+// when it is required, no gravity at all.
+ColumnMap map_columns(const Model& model, const std::vector<std::string>& header,
+                      const std::string& where, WrenchColumns wrench);
+
+// The position columns of `joints` alone (by name, or NAME_deg for a revolute
+// joint); InputError for a joint without one.
+ColumnGroup position_columns(const std::vector<Joint>& joints,
+                             const std::vector<std::string>& header, const std::string& where);
+
+}  // namespace massid::detail

@@ -1,0 +1,208 @@
+#include "massid/core/samples.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/argument_checks.hpp"
+#include "io/column_map.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/io/csv.hpp"
+#include "massid/io/read_samples.hpp"
+
+namespace massid {
+
+const char* const kWrenchColumns[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+
+namespace {
+
+// The columns that read_samples takes its numbers from: a CSV table (errors
+// name file:line:column) or named arrays (errors name data['column'][row]).
+struct TableColumns {
+  const CsvTable& table;
+  int rows() const { return table.num_rows(); }
+  const std::vector<std::string>& names() const { return table.header; }
+  double number(int r, int c) const { return table.number(r, c); }
+  int line(int r) const { return table.line[r]; }
+  // "file:line" of the header, "file:line:column: column 'x'" of a cell.
+  std::string header_where() const { return fmt::format("{}:{}", table.source, table.header_line); }
+  std::string row_where(int r) const { return fmt::format("{}:{}", table.source, table.line[r]); }
+  std::string cell_where(int r, int c) const {
+    return fmt::format("{}:{}:{}: column '{}'", table.source, table.line[r],
+                       table.column_offset[r][c], table.header[c]);
+  }
+};
+
+struct ArrayColumns {
+  const std::string& source;
+  const std::vector<std::string>& header;
+  const std::vector<Eigen::VectorXd>& values;
+  int rows() const { return values.empty() ? 0 : static_cast<int>(values.front().size()); }
+  const std::vector<std::string>& names() const { return header; }
+  double number(int r, int c) const {
+    const double v = values[c][r];
+    if (!std::isfinite(v))
+      throw InputError(fmt::format("{}: {} is not a finite number", cell_where(r, c), v));
+    return v;
+  }
+  int line(int r) const { return r; }
+  std::string header_where() const { return source; }
+  std::string row_where(int r) const { return fmt::format("{} row {}", source, r); }
+  std::string cell_where(int r, int c) const {
+    return fmt::format("{}['{}'][{}]", source, header[c], r);
+  }
+};
+
+// [N x group size] of a group's columns, scaled (0 columns for an absent group).
+// Positions are read column by column, every other group row by row (which
+// decides the cell an error names when several are bad).
+enum class Order { ByColumn, ByRow };
+template <class Columns>
+Eigen::MatrixXd read_group(const Columns& table, const detail::ColumnGroup& group, Order order) {
+  const int N = table.rows();
+  const int n = static_cast<int>(group.size());
+  Eigen::MatrixXd m(N, n);
+  const auto cell = [&](int r, int k) {
+    const detail::BoundColumn& b = group[k];
+    m(r, k) = b.scale * table.number(r, b.column);
+  };
+  if (order == Order::ByColumn) {
+    for (int k = 0; k < n; ++k)
+      for (int r = 0; r < N; ++r) cell(r, k);
+  } else {
+    for (int r = 0; r < N; ++r)
+      for (int k = 0; k < n; ++k) cell(r, k);
+  }
+  return m;
+}
+
+template <class Columns>
+Samples samples_of(const Model& model, const Columns& table, const std::string& source,
+                   WrenchColumns wrench, const SampleOptions& options) {
+  const detail::ColumnMap map =
+      detail::map_columns(model, table.names(), table.header_where(), wrench);
+  Samples s;
+  s.source = source;
+  s.root_gravity = options.root_gravity;
+  const int N = table.rows();
+  s.line.resize(N);
+  for (int r = 0; r < N; ++r) s.line[r] = table.line(r);
+
+  s.q = read_group(table, map.q, Order::ByColumn);
+  s.qd = read_group(table, map.qd, Order::ByRow);
+  s.qdd = read_group(table, map.qdd, Order::ByRow);
+  if (!map.sensor_motion.empty())
+    s.sensor_motion = read_group(table, map.sensor_motion, Order::ByRow);
+  s.q_upstream = read_group(table, map.q_upstream, Order::ByColumn);
+  if (!map.q_upstream.empty()) {
+    s.qd_upstream = read_group(table, map.qd_upstream, Order::ByRow);
+    s.qdd_upstream = read_group(table, map.qdd_upstream, Order::ByRow);
+  }
+  if (!map.wrench.empty()) s.wrench = read_group(table, map.wrench, Order::ByRow);
+  if (map.time >= 0) {
+    s.time.resize(N);
+    for (int r = 0; r < N; ++r) s.time[r] = table.number(r, map.time);
+  }
+  if (map.block >= 0) {
+    s.block.resize(N);
+    for (int r = 0; r < N; ++r) {
+      const double b = table.number(r, map.block);
+      if (b != std::round(b) || std::abs(b) > 1e9)
+        throw InputError(fmt::format("{}: '{}' is not an integer", table.cell_where(r, map.block),
+                                     format_number(b)));
+      s.block[r] = static_cast<int>(b);
+    }
+  }
+
+  switch (map.gravity_from) {
+    case detail::GravityFrom::Columns:
+      s.gravity = read_group(table, map.gravity, Order::ByRow);
+      resolve_upstream(model, s);
+      break;
+    case detail::GravityFrom::UpstreamJoints:
+      s.gravity.resize(N, 3);
+      s.gravity_from_upstream = true;
+      resolve_upstream(model, s);
+      break;
+    case detail::GravityFrom::Force:
+      s.gravity.resize(N, 3);
+      s.gravity_from_force = true;
+      for (int r = 0; r < N; ++r) {
+        const Eigen::Vector3d f = s.wrench.row(r).head<3>();
+        if (!(f.norm() > 0.0))
+          throw InputError(
+              fmt::format("{}: zero force: no gx,gy,gz columns and no force to take "
+                          "the gravity direction from",
+                          table.row_where(r)));
+        s.gravity.row(r) = options.g0 * f / f.norm();  // paper eq. 37
+      }
+      break;
+  }
+  return s;
+}
+
+}  // namespace
+
+void resolve_upstream(const Model& model, Samples& s) {
+  if (s.q_upstream.cols() == 0 || model.num_upstream_joints() == 0) return;
+  const bool moving = s.qd_upstream.cols() > 0 && s.sensor_motion.cols() == 0;
+  if (!s.gravity_from_upstream && !moving) return;
+  const int nu = model.num_upstream_joints();
+  detail::check_size("resolve_upstream", "q_upstream", s.q_upstream.cols(), nu,
+                     "the joints above the sensor");
+  if (moving) s.sensor_motion.resize(s.size(), 9);
+  Eigen::VectorXd qu(nu), qdu(nu), qddu(nu);
+  Eigen::Vector3d g;
+  Eigen::Matrix<double, 9, 1> motion;
+  for (int i = 0; i < s.size(); ++i) {
+    qu = s.q_upstream.row(i).transpose();
+    if (moving) {
+      qdu = s.qd_upstream.row(i).transpose();
+      qddu = s.qdd_upstream.row(i).transpose();
+    }
+    upstream_sensor_frame(model, qu.data(), qdu.data(), qddu.data(), s.root_gravity,
+                          s.gravity_from_upstream ? g.data() : nullptr,
+                          moving ? motion.data() : nullptr);
+    if (s.gravity_from_upstream) s.gravity.row(i) = g.transpose();
+    if (moving) s.sensor_motion.row(i) = motion.transpose();
+  }
+}
+
+Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table) {
+  const TableColumns columns{table};
+  return read_group(columns,
+                    detail::position_columns(model.joints, table.header, columns.header_where()),
+                    Order::ByColumn);
+}
+
+Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench, double g0) {
+  SampleOptions options;
+  options.g0 = g0;
+  return samples_of(model, TableColumns{table}, table.source, wrench, options);
+}
+
+Samples read_samples(const Model& model, const CsvTable& table, WrenchColumns wrench,
+                     const SampleOptions& options) {
+  return samples_of(model, TableColumns{table}, table.source, wrench, options);
+}
+
+Samples samples_from_columns(const Model& model, const std::vector<std::string>& names,
+                             const std::vector<Eigen::VectorXd>& columns, WrenchColumns wrench,
+                             const std::string& source, const SampleOptions& options) {
+  if (names.size() != columns.size())
+    throw InputError(
+        fmt::format("{}: {} column names for {} columns", source, names.size(), columns.size()));
+  for (size_t c = 0; c < columns.size(); ++c) {
+    if (columns[c].size() != columns.front().size())
+      throw InputError(fmt::format("{}: column '{}' has {} rows, column '{}' has {}", source,
+                                   names[c], columns[c].size(), names.front(),
+                                   columns.front().size()));
+    if (std::count(names.begin(), names.end(), names[c]) > 1)
+      throw InputError(fmt::format("{}: column '{}' appears twice", source, names[c]));
+  }
+  return samples_of(model, ArrayColumns{source, names, columns}, source, wrench, options);
+}
+
+}  // namespace massid

@@ -1,0 +1,223 @@
+#include "massid/live/compensator.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <optional>
+#include <vector>
+
+#include "io/csv_fields.hpp"
+#include "io/csv_stream.hpp"
+#include "massid/core/base_parameters.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/gravity.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/motion_predictor.hpp"
+#include "massid/io/read_samples.hpp"
+
+namespace massid {
+
+namespace {
+
+using VectorMap = Eigen::Map<const Eigen::VectorXd>;
+
+int find(const std::vector<std::string>& header, const std::string& name) {
+  const auto it = std::find(header.begin(), header.end(), name);
+  return it == header.end() ? -1 : static_cast<int>(it - header.begin());
+}
+
+// Where gravity comes from, per line.
+enum class GravityFrom { Columns, Upstream, Tilt };
+
+}  // namespace
+
+struct Compensator::Impl {
+  IdentifiedModel identified;
+  std::optional<IdentifiedModelData> data;  // identified's workspace
+  detail::SampleColumns columns;
+  GravityFrom gravity_from = GravityFrom::Columns;
+  int tilt = -1;  // value index of tilt_x_deg (read in rad), then tilt_y_deg
+  CompensatorOptions options;
+  bool dynamic = false;
+  bool upstream_motion = false;         // the sensor frame's motion from the upstream joints' rates
+  std::vector<double> values;           // [columns.num_values] the line's values, binding order
+  std::string header, note;             // output header; notes on the columns
+  std::string line_out;                 // the output line, reused (capacity kept)
+  Wrench compensated = Wrench::Zero();  // the last good line's fx..mz_comp
+
+  Eigen::Vector3d gravity(FrameMotion& sensor) const;
+};
+
+Eigen::Vector3d Compensator::Impl::gravity(FrameMotion& sensor) const {
+  const detail::SampleColumns& c = columns;
+  const double* v = values.data();
+  switch (gravity_from) {
+    case GravityFrom::Tilt:
+      return tilted_gravity(options.level_gravity, Tilt{v[tilt], v[tilt + 1]});
+    case GravityFrom::Upstream:
+    case GravityFrom::Columns:
+      break;
+  }
+  // The joints above the sensor link (upstream_sensor_frame, kinematics.hpp).
+  if (gravity_from == GravityFrom::Upstream || upstream_motion) {
+    const Model& model = identified.model();
+    Eigen::Vector3d g;
+    Eigen::Matrix<double, 9, 1> m;
+    upstream_sensor_frame(model, v + c.q_up, upstream_motion ? v + c.qd_up : nullptr,
+                          upstream_motion ? v + c.qdd_up : nullptr, options.root_gravity, g.data(),
+                          upstream_motion ? m.data() : nullptr);
+    if (upstream_motion) sensor = {m.head<3>(), m.segment<3>(3), m.tail<3>()};
+    if (gravity_from == GravityFrom::Upstream) return g;
+  }
+  return Eigen::Vector3d(v[c.gravity], v[c.gravity + 1], v[c.gravity + 2]);
+}
+
+Compensator::Compensator(const IdentifiedModel& identified, std::string_view text,
+                         const std::string& source, const CompensatorOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  init(identified, text, source, options);
+}
+
+Compensator::Compensator(const Model& model, const ParamsFile& params, std::string_view text,
+                         const std::string& source, const CompensatorOptions& options)
+    : Compensator(IdentifiedModel::from_params(model, params), text, source, options) {}
+
+Compensator::Compensator(const Model& model, const BaseParameters& base,
+                         const Eigen::Ref<const Eigen::VectorXd>& values, std::string_view text,
+                         const std::string& source, const CompensatorOptions& options)
+    : Compensator(IdentifiedModel::from_values(model, base, values), text, source, options) {}
+
+void Compensator::init(const IdentifiedModel& identified, std::string_view text,
+                       const std::string& source, const CompensatorOptions& options) {
+  Impl& m = *impl_;
+  m.identified = identified;
+  const Model& model = identified.model();
+  const std::string& params_name = identified.source();
+  m.options = options;
+  m.dynamic = identified.dynamic();
+  SampleOptions read;
+  read.root_gravity = options.root_gravity;
+  m.columns = detail::bind_header(model, text, source, read, m.dynamic);
+  detail::SampleColumns& c = m.columns;
+  const std::vector<std::string>& header = c.header;
+  const std::string where = fmt::format("{}:{}", source, c.header_line);
+  for (const char* w : kWrenchColumns)
+    if (find(header, std::string(w) + "_comp") >= 0)
+      throw InputError(fmt::format(
+          "{}: column '{}_comp' is already in the header: compensate appends fx_comp..mz_comp; "
+          "drop or rename it",
+          where, w));
+
+  // Gravity: gx,gy,gz, else the upstream joints, else the platform's tilt.
+  if (c.gravity_from_upstream) {
+    m.gravity_from = GravityFrom::Upstream;
+    if (!c.tilt.empty())
+      throw InputError(fmt::format(
+          "{}: tilt_x_deg,tilt_y_deg and the joints above sensor link '{}' both turn gravity: give "
+          "gx,gy,gz (sensor frame) instead",
+          where, model.sensor_link()));
+  } else if (c.gravity_from_force) {
+    if (c.tilt.empty())
+      throw InputError(fmt::format(
+          "{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame), or tilt_x_deg,tilt_y_deg "
+          "(the platform's tilt){}; compensate does not take gravity from the measured force",
+          where,
+          model.num_upstream_joints() > 0 ? ", or the columns of the joints above the sensor link"
+                                          : ""));
+    m.gravity_from = GravityFrom::Tilt;
+    c.gravity_from_force = false;
+    m.tilt = detail::bind_value(c, c.tilt[0].column, c.tilt[0].scale);
+    detail::bind_value(c, c.tilt[1].column, c.tilt[1].scale);
+  }
+
+  std::vector<std::string> notes;
+  if (m.dynamic) {
+    if (c.num_joints > 0 && c.qd < 0) {
+      std::vector<std::string> need;
+      for (const Joint& j : model.joints) {
+        need.push_back(j.name + "_vel");
+        need.push_back(j.name + "_acc");
+      }
+      throw InputError(fmt::format(
+          "{}: {} is a dynamic fit (identified in motion): compensating its full wrench needs the "
+          "joint velocities and accelerations, columns {} (compensate does not derive them from "
+          "t: that filter needs later samples)",
+          where, params_name, fmt::join(need, ",")));
+    }
+    m.upstream_motion = c.q_up >= 0 && c.qd_up >= 0 && c.sensor < 0;
+    if (c.q_up >= 0 && c.qd_up < 0 && c.sensor < 0)
+      notes.push_back(
+          "the joints above the sensor link have no _vel,_acc columns (and there are no wx..az): "
+          "the sensor frame is taken at rest");
+  } else {
+    if (model.num_joints() > 0 && find(header, model.joints.front().name + "_vel") >= 0)
+      notes.push_back(fmt::format(
+          "{} is a static fit: the weight is compensated, not the inertial forces of the "
+          "motion (a dynamic fit compensates those)",
+          params_name));
+  }
+  for (const std::string& n : notes) m.note += n + "\n";
+  m.data.emplace(identified);
+
+  m.values.assign(c.num_values, 0.0);
+  // The header's own text (line ends and surrounding blank lines dropped).
+  std::string_view h = text;
+  while (!h.empty() && (h.back() == '\n' || h.back() == '\r')) h.remove_suffix(1);
+  h = h.substr(h.rfind('\n') == std::string_view::npos ? 0 : h.rfind('\n') + 1);
+  if (h.substr(0, 3) == "\xEF\xBB\xBF") h.remove_prefix(3);  // UTF-8 BOM
+  m.header = std::string(h);
+  for (const char* w : kWrenchColumns) m.header += fmt::format(",{}_comp", w);
+  m.header += '\n';
+  m.line_out.reserve(4096);
+}
+
+Compensator::~Compensator() = default;
+Compensator::Compensator(Compensator&&) noexcept = default;
+Compensator& Compensator::operator=(Compensator&&) noexcept = default;
+
+const std::string& Compensator::output_header() const { return impl_->header; }
+const std::string& Compensator::note() const { return impl_->note; }
+const Wrench& Compensator::compensated() const { return impl_->compensated; }
+
+std::string_view Compensator::compensate(std::string_view line, int line_no) {
+  Impl& m = *impl_;
+  const detail::SampleColumns& c = m.columns;
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  double* v = m.values.data();
+  int kind = detail::csv_fast::parse_line(line.data(), line.data() + line.size(), c, v);
+  if (kind == 0) {
+    if (detail::trim(line).empty())
+      throw InputError(fmt::format("{}:{}: empty line, a sample is expected", c.source, line_no));
+    return {};  // a comment
+  }
+  if (kind < 0 && !detail::parse_row_slow(line, line_no, c, v)) return {};
+
+  FrameMotion sensor;
+  const Eigen::Vector3d g = m.gravity(sensor);
+  if (m.dynamic && c.sensor >= 0) {
+    const double* s = v + c.sensor;
+    sensor.omega = Eigen::Vector3d(s[0], s[1], s[2]);
+    sensor.omega_dot = Eigen::Vector3d(s[3], s[4], s[5]);
+    sensor.accel = Eigen::Vector3d(s[6], s[7], s[8]);
+  }
+  const double* qd = c.qd >= 0 ? v + c.qd : v;  // static, or no joints: never read
+  const double* qdd = c.qdd >= 0 ? v + c.qdd : v;
+  // The mechanism's wrench; measured - predicted - offset (identified_model.hpp).
+  const Wrench predicted = m.identified.predict(*m.data, v, qd, qdd, g, sensor);
+  m.compensated = m.identified.compensate(Eigen::Map<const Wrench>(v + c.wrench), predicted);
+
+  // The input text, then the six values as format_number writes them.
+  std::string& out = m.line_out;
+  out.assign(line);
+  char number[40];
+  for (int k = 0; k < 6; ++k) {
+    number[0] = ',';
+    const char* end = fmt::format_to(number + 1, "{}", m.compensated[k]);
+    out.append(number, static_cast<std::size_t>(end - number));
+  }
+  out += '\n';
+  return out;
+}
+
+}  // namespace massid

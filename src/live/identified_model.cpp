@@ -1,0 +1,215 @@
+#include "massid/live/identified_model.hpp"
+
+#include <fmt/format.h>
+
+#include "core/argument_checks.hpp"
+#include "massid/core/errors.hpp"
+#include "massid/core/standard_parameters.hpp"
+#include "massid/io/urdf.hpp"
+
+namespace massid {
+
+struct IdentifiedModel::Impl {
+  Model model;
+  BaseParameters base;
+  Eigen::VectorXd values, stddev;
+  Eigen::MatrixXd covariance;
+  std::string source;
+  Wrench offset = Wrench::Zero();
+  Predictor predictor;     // static
+  MotionPredictor motion;  // dynamic
+};
+
+IdentifiedModel IdentifiedModel::from_values(Model model, BaseParameters base,
+                                             Eigen::VectorXd values, Eigen::VectorXd stddev,
+                                             Eigen::MatrixXd covariance, std::string source) {
+  detail::check_size("IdentifiedModel::from_values", "values", values.size(), base.num_unknowns(),
+                     "the base parameters, then the offsets");
+  auto impl = std::make_shared<Impl>();
+  if (base.motion())
+    impl->motion = compile_motion_predictor(model, base, values);
+  else
+    impl->predictor = compile_predictor(model, base, values);
+  if (base.offset) impl->offset = values.tail<6>();
+  impl->model = std::move(model);
+  impl->base = std::move(base);
+  impl->values = std::move(values);
+  impl->stddev = std::move(stddev);
+  impl->covariance = std::move(covariance);
+  impl->source = std::move(source);
+  IdentifiedModel out;
+  out.impl_ = std::move(impl);
+  return out;
+}
+
+IdentifiedModel IdentifiedModel::from_params(Model model, const ParamsFile& params,
+                                             const IdentifiedModelOptions& options) {
+  if (model.sensor_link() != params.sensor_link)
+    throw InputError(fmt::format("{}: the parameters are for sensor link '{}', the model's is '{}'",
+                                 params.source, params.sensor_link, model.sensor_link()));
+  BaseParameters base = find_base_parameters(model, base_parameter_options(params));
+  Eigen::VectorXd values = options.physical ? physical_values_in_basis(params, model, base)
+                                            : values_in_basis(params, model, base);
+  // The file's std where its basis is this one (the same names in order).
+  Eigen::VectorXd stddev;
+  bool same =
+      !options.physical && static_cast<int>(params.base_parameters.size()) == base.num_mass();
+  for (int i = 0; same && i < base.num_mass(); ++i)
+    same = params.base_parameters[static_cast<std::size_t>(i)].name == base.params[i].name;
+  if (same) {
+    stddev.resize(base.num_unknowns());
+    for (int i = 0; i < base.num_mass(); ++i)
+      stddev[i] = params.base_parameters[static_cast<std::size_t>(i)].stddev;
+    if (base.offset) stddev.tail<6>() = params.offset_std;
+  }
+  return from_values(std::move(model), std::move(base), std::move(values), std::move(stddev), {},
+                     params.source);
+}
+
+IdentifiedModel IdentifiedModel::load(const std::string& urdf_path, const ParamsFile& params,
+                                      const IdentifiedModelOptions& options) {
+  return from_params(hold_joints(load_urdf(urdf_path, params.sensor_link), params.held), params,
+                     options);
+}
+
+IdentifiedModel IdentifiedModel::load(const std::string& urdf_path, const std::string& params_path,
+                                      const IdentifiedModelOptions& options) {
+  return load(urdf_path, read_params(params_path), options);
+}
+
+const IdentifiedModel::Impl& IdentifiedModel::checked(const char* function) const {
+  if (!impl_)
+    throw ArgumentError(fmt::format(
+        "{}: the IdentifiedModel is empty (made by load, from_params, from_identification or "
+        "from_values)",
+        function));
+  return *impl_;
+}
+
+const Model& IdentifiedModel::model() const { return checked("IdentifiedModel::model").model; }
+const BaseParameters& IdentifiedModel::base() const {
+  return checked("IdentifiedModel::base").base;
+}
+const Eigen::VectorXd& IdentifiedModel::values() const {
+  return checked("IdentifiedModel::values").values;
+}
+const Eigen::VectorXd& IdentifiedModel::stddev() const {
+  return checked("IdentifiedModel::stddev").stddev;
+}
+const Eigen::MatrixXd& IdentifiedModel::covariance() const {
+  return checked("IdentifiedModel::covariance").covariance;
+}
+const std::string& IdentifiedModel::source() const {
+  return checked("IdentifiedModel::source").source;
+}
+int IdentifiedModel::num_joints() const {
+  return checked("IdentifiedModel::num_joints").model.num_joints();
+}
+bool IdentifiedModel::dynamic() const { return checked("IdentifiedModel::dynamic").base.motion(); }
+bool IdentifiedModel::has_offset() const {
+  return checked("IdentifiedModel::has_offset").base.offset;
+}
+bool IdentifiedModel::sensor_moving() const {
+  return checked("IdentifiedModel::sensor_moving").base.sensor_moving;
+}
+std::optional<Eigen::Vector3d> IdentifiedModel::fixed_gravity() const {
+  const BaseParameters& b = checked("IdentifiedModel::fixed_gravity").base;
+  if (b.motion() && b.fixed_gravity) return b.sensor_gravity;
+  return std::nullopt;
+}
+const Wrench& IdentifiedModel::offset() const { return checked("IdentifiedModel::offset").offset; }
+
+const Predictor& IdentifiedModel::predictor() const {
+  const Impl& m = checked("IdentifiedModel::predictor");
+  if (m.base.motion())
+    throw ArgumentError(
+        "IdentifiedModel::predictor: dynamic parameters have the motion predictor "
+        "(motion_predictor())");
+  return m.predictor;
+}
+
+const MotionPredictor& IdentifiedModel::motion_predictor() const {
+  const Impl& m = checked("IdentifiedModel::motion_predictor");
+  if (!m.base.motion())
+    throw ArgumentError(
+        "IdentifiedModel::motion_predictor: static parameters have the gravity predictor "
+        "(predictor())");
+  return m.motion;
+}
+
+Eigen::MatrixXd IdentifiedModel::sensor_reading_rows(
+    const Eigen::Ref<const Eigen::MatrixXd>& predicted) const {
+  const Wrench& o = offset();
+  detail::check_size("IdentifiedModel::sensor_reading_rows", "predicted columns", predicted.cols(),
+                     6, "fx fy fz mx my mz");
+  Eigen::MatrixXd out(predicted.rows(), 6);
+  for (Eigen::Index i = 0; i < predicted.rows(); ++i)
+    for (int k = 0; k < 6; ++k) out(i, k) = predicted(i, k) + o[k];
+  return out;
+}
+
+Eigen::MatrixXd IdentifiedModel::compensate_rows(
+    const Eigen::Ref<const Eigen::MatrixXd>& measured,
+    const Eigen::Ref<const Eigen::MatrixXd>& predicted) const {
+  const Wrench& o = offset();
+  detail::check_size("IdentifiedModel::compensate_rows", "measured columns", measured.cols(), 6,
+                     "fx fy fz mx my mz");
+  detail::check_size("IdentifiedModel::compensate_rows", "predicted rows", predicted.rows(),
+                     measured.rows(), "one per measured row");
+  detail::check_size("IdentifiedModel::compensate_rows", "predicted columns", predicted.cols(), 6,
+                     "fx fy fz mx my mz");
+  Eigen::MatrixXd out(measured.rows(), 6);
+  for (Eigen::Index i = 0; i < measured.rows(); ++i)
+    for (int k = 0; k < 6; ++k) out(i, k) = (measured(i, k) - predicted(i, k)) - o[k];
+  return out;
+}
+
+Wrench IdentifiedModel::predict_gravity(IdentifiedModelData& data, const double* q,
+                                        const Eigen::Vector3d& g) const {
+  const Impl& m = checked("IdentifiedModel::predict_gravity");
+  const int n = m.model.num_joints();
+  if (m.base.motion()) {
+    const double* zeros = data.zeros.data();
+    return predict_motion(m.motion, *data.motion, n > 0 ? q : zeros, zeros, zeros, g);
+  }
+  return massid::predict(m.predictor, *data.rest,
+                         Eigen::Map<const Eigen::VectorXd>(n > 0 ? q : data.zeros.data(), n), g);
+}
+
+Wrench IdentifiedModel::predict_gravity(IdentifiedModelData& data,
+                                        const Eigen::Ref<const Eigen::VectorXd>& q,
+                                        const Eigen::Vector3d& g) const {
+  detail::check_size("IdentifiedModel::predict_gravity", "q", q.size(), num_joints(),
+                     "the model's joints");
+  return predict_gravity(data, q.data(), g);
+}
+
+Wrench IdentifiedModel::predict(IdentifiedModelData& data, const double* q, const double* qd,
+                                const double* qdd, const Eigen::Vector3d& g,
+                                const FrameMotion& sensor) const {
+  const Impl& m = checked("IdentifiedModel::predict");
+  if (!m.base.motion()) return predict_gravity(data, q, g);
+  const int n = m.model.num_joints();
+  const double* zeros = data.zeros.data();
+  return predict_motion(m.motion, *data.motion, n > 0 ? q : zeros, n > 0 ? qd : zeros,
+                        n > 0 ? qdd : zeros, g, sensor);
+}
+
+Eigen::MatrixXd IdentifiedModel::predict_samples(IdentifiedModelData& data,
+                                                 const Samples& samples) const {
+  const Impl& m = checked("IdentifiedModel::predict_samples");
+  if (m.base.motion()) return massid::predict_samples(m.motion, *data.motion, samples);
+  Eigen::MatrixXd P(samples.size(), 6);
+  massid::predict(m.predictor, *data.rest, samples.q, samples.gravity, P);
+  return P;
+}
+
+IdentifiedModelData::IdentifiedModelData(const IdentifiedModel& model) {
+  if (model.dynamic())
+    motion.emplace(model.motion_predictor());
+  else
+    rest.emplace(model.predictor());
+  zeros.assign(static_cast<std::size_t>(std::max(1, model.num_joints())), 0.0);
+}
+
+}  // namespace massid
