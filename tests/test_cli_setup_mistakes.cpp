@@ -21,10 +21,10 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "massid/urdf.hpp"
 #include "massid/kinematics.hpp"
 #include "massid/model.hpp"
 #include "massid/samples.hpp"
+#include "massid/urdf.hpp"
 
 namespace {
 
@@ -488,6 +488,47 @@ TEST_F(Contact, BaseSensorPredictShowsTheContactWrench) {
 
 TEST_F(Contact, BaseSensorRobustIdentifyRejectsTheContact) {
   expect_identified_through_contact(base(), {});
+}
+
+// "lines A-B (n rows)" of each note on stderr from `prefix` (e.g.
+// "massid: note: stdin: "), in order.
+std::vector<std::string> noted_places(const std::string& err, const std::string& prefix) {
+  std::vector<std::string> out;
+  const std::regex place(R"(^lines \d+-\d+ \(\d+ rows\))");
+  std::istringstream in(err);
+  std::string line;
+  std::smatch m;
+  while (std::getline(in, line)) {
+    if (line.rfind(prefix, 0) != 0) continue;
+    const std::string rest = line.substr(prefix.size());
+    if (std::regex_search(rest, m, place)) out.push_back(m.str());
+  }
+  return out;
+}
+
+// compensate through a pipe that ends: after the last line, stderr names the
+// planted rows as contact, the lines predict's note names; exit 0, and every
+// line compensated.
+TEST_F(Contact, CompensateNotesTheContactLinesPredictNotes) {
+  const contact::Log log = base();
+  ASSERT_EQ(run({"identify", kUrUrdf, log.clean, "-o", path("clean.json"), "--offset"}).code, 0);
+  const Result p = run({"predict", kUrUrdf, path("clean.json"), log.spoiled});
+  ASSERT_EQ(p.code, 0) << p;
+  const Result c = run({"compensate", kUrUrdf, path("clean.json")}, log.spoiled);
+  ASSERT_EQ(c.code, 0) << c;
+  const std::string planted =
+      fmt::format("lines {}-{} ({} rows)", log.first + 2, log.last + 2, log.last - log.first + 1);
+  EXPECT_EQ(noted_places(c.err, "massid: note: stdin: "), std::vector<std::string>{planted}) << c;
+  EXPECT_EQ(noted_places(c.err, "massid: note: stdin: "),
+            noted_places(p.err, "massid: note: " + log.spoiled + ": "))
+      << p << c;
+  EXPECT_NE(c.err.find("(contact; "), std::string::npos) << c;
+  EXPECT_EQ(count_lines(c.err), 1) << c;
+  EXPECT_EQ(count_lines(c.out), static_cast<int>(read_table(log.spoiled).rows.size()) + 1);
+  // The clean log: no note.
+  const Result q = run({"compensate", kUrUrdf, path("clean.json")}, log.clean);
+  ASSERT_EQ(q.code, 0) << q;
+  EXPECT_EQ(q.err, "") << q;
 }
 
 }  // namespace
