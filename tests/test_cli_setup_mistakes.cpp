@@ -531,4 +531,30 @@ TEST_F(Contact, CompensateNotesTheContactLinesPredictNotes) {
   EXPECT_EQ(q.err, "") << q;
 }
 
+// Plain identify (no --robust) on a log with a long contact episode: the fit
+// goes on (exit 0), and a warning names the contact rows and the robust fit.
+TEST_F(Contact, PlainIdentifyNamesTheContactRowsAndSuggestsRobust) {
+  for (const bool wrist_sensor : {false, true}) {
+    const contact::Log log = wrist_sensor ? wrist() : base();
+    std::vector<std::string> args{"identify",         kUrUrdf,   log.spoiled, "-o",
+                                  path("plain.json"), "--offset"};
+    if (wrist_sensor) args.insert(args.end(), {"--sensor", "wrist_3_link"});
+    const Result r = run(args);
+    ASSERT_EQ(r.code, 0) << r;
+    std::string warning;
+    std::istringstream in(r.err);
+    for (std::string line; std::getline(in, line);)
+      if (line.find("(contact?)") != std::string::npos) warning = line;
+    ASSERT_NE(warning, "") << r;
+    EXPECT_EQ(warning.rfind("massid: warning: " + log.spoiled + ": ", 0), 0u) << r;
+    // The planted rows, within the few at each end whose wrench hides in the noise.
+    const std::regex place(R"(lines (\d+)-(\d+) \((\d+) rows\))");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(warning, m, place)) << warning;
+    EXPECT_NEAR(std::stoi(m[1]), log.first + 2, 3) << warning;
+    EXPECT_NEAR(std::stoi(m[2]), log.last + 2, 3) << warning;
+    EXPECT_NE(warning.find("(--robust)"), std::string::npos) << warning;
+  }
+}
+
 }  // namespace
