@@ -33,24 +33,6 @@ struct OutputTable {
   }
 };
 
-// The rows of `table` at the given file lines (in order), for output.
-inline CsvTable keep_lines(CsvTable table, const std::vector<int>& lines) {
-  CsvTable out = std::move(table);
-  std::vector<std::vector<std::string>> rows;
-  std::vector<int> kept;
-  size_t k = 0;
-  for (int r = 0; r < out.num_rows() && k < lines.size(); ++r)
-    if (out.line[r] == lines[k]) {
-      rows.push_back(std::move(out.rows[r]));
-      kept.push_back(out.line[r]);
-      ++k;
-    }
-  out.rows = std::move(rows);
-  out.line = std::move(kept);
-  out.column_offset.clear();
-  return out;
-}
-
 // --dynamic and its motion options (model, simulate, identify, predict).
 struct MotionFlags {
   bool dynamic = false;

@@ -9,15 +9,18 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstring>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "latency_histogram.hpp"
 #include "massid/core/errors.hpp"
+#include "massid/identify/setup_checks.hpp"
 #include "massid/io/params_file.hpp"
 #include "massid/io/urdf.hpp"
 #include "massid/live/compensator.hpp"
@@ -98,6 +101,7 @@ bool write_all(int fd, const char* data, std::size_t size) {
 // calls (it grows only for a line longer than any before).
 class StdinLines {
  public:
+  static constexpr bool kEnds = true;  // a file or a pipe: contact notes at its end
   std::string name() const { return "stdin"; }
   // The next line without its '\n' and its 1-based number; false at the end.
   // The line stays valid until the next call.
@@ -145,6 +149,7 @@ class StdinLines {
 // One line per datagram on 127.0.0.1:port; an empty datagram or "end" ends.
 class UdpLines {
  public:
+  static constexpr bool kEnds = false;  // a live stream: no notes on the whole
   UdpLines(int port, bool reply) : reply_(reply) {
     fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (fd_ < 0) throw InputError(fmt::format("--udp: cannot open a socket: {}", strerror(errno)));
@@ -201,6 +206,63 @@ class UdpLines {
 
 using Clock = std::chrono::steady_clock;
 
+// The compensated rows of a stream that ends, for find_contact_episodes at
+// its end (the same rule as predict's notes: a robust scale per axis over
+// every row, so the rows are kept, not a running statistic). Kept in blocks
+// of 4096 rows (no copy as the stream grows: one allocation per block, after
+// the line is written and outside the timed part), up to kMaxRows rows
+// (56 bytes each, ~117 MB); rows beyond are not judged, and the note says so.
+class ContactLog {
+ public:
+  static constexpr std::size_t kBlock = 4096;
+  static constexpr std::size_t kMaxRows = std::size_t{1} << 21;
+
+  void add(int line, const Wrench& compensated, const Eigen::Ref<const Wrench>& measured) {
+    if (rows_ == kMaxRows) {
+      ++beyond_;
+      return;
+    }
+    if (rows_ % kBlock == 0) blocks_.push_back(std::make_unique<Row[]>(kBlock));
+    Row& r = blocks_.back()[rows_ % kBlock];
+    r.line = line;
+    for (int k = 0; k < 6; ++k) r.c[k] = compensated[k];
+    squares_[0] += measured.head<3>().squaredNorm();
+    squares_[1] += measured.tail<3>().squaredNorm();
+    ++rows_;
+  }
+
+  // The notes, on stderr.
+  void print_notes(const std::string& source) const {
+    if (rows_ < 2) return;
+    const Eigen::Index n = static_cast<Eigen::Index>(rows_);
+    std::vector<int> line(rows_);
+    Eigen::MatrixXd residual(n, 6);
+    for (std::size_t i = 0; i < rows_; ++i) {
+      const Row& r = blocks_[i / kBlock][i % kBlock];
+      line[i] = r.line;
+      for (int k = 0; k < 6; ++k) residual(static_cast<Eigen::Index>(i), k) = r.c[k];
+    }
+    const Eigen::Vector2d rms(std::sqrt(squares_[0] / static_cast<double>(n)),
+                              std::sqrt(squares_[1] / static_cast<double>(n)));
+    for (const ContactEpisode& e : find_contact_episodes(line, residual, rms))
+      std::cerr << "massid: note: " << contact_note(source, e) << "\n";
+    if (beyond_ > 0)
+      std::cerr << fmt::format(
+          "massid: note: {}: contact judged over the first {} samples (to line {}); the {} "
+          "after them were compensated but not judged\n",
+          source, rows_, line.back(), beyond_);
+  }
+
+ private:
+  struct Row {
+    int line;
+    double c[6];
+  };
+  std::vector<std::unique_ptr<Row[]>> blocks_;
+  std::size_t rows_ = 0, beyond_ = 0;
+  double squares_[2] = {0.0, 0.0};  // sums of |f|^2 and |m|^2 measured
+};
+
 template <class Lines>
 int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
                const CompensatorOptions& options, Lines& lines) {
@@ -221,6 +283,7 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
   if (!write_all(1, comp.output_header().data(), comp.output_header().size())) return 0;
 
   LatencyHistogram latency;
+  ContactLog contact;
   long skipped = 0;
   while (lines.next(line, number)) {
     const Clock::time_point t0 = Clock::now();
@@ -236,7 +299,9 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
     latency.record(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
     if (!write_all(1, out.data(), out.size())) break;  // the reader is gone
     lines.reply(out);
+    if constexpr (Lines::kEnds) contact.add(number, comp.compensated(), comp.measured());
   }
+  if constexpr (Lines::kEnds) contact.print_notes(lines.name());
   if (c.stats)
     std::cerr << fmt::format(
         "massid: compensate: {} samples, {} lines skipped; added latency (parse, predict, "

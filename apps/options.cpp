@@ -86,10 +86,7 @@ bool report_setup(const std::vector<SetupFinding>& findings) {
 
 bool check_input(const Model& model, const Samples& samples, const std::vector<std::string>& header,
                  bool motion) {
-  SetupCheckOptions o;
-  o.constant_joints = false;  // a plan may hold a joint still on purpose
-  o.motion = motion;
-  return report_setup(check_setup(model, samples, header, o));
+  return report_setup(check_input_setup(model, samples, header, motion).findings);
 }
 
 }  // namespace massid::cli

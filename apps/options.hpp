@@ -40,9 +40,9 @@ CLI::Validator sign_check(bool positive);
 // every error on its own line and false (exit 2); else the warnings, true.
 bool report_setup(const std::vector<SetupFinding>& findings);
 
-// A file a command reads (simulate's plan, predict's data, design --evaluate's
-// plan): the set-up checks that apply to it (joint units and columns, gravity,
-// and the wrench's when it has one). False after an error (exit 2).
+// A file a command reads (simulate's plan, design --evaluate's plan): the
+// library's verdict (check_input_setup, setup_checks.hpp) printed by
+// report_setup. False after an error (exit 2).
 bool check_input(const Model& model, const Samples& samples, const std::vector<std::string>& header,
                  bool motion);
 

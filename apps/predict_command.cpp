@@ -4,15 +4,11 @@
 
 #include <iostream>
 
-#include "massid/core/base_parameters.hpp"
 #include "massid/core/errors.hpp"
-#include "massid/core/motion_predictor.hpp"
-#include "massid/core/predictor.hpp"
 #include "massid/core/samples.hpp"
-#include "massid/identify/motion_data.hpp"
+#include "massid/identify/predict_log.hpp"
 #include "massid/identify/setup_checks.hpp"
 #include "massid/io/csv.hpp"
-#include "massid/io/params_file.hpp"
 #include "massid/io/read_samples.hpp"
 #include "massid/live/identified_model.hpp"
 #include "massid/report/report.hpp"
@@ -34,51 +30,43 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   const IdentifiedModel identified = IdentifiedModel::load(urdf, params_path, iopts);
   const Model& model = identified.model();
 
-  CsvTable table = read_csv(data_path);
-  Samples samples;
-  if (identified.dynamic()) {
-    // The full wrench, weight and motion, from the dynamic base parameters.
-    MotionDataReport mr;
-    MotionDataOptions mopts = motion.data();
-    mopts.filter.decimation = 1;  // a prediction for every row the filter keeps
-    Samples raw = read_samples(model, table, WrenchColumns::Optional, mopts.samples);
-    if (checks && !check_input(model, raw, table.header, true)) return 2;
-    samples = prepare_motion_samples(model, std::move(raw), mopts, &mr);
-    if (mr.derived) {
-      std::cout << fmt::format(
-          "velocities and accelerations derived from t and the positions: zero-phase low-pass "
-          "at {:.3g} Hz, the {} rows at each end dropped\n",
-          mr.kernels.cutoff, mr.kernels.half_width);
-      table = keep_lines(std::move(table), samples.line);
-    }
-  } else {
-    samples = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
-    if (checks && !check_input(model, samples, table.header, false)) return 2;
+  // The library's pipeline (predict_log.hpp); this door prints and writes.
+  PredictLogOptions popts;
+  popts.motion = motion.data();
+  popts.checks = checks;
+  popts.on_verdict = [](const SetupVerdict& v) { report_setup(v.findings); };
+  LogPrediction lp;
+  try {
+    lp = predict_log(identified, read_csv(data_path), data_path, popts);
+  } catch (const SetupRefused&) {
+    return 2;  // on_verdict printed the errors, each on its own line
   }
-  // The mechanism's wrench alone (_pred); what the sensor reads adds the offset.
-  IdentifiedModelData data(identified);
-  const Eigen::MatrixXd P = identified.predict_samples(data, samples);
+  const Samples& samples = lp.samples;
+  if (lp.motion.derived)
+    std::cout << fmt::format(
+        "velocities and accelerations derived from t and the positions: zero-phase low-pass "
+        "at {:.3g} Hz, the {} rows at each end dropped\n",
+        lp.motion.kernels.cutoff, lp.motion.kernels.half_width);
   if (!out.empty()) {
-    OutputTable t(table);
+    OutputTable t(lp.table);
     // _pred: the mechanism's wrench alone; _comp: measured - predicted - offset.
-    for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_pred", P.col(k));
-    if (samples.has_wrench()) {
-      const Eigen::MatrixXd C = identified.compensate_rows(samples.wrench, P);
-      for (int k = 0; k < 6; ++k) t.set_column(std::string(kWrenchColumns[k]) + "_comp", C.col(k));
-    }
+    for (int k = 0; k < 6; ++k)
+      t.set_column(std::string(kWrenchColumns[k]) + "_pred", lp.predicted.col(k));
+    if (lp.has_wrench())
+      for (int k = 0; k < 6; ++k)
+        t.set_column(std::string(kWrenchColumns[k]) + "_comp", lp.compensated.col(k));
     write_csv(out, t.header, t.rows);
   }
   std::cout << fmt::format("predicted {} samples of {} with {}{} (sensor link '{}'{})\n",
                            samples.size(), data_path, params_path,
                            physical ? "'s physical parameters" : "", model.sensor_link(),
                            samples.gravity_from_force ? ", gravity from the measured force" : "");
-  if (samples.has_wrench()) {
+  if (lp.has_wrench()) {
     // Against what the sensor reads: the prediction plus the identified offset.
-    const Eigen::MatrixXd reading = identified.sensor_reading_rows(P);
+    const Eigen::MatrixXd reading = identified.sensor_reading_rows(lp.predicted);
     std::cout << prediction_report(prediction_errors(samples.wrench, reading), samples.size());
     // Rows that carry an external wrench (contact) are the expected result here: a note.
-    for (const ContactEpisode& e : find_contact_episodes(samples, samples.wrench - reading))
-      std::cerr << "massid: note: " << contact_note(data_path, e) << "\n";
+    for (const std::string& note : lp.notes) std::cerr << "massid: note: " << note << "\n";
   }
   if (!out.empty()) std::cout << "wrote " << out << "\n";
   if (!report.empty()) {

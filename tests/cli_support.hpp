@@ -175,8 +175,9 @@ class Cli : public ::testing::Test {
     return file(name, to_csv(t));
   }
 
-  // Runs massid with args; stdout and stderr go to files of the temp dir.
-  Result run(const std::vector<std::string>& args) {
+  // Runs massid with args; stdout and stderr go to files of the temp dir,
+  // stdin comes from the file `input`.
+  Result run(const std::vector<std::string>& args, const std::string& input = "/dev/null") {
     const std::string out = path(".stdout"), err = path(".stderr");
     std::vector<std::string> argv_s{kExe};
     argv_s.insert(argv_s.end(), args.begin(), args.end());
@@ -185,7 +186,7 @@ class Cli : public ::testing::Test {
     argv.push_back(nullptr);
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 0, input.c_str(), O_RDONLY, 0);
     posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     pid_t pid = 0;

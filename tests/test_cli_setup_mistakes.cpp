@@ -490,4 +490,71 @@ TEST_F(Contact, BaseSensorRobustIdentifyRejectsTheContact) {
   expect_identified_through_contact(base(), {});
 }
 
+// "lines A-B (n rows)" of each note on stderr from `prefix` (e.g.
+// "massid: note: stdin: "), in order.
+std::vector<std::string> noted_places(const std::string& err, const std::string& prefix) {
+  std::vector<std::string> out;
+  const std::regex place(R"(^lines \d+-\d+ \(\d+ rows\))");
+  std::istringstream in(err);
+  std::string line;
+  std::smatch m;
+  while (std::getline(in, line)) {
+    if (line.rfind(prefix, 0) != 0) continue;
+    const std::string rest = line.substr(prefix.size());
+    if (std::regex_search(rest, m, place)) out.push_back(m.str());
+  }
+  return out;
+}
+
+// compensate through a pipe that ends: after the last line, stderr names the
+// planted rows as contact, the lines predict's note names; exit 0, and every
+// line compensated.
+TEST_F(Contact, CompensateNotesTheContactLinesPredictNotes) {
+  const contact::Log log = base();
+  ASSERT_EQ(run({"identify", kUrUrdf, log.clean, "-o", path("clean.json"), "--offset"}).code, 0);
+  const Result p = run({"predict", kUrUrdf, path("clean.json"), log.spoiled});
+  ASSERT_EQ(p.code, 0) << p;
+  const Result c = run({"compensate", kUrUrdf, path("clean.json")}, log.spoiled);
+  ASSERT_EQ(c.code, 0) << c;
+  const std::string planted =
+      fmt::format("lines {}-{} ({} rows)", log.first + 2, log.last + 2, log.last - log.first + 1);
+  EXPECT_EQ(noted_places(c.err, "massid: note: stdin: "), std::vector<std::string>{planted}) << c;
+  EXPECT_EQ(noted_places(c.err, "massid: note: stdin: "),
+            noted_places(p.err, "massid: note: " + log.spoiled + ": "))
+      << p << c;
+  EXPECT_NE(c.err.find("(contact; "), std::string::npos) << c;
+  EXPECT_EQ(count_lines(c.err), 1) << c;
+  EXPECT_EQ(count_lines(c.out), static_cast<int>(read_table(log.spoiled).rows.size()) + 1);
+  // The clean log: no note.
+  const Result q = run({"compensate", kUrUrdf, path("clean.json")}, log.clean);
+  ASSERT_EQ(q.code, 0) << q;
+  EXPECT_EQ(q.err, "") << q;
+}
+
+// Plain identify (no --robust) on a log with a long contact episode: the fit
+// goes on (exit 0), and a warning names the contact rows and the robust fit.
+TEST_F(Contact, PlainIdentifyNamesTheContactRowsAndSuggestsRobust) {
+  for (const bool wrist_sensor : {false, true}) {
+    const contact::Log log = wrist_sensor ? wrist() : base();
+    std::vector<std::string> args{"identify",         kUrUrdf,   log.spoiled, "-o",
+                                  path("plain.json"), "--offset"};
+    if (wrist_sensor) args.insert(args.end(), {"--sensor", "wrist_3_link"});
+    const Result r = run(args);
+    ASSERT_EQ(r.code, 0) << r;
+    std::string warning;
+    std::istringstream in(r.err);
+    for (std::string line; std::getline(in, line);)
+      if (line.find("(contact?)") != std::string::npos) warning = line;
+    ASSERT_NE(warning, "") << r;
+    EXPECT_EQ(warning.rfind("massid: warning: " + log.spoiled + ": ", 0), 0u) << r;
+    // The planted rows, within the few at each end whose wrench hides in the noise.
+    const std::regex place(R"(lines (\d+)-(\d+) \((\d+) rows\))");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(warning, m, place)) << warning;
+    EXPECT_NEAR(std::stoi(m[1]), log.first + 2, 3) << warning;
+    EXPECT_NEAR(std::stoi(m[2]), log.last + 2, 3) << warning;
+    EXPECT_NE(warning.find("(--robust)"), std::string::npos) << warning;
+  }
+}
+
 }  // namespace

@@ -15,7 +15,10 @@
 #include "massid/identify/identification.hpp"
 #include "massid/identify/motion_data.hpp"
 #include "massid/identify/params_json.hpp"
+#include "massid/identify/predict_log.hpp"
+#include "massid/identify/setup_checks.hpp"
 #include "massid/io/params_file.hpp"
+#include "massid/io/read_samples.hpp"
 #include "massid/io/urdf.hpp"
 #include "massid/live/identified_model.hpp"
 #include "test_support.hpp"
@@ -226,6 +229,113 @@ TEST(IdentifiedModel, ParamsOfAnotherRobotAndAnEmptyModelAreErrors) {
   EXPECT_THROW((void)empty.offset(), ArgumentError);
   EXPECT_THROW(IdentifiedModelData{empty}, ArgumentError);
   EXPECT_THROW((void)IdentifiedModel::from_identification(ident).motion_predictor(), ArgumentError);
+}
+
+// A log of `samples` as CSV text: joints, gx,gy,gz, fx..mz (header on line 1).
+std::string csv_text(const Model& model, const Samples& s) {
+  std::string text;
+  for (const Joint& j : model.joints) text += j.name + ",";
+  text += "gx,gy,gz,fx,fy,fz,mx,my,mz\n";
+  for (int i = 0; i < s.size(); ++i) {
+    for (int j = 0; j < model.num_joints(); ++j) text += format_number(s.q(i, j)) + ",";
+    for (int k = 0; k < 3; ++k) text += format_number(s.gravity(i, k)) + ",";
+    for (int k = 0; k < 6; ++k) text += format_number(s.wrench(i, k)) + (k < 5 ? "," : "\n");
+  }
+  return text;
+}
+
+// predict_log is the steps it names, done once: the identified model's
+// prediction and compensation of the table's samples, and the contact
+// episodes of the planted rows with their notes.
+TEST(PredictLog, PredictsCompensatesAndNamesThePlantedContact) {
+  const Model model = load_urdf(kPuma);
+  const IdentifiedModel identified =
+      IdentifiedModel::from_identification(identification_of(model, false));
+  Samples s = test::load_plan(model, MASSID_SOURCE_DIR "/examples/puma260/holdout.csv");
+  ASSERT_EQ(s.size(), 200);
+  SimulateOptions o;
+  o.offset = test_offset();
+  o.noise_force = 0.05;
+  o.noise_moment = 0.005;
+  o.seed = 4;
+  s.wrench = simulate_wrenches(model, s, o);
+  const Wrench contact = (Wrench() << 12.0, -8.0, 15.0, 0.5, -0.3, 0.2).finished();
+  for (int i = 50; i < 80; ++i) s.wrench.row(i) += contact.transpose();
+  const CsvTable table = parse_csv(csv_text(model, s), "log.csv");
+
+  int verdicts = 0;
+  PredictLogOptions po;
+  po.on_verdict = [&](const SetupVerdict& v) {
+    ++verdicts;
+    EXPECT_FALSE(v.refused());
+  };
+  const LogPrediction p = predict_log(identified, table, "log.csv", po);
+  EXPECT_EQ(verdicts, 1);
+  EXPECT_TRUE(p.setup.findings.empty());
+  EXPECT_FALSE(p.motion.derived);
+  const Samples read = read_samples(model, table, WrenchColumns::Optional);
+  IdentifiedModelData data(identified);
+  const Eigen::MatrixXd P = identified.predict_samples(data, read);
+  EXPECT_EQ(p.predicted, P);
+  EXPECT_EQ(p.compensated, identified.compensate_rows(read.wrench, P));
+  EXPECT_EQ(p.samples.line, table.line);
+  EXPECT_EQ(p.table.rows, table.rows);
+  ASSERT_EQ(p.contact.size(), 1u);
+  EXPECT_EQ(p.contact[0].first_line, 52);  // rows 50..79, the header on line 1
+  EXPECT_EQ(p.contact[0].last_line, 81);
+  EXPECT_NEAR(p.contact[0].force, contact.head<3>().norm(), 0.3);
+  EXPECT_EQ(p.notes, std::vector<std::string>{contact_note("log.csv", p.contact[0])});
+  // The stream form (compensate): the same episodes from the lines and the
+  // measured wrench's RMS.
+  const Eigen::MatrixXd residual = read.wrench - identified.sensor_reading_rows(P);
+  const Eigen::Vector2d rms(std::sqrt(read.wrench.leftCols<3>().rowwise().squaredNorm().mean()),
+                            std::sqrt(read.wrench.rightCols<3>().rowwise().squaredNorm().mean()));
+  const std::vector<ContactEpisode> streamed = find_contact_episodes(read.line, residual, rms);
+  ASSERT_EQ(streamed.size(), 1u);
+  EXPECT_EQ(contact_note("log.csv", streamed[0]), p.notes[0]);
+}
+
+// A refusing verdict: SetupRefused with the checks' errors (the message one
+// error's, as the CLI prints it), after on_verdict saw it; without the
+// checks the log is predicted as it is.
+TEST(PredictLog, RefusesANegatedChannelWithTheChecksMessage) {
+  const Model model = load_urdf(kPuma);
+  const IdentifiedModel identified =
+      IdentifiedModel::from_identification(identification_of(model, false));
+  Samples s = test::load_plan(model, MASSID_SOURCE_DIR "/examples/puma260/holdout.csv");
+  SimulateOptions o;
+  o.offset = test_offset();
+  o.noise_force = 0.05;
+  o.noise_moment = 0.005;
+  s.wrench = simulate_wrenches(model, s, o);
+  s.wrench.col(2) *= -1.0;  // fz negated
+  const CsvTable table = parse_csv(csv_text(model, s), "neg.csv");
+  const SetupVerdict verdict = check_input_setup(
+      model, read_samples(model, table, WrenchColumns::Optional), table.header, false);
+  ASSERT_TRUE(verdict.refused());
+  ASSERT_EQ(verdict.shown().size(), 1u);
+  int verdicts = 0;
+  PredictLogOptions po;
+  po.on_verdict = [&](const SetupVerdict& v) {
+    ++verdicts;
+    EXPECT_TRUE(v.refused());
+  };
+  try {
+    (void)predict_log(identified, table, "neg.csv", po);
+    ADD_FAILURE() << "no error";
+  } catch (const SetupRefused& e) {
+    EXPECT_EQ(std::string(e.what()), verdict.shown()[0].message);
+    EXPECT_EQ(e.hints(), verdict.shown()[0].hints);
+    EXPECT_NE(std::string(e.what()).find("'fz' is negated"), std::string::npos) << e.what();
+    ASSERT_EQ(e.errors().size(), 1u);
+    EXPECT_EQ(e.errors()[0].code, verdict.shown()[0].code);
+  }
+  EXPECT_EQ(verdicts, 1);
+  po.checks = false;
+  po.on_verdict = nullptr;
+  const LogPrediction p = predict_log(identified, table, "neg.csv", po);
+  EXPECT_EQ(p.predicted.rows(), 200);
+  EXPECT_TRUE(p.setup.findings.empty());
 }
 
 INSTANTIATE_TEST_SUITE_P(StaticAndDynamic, IdentifiedModelTest, ::testing::Bool(),

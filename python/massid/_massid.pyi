@@ -160,6 +160,17 @@ class Predictor:
     ) -> np.ndarray:
         """[N, 6] for q [N, num_joints] and gravity [N, 3]; [6] for single vectors.
         Dynamic: also qd, qdd (or t: derived by the filter, NaN rows at the ends)."""
+    def predict_log(
+        self,
+        data: Data,
+        *,
+        cutoff: Optional[float] = None,  # dynamic, derived from t: low-pass cut-off, Hz
+        root_gravity: Optional[Sequence[float]] = None,
+        checks: bool = True,  # the set-up checks (massid predict --no-checks: False)
+    ) -> "LogPrediction":
+        """massid predict on a log: the set-up checks (InputError with the CLI's message when
+        they refuse; warnings as MassidWarning), the prediction, the compensated wrench and
+        the contact notes."""
     def __call__(
         self,
         q: npt.ArrayLike,
@@ -307,6 +318,29 @@ def predict(
     """[N, 6] the mechanism's predicted wrench at every row of data (joint and gravity
     columns), without the identified sensor offsets (massid predict's fx_pred); dynamic
     parameters: in motion, NaN in the rows the derivative filter drops."""
+
+class LogPrediction:
+    source: str  # the log's name in notes ("data" for columns by name)
+    lines: list[int]  # [N] file line of each predicted row (row index for columns by name)
+    predicted: np.ndarray  # [N, 6] the mechanism's wrench, no offset (fx_pred..mz_pred)
+    compensated: Optional[np.ndarray]  # [N, 6] fx_comp..mz_comp; None without fx..mz
+    warnings: list[str]  # the set-up checks' warnings
+    notes: list[str]  # per contact episode, the text of massid predict's "massid: note:" line
+    contact: list[dict[str, Any]]  # first_line, last_line, rows, score, threshold, force, moment
+    cutoff: Optional[float]  # dynamic, derived from t: the low-pass cut-off, Hz
+
+def predict_log(
+    robot: Union[PathType, Model],
+    params: Union[PathType, Params, Identification],
+    data: Data,
+    *,
+    cutoff: Optional[float] = None,
+    root_gravity: Optional[Sequence[float]] = None,
+    physical: bool = False,
+    checks: bool = True,
+) -> LogPrediction:
+    """Predictor(robot, params, physical=physical).predict_log(data, ...): massid predict's
+    pipeline, its set-up checks and contact notes included."""
 
 def simulate(
     robot: Union[PathType, Model],

@@ -9,13 +9,15 @@
 
 #include "bindings.hpp"
 #include "convert.hpp"
-#include "io/atomic_file.hpp"
+#include "hints.hpp"
 #include "massid/core/base_regressor.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/motion_predictor.hpp"
 #include "massid/core/predictor.hpp"
 #include "massid/core/simulate.hpp"
 #include "massid/identify/motion_data.hpp"
+#include "massid/identify/predict_log.hpp"
+#include "massid/io/csv.hpp"
 #include "massid/io/params_file.hpp"
 #include "massid/io/read_samples.hpp"
 #include "massid/live/identified_model.hpp"
@@ -179,6 +181,52 @@ std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::o
       IdentifiedModel::from_params(model_for(robot, file.sensor_link, file.held), file, options));
 }
 
+// A data argument as a table: a CSV path read as the CLI reads it, or
+// columns by name (each cell written as format_number writes it, which reads
+// back to the same double; the "lines" are the row indices).
+CsvTable table_of(const py::handle& data) {
+  if (is_path(data)) return read_csv(path_of(data));
+  const Columns c = columns_of(data);
+  CsvTable t;
+  t.source = "data";
+  t.header = c.names;
+  const Eigen::Index rows = c.values.empty() ? 0 : c.values.front().size();
+  for (size_t k = 0; k < c.values.size(); ++k)
+    if (c.values[k].size() != rows)
+      throw InputError(fmt::format("data: column '{}' has {} rows, column '{}' has {}",
+                                   c.names.front(), rows, c.names[k], c.values[k].size()));
+  t.rows.assign(static_cast<size_t>(rows), std::vector<std::string>(c.names.size()));
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    for (size_t k = 0; k < c.values.size(); ++k)
+      t.rows[static_cast<size_t>(r)][k] = format_number(c.values[k][r]);
+    t.line.push_back(static_cast<int>(r));
+    t.column_offset.emplace_back(c.names.size(), 1);
+  }
+  return t;
+}
+
+// massid predict's pipeline (predict_log.hpp) on a data argument, its
+// warnings raised as MassidWarning.
+LogPrediction predict_log_of(const IdentifiedModel& identified, const py::object& data,
+                             std::optional<double> cutoff,
+                             std::optional<std::vector<double>> root_gravity, bool checks) {
+  if (!identified.dynamic() && cutoff) throw InputError("cutoff goes with dynamic parameters");
+  PredictLogOptions o;
+  o.motion = motion_data_options(cutoff, root_gravity);
+  o.checks = checks;
+  CsvTable table = table_of(data);
+  const std::string source = is_path(data) ? path_of(data) : std::string("data");
+  LogPrediction out;
+  {
+    py::gil_scoped_release release;
+    out = predict_log(identified, std::move(table), source, o);
+  }
+  const py::object warn = py::module_::import("warnings").attr("warn");
+  const py::object category = py::module_::import("massid").attr("MassidWarning");
+  for (const Warning& w : out.setup.warnings()) warn(with_hints(w.message, w.hints), category, 3);
+  return out;
+}
+
 // [N x 6] or [6] as numpy gives them, as a matrix of six columns.
 Eigen::MatrixXd wrenches_of(const py::object& w, const char* what) { return to_matrix(w, 6, what); }
 
@@ -261,6 +309,69 @@ void bind_predict(py::module_& m) {
       py::arg("path"),
       "Reads a params file written by identify (massid.InputError names file:line:column).");
 
+  py::class_<LogPrediction>(
+      m, "LogPrediction",
+      "A log predicted as massid predict predicts it (predict_log): the samples kept, the "
+      "mechanism's wrench, the compensated wrench, the set-up checks' warnings and the "
+      "contact notes.")
+      .def_readonly("source", &LogPrediction::source)
+      .def_property_readonly(
+          "lines", [](const LogPrediction& p) { return p.samples.line; },
+          "[N] the file line of each predicted row (row index for columns by name); dynamic "
+          "without JOINT_vel/_acc: the rows the filter keeps")
+      .def_property_readonly(
+          "predicted", [](const LogPrediction& p) { return p.predicted; },
+          "[N, 6] the mechanism's wrench, without the offset (massid predict's fx_pred..mz_pred)")
+      .def_property_readonly(
+          "compensated",
+          [](const LogPrediction& p) -> std::optional<Eigen::MatrixXd> {
+            if (!p.has_wrench()) return std::nullopt;
+            return p.compensated;
+          },
+          "[N, 6] measured - predicted - offset (fx_comp..mz_comp); None without fx..mz")
+      .def_property_readonly(
+          "warnings",
+          [](const LogPrediction& p) {
+            std::vector<std::string> out;
+            for (const Warning& w : p.setup.warnings())
+              out.push_back(with_hints(w.message, w.hints));
+            return out;
+          },
+          "the set-up checks' warnings (also raised as MassidWarning)")
+      .def_readonly("notes", &LogPrediction::notes,
+                    "one note per contact episode, the text of massid predict's "
+                    "'massid: note:' lines")
+      .def_property_readonly(
+          "contact",
+          [](const LogPrediction& p) {
+            py::list out;
+            for (const ContactEpisode& e : p.contact) {
+              py::dict d;
+              d["first_line"] = e.first_line;
+              d["last_line"] = e.last_line;
+              d["rows"] = e.last - e.first + 1;
+              d["score"] = e.score;
+              d["threshold"] = e.threshold;
+              d["force"] = e.force;
+              d["moment"] = e.moment;
+              out.append(d);
+            }
+            return out;
+          },
+          "the contact episodes: first_line, last_line, rows, score, threshold, force (N), "
+          "moment (N m)")
+      .def_property_readonly(
+          "cutoff",
+          [](const LogPrediction& p) -> std::optional<double> {
+            if (!p.motion.derived) return std::nullopt;
+            return p.motion.kernels.cutoff;
+          },
+          "dynamic, derived from t: the low-pass cut-off, Hz; else None")
+      .def("__repr__", [](const LogPrediction& p) {
+        return fmt::format("LogPrediction('{}', {} rows, {} contact episode(s))", p.source,
+                           p.samples.size(), p.contact.size());
+      });
+
   const char* predict_doc =
       "[N, 6] wrenches for q [N, num_joints] (rad or m) and gravity [N, 3] (m/s^2, sensor "
       "frame); [6] for single vectors.\n"
@@ -321,6 +432,18 @@ void bind_predict(py::module_& m) {
            py::arg("qd") = py::none(), py::arg("qdd") = py::none(), py::kw_only(),
            py::arg("sensor_motion") = py::none(), py::arg("t") = py::none(),
            py::arg("cutoff") = py::none(), predict_doc)
+      .def(
+          "predict_log",
+          [](const PyPredictor& p, const py::object& data, std::optional<double> cutoff,
+             std::optional<std::vector<double>> root_gravity, bool checks) {
+            return predict_log_of(p.identified, data, cutoff, std::move(root_gravity), checks);
+          },
+          py::arg("data"), py::kw_only(), py::arg("cutoff") = py::none(),
+          py::arg("root_gravity") = py::none(), py::arg("checks") = true,
+          "massid predict on a log (a CSV path, or columns by name): the set-up checks (InputError "
+          "with the CLI's message when they refuse; warnings as MassidWarning), the motion "
+          "filter of a dynamic model's log without JOINT_vel/_acc, the predicted and "
+          "compensated wrench and the contact notes, as a LogPrediction.")
       .def("__call__", &PyPredictor::operator(), py::arg("q"), py::arg("gravity") = py::none(),
            py::arg("qd") = py::none(), py::arg("qdd") = py::none(), py::kw_only(),
            py::arg("sensor_motion") = py::none(), py::arg("t") = py::none(),
@@ -377,6 +500,20 @@ void bind_predict(py::module_& m) {
       "root_gravity: gravity in the URDF root frame (sensor below movable joints). "
       "physical: from the params' physical parameters (identify physical=True), K pi_phys "
       "into the same predictor.");
+
+  m.def(
+      "predict_log",
+      [](const py::object& robot, const py::object& params, const py::object& data,
+         std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity,
+         bool physical, bool checks) {
+        const auto p = make_predictor(robot, params, physical);
+        return predict_log_of(p->identified, data, cutoff, std::move(root_gravity), checks);
+      },
+      py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),
+      py::arg("cutoff") = py::none(), py::arg("root_gravity") = py::none(),
+      py::arg("physical") = false, py::arg("checks") = true,
+      "Predictor(robot, params, physical=physical).predict_log(data, ...): massid predict's "
+      "pipeline on a log, its set-up checks and contact notes included (a LogPrediction).");
 
   m.def(
       "simulate",

@@ -13,6 +13,7 @@
 #include "identify/chi_square.hpp"
 #include "massid/core/base_regressor.hpp"
 #include "massid/core/errors.hpp"
+#include "massid/identify/setup_checks.hpp"
 #include "massid/io/read_samples.hpp"
 
 namespace massid {
@@ -347,6 +348,11 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
       for (int k = 0; k < 6; ++k)
         out.residual_max[k] = std::max(out.residual_max[k], std::abs(residual[6 * i + k]));
   out.condition_number = detail::condition_number(base, all);
+  if (!options.robust && !samples.gravity_from_force && N >= 2) {
+    // Rows an external wrench drives, judged as predict judges them.
+    const Eigen::MatrixXd R = Eigen::Map<const Eigen::MatrixXd>(residual.data(), 6, N).transpose();
+    out.beyond_noise = rows_beyond_noise(samples, R, &out.beyond_noise_threshold);
+  }
   return out;
 }
 

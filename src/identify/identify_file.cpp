@@ -6,6 +6,7 @@
 
 #include "io/csv_stream.hpp"
 #include "massid/identify/rest_windows.hpp"
+#include "massid/identify/setup_checks.hpp"
 #include "massid/identify/streaming.hpp"
 #include "massid/io/csv.hpp"
 #include "massid/io/read_samples.hpp"
@@ -59,6 +60,18 @@ IdentifySummary identify_file(const Model& model, const BaseParameters& base,
   // Implausible residuals: the in-memory fit (the same estimate) names the samples.
   if (largest_residuals_implausible(summary) && small_enough_to_name_samples(path))
     return in_memory();
+  if (small_enough_to_name_samples(path)) {
+    // The rows an external wrench drives hide from the outlier test when they
+    // inflate the fitted noise: judged as predict judges them, from the
+    // residuals of the samples read whole (as the in-memory fit).
+    Samples all = detail::read_file_samples(model, path, INT_MAX, read);
+    if (all.size() >= 2 && !all.gravity_from_force)
+      summary.beyond_noise =
+          rows_beyond_noise(all, all.wrench - fitted_wrenches(model, base, all, summary),
+                            &summary.beyond_noise_threshold);
+    if (samples) *samples = std::move(all);
+    return summary;
+  }
   if (samples) *samples = detail::read_file_samples(model, path, INT_MAX, read);
   return summary;
 }

@@ -63,6 +63,29 @@ std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::stri
            {{Setting::SigmaForce, ""}, {Setting::SigmaMoment, ""}}});
     }
   }
+  // Rows an external wrench drives (contact) that the outlier test does not
+  // flag (they inflate the fitted noise), found by predict's rule: named as
+  // contact, with the robust fit as the fix.
+  if (!s.robust && !s.beyond_noise.empty()) {
+    const std::vector<ContactEpisode> flagged =
+        s.outliers.empty() ? std::vector<ContactEpisode>{}
+                           : find_contact_episodes(s.outliers, s.outlier_threshold);
+    const std::vector<ContactEpisode> hidden =
+        flagged.empty() ? find_contact_episodes(s.beyond_noise, s.beyond_noise_threshold)
+                        : std::vector<ContactEpisode>{};
+    std::string text;
+    for (const ContactEpisode& e : hidden)
+      text +=
+          fmt::format("{}{} (d up to {:.3g})", text.empty() ? "" : ", ", contact_place(e), e.score);
+    if (!hidden.empty())
+      out.push_back(
+          {fmt::format("{}: {} carry an external wrench (contact?): consecutive samples whose "
+                       "residuals lie beyond the noise by each axis' median and robust scale "
+                       "(d above {:.3g}; the fitted noise includes them, so the outlier test "
+                       "does not flag them); they bias the estimate: the robust fit rejects them",
+                       source, text, s.beyond_noise_threshold),
+           {{Setting::Robust, "on"}}});
+  }
   // With gravity along the force the moments carry the force's direction
   // noise, pose by pose: only the per-sample test (which whitens it) judges.
   if (s.outliers.empty() && !s.robust && !(s.per_sample_test && s.gravity_from_force) &&

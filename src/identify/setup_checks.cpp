@@ -1012,6 +1012,50 @@ bool has_error(const std::vector<SetupFinding>& findings) {
                      [](const SetupFinding& f) { return f.severity == Severity::Error; });
 }
 
+std::vector<SetupFinding> SetupVerdict::shown() const {
+  const bool error = refused();
+  std::vector<SetupFinding> out;
+  for (const SetupFinding& f : findings)
+    if (error == (f.severity == Severity::Error)) out.push_back(f);
+  return out;
+}
+
+std::vector<Warning> SetupVerdict::warnings() const {
+  std::vector<Warning> out;
+  if (refused()) return out;
+  for (const SetupFinding& f : findings) out.push_back({f.message, f.hints});
+  return out;
+}
+
+SetupVerdict check_input_setup(const Model& model, const Samples& samples,
+                               const std::vector<std::string>& header, bool motion) {
+  SetupCheckOptions o;
+  o.constant_joints = false;  // a plan may hold a joint still on purpose
+  o.motion = motion;
+  return {check_setup(model, samples, header, o)};
+}
+
+namespace {
+
+std::string refusal_message(const std::vector<SetupFinding>& errors) {
+  std::string out;
+  for (const SetupFinding& f : errors) out += (out.empty() ? "" : "\n") + f.message;
+  return out;
+}
+
+std::vector<Hint> refusal_hints(const std::vector<SetupFinding>& errors) {
+  std::vector<Hint> out;
+  for (const SetupFinding& f : errors)
+    for (const Hint& h : f.hints)
+      if (std::find(out.begin(), out.end(), h) == out.end()) out.push_back(h);
+  return out;
+}
+
+}  // namespace
+
+SetupRefused::SetupRefused(std::vector<SetupFinding> errors)
+    : InputError(refusal_message(errors), refusal_hints(errors)), errors_(std::move(errors)) {}
+
 // --- contact episodes ---------------------------------------------------------
 
 std::vector<ContactEpisode> find_contact_episodes(const std::vector<Outlier>& flagged,
@@ -1040,17 +1084,16 @@ std::vector<ContactEpisode> find_contact_episodes(const std::vector<Outlier>& fl
   return out;
 }
 
-std::vector<ContactEpisode> find_contact_episodes(const Samples& samples,
-                                                  const Eigen::MatrixXd& residual,
-                                                  const ContactOptions& options) {
+namespace {
+
+// The measured wrench's RMS of force and moment over the rows with a finite
+// residual (the residual's own without a measured wrench); NaN with fewer
+// than two such rows.
+Eigen::Vector2d measured_rms(const Samples& samples, const Eigen::MatrixXd& residual) {
   const int N = static_cast<int>(residual.rows());
-  if (N < 2 || residual.cols() != 6 || static_cast<int>(samples.line.size()) != N)
+  if (N < 2 || residual.cols() != 6)
     throw std::invalid_argument(
         "find_contact_episodes: residual must be [N x 6] with one file line per row");
-  // Per axis: median and robust scale of the finite residuals; a floor of
-  // 1e-9 of the measured wrench's RMS of its kind (noise-free data: round-off
-  // is no contact), or of the residual's without a measured wrench.
-  Eigen::Matrix<double, 6, 1> centre, scale;
   double rms[2] = {0.0, 0.0};
   int finite = 0;
   const bool measured = samples.wrench.rows() == N && samples.wrench.cols() == 6;
@@ -1063,34 +1106,90 @@ std::vector<ContactEpisode> find_contact_episodes(const Samples& samples,
       rms[1] += w.tail<3>().squaredNorm();
       ++finite;
     }
-  if (finite < 2) return {};
+  if (finite < 2) return Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  return {std::sqrt(rms[0] / finite), std::sqrt(rms[1] / finite)};
+}
+
+// The rows beyond the noise (d above the threshold), the threshold and each
+// axis' centre (median).
+struct Beyond {
+  std::vector<Outlier> rows;
+  double threshold = 0.0;
+  Eigen::Matrix<double, 6, 1> centre = Eigen::Matrix<double, 6, 1>::Zero();
+};
+
+Beyond beyond_noise(const std::vector<int>& line, const Eigen::MatrixXd& residual,
+                    const Eigen::Vector2d& measured_rms, const ContactOptions& options) {
+  const int N = static_cast<int>(residual.rows());
+  if (N < 2 || residual.cols() != 6 || static_cast<int>(line.size()) != N)
+    throw std::invalid_argument(
+        "find_contact_episodes: residual must be [N x 6] with one file line per row");
+  Beyond out;
+  int finite = 0;
+  for (int i = 0; i < N; ++i)
+    if (residual.row(i).allFinite()) ++finite;
+  if (finite < 2 || !measured_rms.allFinite()) return out;
+  // Per axis: median and robust scale of the finite residuals; a floor of
+  // 1e-9 of the measured wrench's RMS of its kind (noise-free data: round-off
+  // is no contact).
+  Eigen::Matrix<double, 6, 1> scale;
   for (int a = 0; a < 6; ++a) {
     std::vector<double> v;
     for (int i = 0; i < N; ++i)
       if (residual.row(i).allFinite()) v.push_back(residual(i, a));
-    centre[a] = median(v);
-    for (double& x : v) x = std::abs(x - centre[a]);
-    scale[a] = std::max(1.4826 * median(v), 1e-9 * std::sqrt(rms[a / 3] / finite) + 1e-300);
+    out.centre[a] = median(v);
+    for (double& x : v) x = std::abs(x - out.centre[a]);
+    scale[a] = std::max(1.4826 * median(v), 1e-9 * measured_rms[a / 3] + 1e-300);
   }
-  const double threshold = detail::chi_quantile(options.probability / finite, 6);
-  std::vector<Outlier> flagged;
+  out.threshold = detail::chi_quantile(options.probability / finite, 6);
   for (int i = 0; i < N; ++i) {
     if (!residual.row(i).allFinite()) continue;
     const double d =
-        ((residual.row(i).transpose() - centre).array() / scale.array()).matrix().norm();
-    if (d > threshold) flagged.push_back({i, samples.line[i], d});
+        ((residual.row(i).transpose() - out.centre).array() / scale.array()).matrix().norm();
+    if (d > out.threshold) out.rows.push_back({i, line[i], d});
   }
-  std::vector<ContactEpisode> out = find_contact_episodes(flagged, threshold, options);
+  return out;
+}
+
+}  // namespace
+
+std::vector<Outlier> rows_beyond_noise(const Samples& samples, const Eigen::MatrixXd& residual,
+                                       double* threshold, const ContactOptions& options) {
+  // Samples without file lines (built in memory): the row indices.
+  std::vector<int> index;
+  if (samples.line.empty()) {
+    index.resize(static_cast<size_t>(residual.rows()));
+    std::iota(index.begin(), index.end(), 0);
+  }
+  Beyond b = beyond_noise(samples.line.empty() ? index : samples.line, residual,
+                          measured_rms(samples, residual), options);
+  if (threshold) *threshold = b.threshold;
+  return std::move(b.rows);
+}
+
+std::vector<ContactEpisode> find_contact_episodes(const std::vector<int>& line,
+                                                  const Eigen::MatrixXd& residual,
+                                                  const Eigen::Vector2d& measured_rms,
+                                                  const ContactOptions& options) {
+  const Beyond b = beyond_noise(line, residual, measured_rms, options);
+  if (b.threshold == 0.0) return {};
+  std::vector<ContactEpisode> out = find_contact_episodes(b.rows, b.threshold, options);
   for (ContactEpisode& e : out) {
     e.force = e.moment = 0.0;
     for (int i = e.first; i <= e.last; ++i) {
       if (!residual.row(i).allFinite()) continue;
-      const Wrench w = residual.row(i).transpose() - centre;
+      const Wrench w = residual.row(i).transpose() - b.centre;
       e.force = std::max(e.force, w.head<3>().norm());
       e.moment = std::max(e.moment, w.tail<3>().norm());
     }
   }
   return out;
+}
+
+std::vector<ContactEpisode> find_contact_episodes(const Samples& samples,
+                                                  const Eigen::MatrixXd& residual,
+                                                  const ContactOptions& options) {
+  return find_contact_episodes(samples.line, residual, measured_rms(samples, residual), options);
 }
 
 std::string contact_place(const ContactEpisode& e) {

@@ -179,6 +179,9 @@ Compensator& Compensator::operator=(Compensator&&) noexcept = default;
 const std::string& Compensator::output_header() const { return impl_->header; }
 const std::string& Compensator::note() const { return impl_->note; }
 const Wrench& Compensator::compensated() const { return impl_->compensated; }
+Eigen::Map<const Wrench> Compensator::measured() const {
+  return Eigen::Map<const Wrench>(impl_->values.data() + impl_->columns.wrench);
+}
 
 std::string_view Compensator::compensate(std::string_view line, int line_no) {
   Impl& m = *impl_;

@@ -96,6 +96,15 @@ struct IdentifySummary {
   // False for a streamed fit (streaming.hpp): no per-sample residuals, so the
   // test run was largest_residuals_implausible; outliers is then empty.
   bool per_sample_test = false;
+  // Without the robust fit: the rows whose residual lies beyond the noise
+  // by the rule of contact (find_contact_episodes, setup_checks.hpp: each axis
+  // standardised by the residual's own median and robust scale, so rows that
+  // an external wrench drives stand out even where they inflate the fitted
+  // noise and hide from the outlier test), with the d they exceed. Filled
+  // where the per-sample residuals are at hand (in memory; a streamed static
+  // file of at most 64 MB re-read); empty otherwise. Not recorded in files.
+  std::vector<Outlier> beyond_noise;
+  double beyond_noise_threshold = 0.0;
   bool robust = false;
   // Drift unknowns beyond the base parameters and offsets: names, values, std.
   Drift drift = Drift::None;

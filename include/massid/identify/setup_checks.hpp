@@ -94,6 +94,38 @@ std::vector<SetupFinding> check_setup_file(const Model& model, const std::string
 
 bool has_error(const std::vector<SetupFinding>& findings);
 
+// The verdict of the checks on a file a command reads besides identify's data
+// (simulate's plan, predict's log, design's evaluated plan): refused when a
+// finding is an error.
+struct SetupVerdict {
+  std::vector<SetupFinding> findings;  // in check_setup's order
+  bool refused() const { return has_error(findings); }
+  // What a door shows: with an error the errors alone (each on its own line),
+  // else the warnings.
+  std::vector<SetupFinding> shown() const;
+  // The warnings with their hints (empty when refused).
+  std::vector<Warning> warnings() const;
+};
+
+// check_setup for such a file: joints that never move are not reported (a
+// plan may hold a joint still on purpose); `motion`: a log in motion (no
+// force-against-gravity checks). `header` as check_setup's.
+SetupVerdict check_input_setup(const Model& model, const Samples& samples,
+                               const std::vector<std::string>& header, bool motion);
+
+// A refusing verdict as an error: the message is the errors' messages, one
+// per line (a single error: its message, as a door prints it), the hints
+// theirs (skipping the checks among them). errors(): the findings, for a door
+// that prints each on its own line.
+class SetupRefused : public InputError {
+ public:
+  explicit SetupRefused(std::vector<SetupFinding> errors);
+  const std::vector<SetupFinding>& errors() const noexcept { return errors_; }
+
+ private:
+  std::vector<SetupFinding> errors_;
+};
+
 // The rows of a file that a robust fit of f_i = A g_i + b (any wiring, any
 // offset) leaves beyond the noise, in Samples order: what the wiring checks
 // set aside. Empty when the force is not comparable with gravity (no wrench,
@@ -130,6 +162,21 @@ struct ContactOptions {
 std::vector<ContactEpisode> find_contact_episodes(const Samples& samples,
                                                   const Eigen::MatrixXd& residual,
                                                   const ContactOptions& options = {});
+
+// The same from a stream (compensate): the file line of each residual row
+// and the measured wrench's RMS of force (N) and moment (N m) over the rows,
+// the floor of each axis' scale (noise-free data: round-off is no contact).
+// With the samples' lines and wrench, the same episodes as above.
+std::vector<ContactEpisode> find_contact_episodes(const std::vector<int>& line,
+                                                  const Eigen::MatrixXd& residual,
+                                                  const Eigen::Vector2d& measured_rms,
+                                                  const ContactOptions& options = {});
+
+// The rows that rule finds beyond the noise, before they are grouped
+// (identify without the robust fit: IdentifySummary::beyond_noise); threshold
+// receives the d they exceed (0 when fewer than two rows are finite).
+std::vector<Outlier> rows_beyond_noise(const Samples& samples, const Eigen::MatrixXd& residual,
+                                       double* threshold, const ContactOptions& options = {});
 
 // From rows an outlier test already flagged (identify: IdentifySummary::outliers,
 // with its threshold): the same grouping rule; force and moment NaN.

@@ -83,6 +83,8 @@ class Compensator {
 
   // The last good line's compensated wrench, fx..mz.
   const Wrench& compensated() const;
+  // The last good line's measured wrench, fx..mz (valid until the next call).
+  Eigen::Map<const Wrench> measured() const;
 
  private:
   struct Impl;

@@ -1,0 +1,66 @@
+#include "massid/identify/predict_log.hpp"
+
+#include <utility>
+
+#include "massid/io/read_samples.hpp"
+
+namespace massid {
+
+namespace {
+
+// The rows of `table` at the given file lines (in order).
+CsvTable keep_lines(CsvTable table, const std::vector<int>& lines) {
+  CsvTable out = std::move(table);
+  std::vector<std::vector<std::string>> rows;
+  std::vector<int> kept;
+  size_t k = 0;
+  for (int r = 0; r < out.num_rows() && k < lines.size(); ++r)
+    if (out.line[r] == lines[k]) {
+      rows.push_back(std::move(out.rows[r]));
+      kept.push_back(out.line[r]);
+      ++k;
+    }
+  out.rows = std::move(rows);
+  out.line = std::move(kept);
+  out.column_offset.clear();
+  return out;
+}
+
+}  // namespace
+
+LogPrediction predict_log(const IdentifiedModel& identified, CsvTable table,
+                          const std::string& source, const PredictLogOptions& options) {
+  const Model& model = identified.model();
+  LogPrediction out;
+  out.source = source;
+  const bool motion = identified.dynamic();
+  Samples samples = read_samples(model, table, WrenchColumns::Optional, options.motion.samples);
+  if (options.checks) {
+    out.setup = check_input_setup(model, samples, table.header, motion);
+    if (options.on_verdict) options.on_verdict(out.setup);
+    if (out.setup.refused()) throw SetupRefused(out.setup.shown());
+  }
+  if (motion) {
+    // The full wrench, weight and motion, from the dynamic base parameters.
+    MotionDataOptions mopts = options.motion;
+    mopts.filter.decimation = 1;  // a prediction for every row the filter keeps
+    samples = prepare_motion_samples(model, std::move(samples), mopts, &out.motion);
+    if (out.motion.derived) table = keep_lines(std::move(table), samples.line);
+  }
+  // The mechanism's wrench alone (_pred); what the sensor reads adds the offset.
+  IdentifiedModelData data(identified);
+  out.predicted = identified.predict_samples(data, samples);
+  if (samples.has_wrench()) {
+    out.compensated = identified.compensate_rows(samples.wrench, out.predicted);
+    // Rows that carry an external wrench (contact), against what the sensor reads.
+    const Eigen::MatrixXd reading = identified.sensor_reading_rows(out.predicted);
+    if (samples.size() >= 2)
+      out.contact = find_contact_episodes(samples, samples.wrench - reading, options.contact);
+    for (const ContactEpisode& e : out.contact) out.notes.push_back(contact_note(source, e));
+  }
+  out.samples = std::move(samples);
+  out.table = std::move(table);
+  return out;
+}
+
+}  // namespace massid

@@ -1,0 +1,121 @@
+"""massid.predict_log and Predictor.predict_log: massid predict's pipeline from Python.
+
+Both doors run the one library pipeline (predict_log.hpp), so on the same log they
+name the same contact rows with the same text, refuse a wrong wiring with the same
+message, and write the same compensated wrench. The contact rows are the ones planted
+here (an external force on a known block of rows), not read back from either door.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from conftest import AXES, REPO, massid_cli, write_csv
+
+UR = REPO / "examples" / "ur_like" / "ur_like.urdf"
+UR_PLAN = REPO / "examples" / "ur_like" / "plan.csv"
+FIRST, LAST = 80, 139  # data rows carrying the contact (0-based): file lines 82-141
+FORCE = np.array([12.0, -8.0, 15.0])  # N, in the sensor frame
+POINT = np.array([0.2, 0.1, 0.6])  # m, where it acts
+
+
+def run(*args: Any) -> subprocess.CompletedProcess:
+    return subprocess.run([massid_cli(), *map(str, args)], capture_output=True, text=True)
+
+
+@pytest.fixture(scope="module")
+def logs(massid: Any, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """The UR-like arm's plan simulated 4 times per pose with noise and an offset (clean),
+    its params identified from it, the same log with a contact on rows FIRST..LAST, and
+    the clean log with fz negated (a sign-flipped channel)."""
+    d = tmp_path_factory.mktemp("predict_log")
+    clean = massid.simulate(str(UR), str(UR_PLAN), noise_force=0.05, noise_moment=0.005,
+                            sensor_offset=[1.0, -2.0, 3.5, 0.1, -0.2, 0.3], seed=5, repeat=4)
+    out = {"clean": write_csv(d / "clean.csv", clean)}
+    massid.identify(str(UR), str(out["clean"]), offset=True).save(d / "params.json")
+    out["params"] = d / "params.json"
+    contact = {k: np.array(v, dtype=float) for k, v in clean.items()}
+    moment = np.cross(POINT, FORCE)
+    for k in range(3):
+        contact[AXES[k]][FIRST:LAST + 1] += FORCE[k]
+        contact[AXES[3 + k]][FIRST:LAST + 1] += moment[k]
+    out["contact"] = write_csv(d / "contact.csv", contact)
+    flipped = dict(clean)
+    flipped["fz"] = -np.asarray(clean["fz"])
+    out["flipped"] = write_csv(d / "flipped.csv", flipped)
+    return out
+
+
+def place(text: str) -> list[tuple[int, int, int]]:
+    """(first line, last line, rows) of every "lines A-B (n rows)" in text."""
+    return [tuple(map(int, m)) for m in re.findall(r"lines (\d+)-(\d+) \((\d+) rows\)", text)]
+
+
+def test_cli_and_python_name_the_same_contact_lines(massid: Any, logs: dict[str, Path],
+                                                    tmp_path: Path) -> None:
+    cli = run("predict", UR, logs["params"], logs["contact"], "-o", tmp_path / "pred.csv")
+    assert cli.returncode == 0, cli.stderr
+    notes = [line[len("massid: note: "):] for line in cli.stderr.splitlines()
+             if line.startswith("massid: note: ")]
+    py = massid.predict_log(str(UR), str(logs["params"]), str(logs["contact"]))
+    # The planted rows, as file lines (header on line 1).
+    planted = [(FIRST + 2, LAST + 2, LAST - FIRST + 1)]
+    assert place("\n".join(notes)) == planted, cli.stderr
+    assert place("\n".join(py.notes)) == planted, py.notes
+    assert py.notes == notes  # the same text at both doors
+    assert [(c["first_line"], c["last_line"], c["rows"]) for c in py.contact] == planted
+    # The compensated wrench the CLI wrote, to the bit, and the planted wrench in it.
+    written = massid.read_csv(tmp_path / "pred.csv")
+    comp = np.column_stack([written[a + "_comp"] for a in AXES])
+    assert py.compensated is not None
+    np.testing.assert_array_equal(py.compensated, comp)
+    np.testing.assert_array_equal(py.predicted, np.column_stack([written[a + "_pred"] for a in AXES]))
+    assert py.lines == list(range(2, 2 + comp.shape[0]))
+    inside = py.compensated[FIRST:LAST + 1, :3] - py.compensated[:FIRST, :3].mean(axis=0)
+    assert np.abs(inside - FORCE).max() < 0.3
+    # A Predictor gives the same; the clean log has no contact.
+    pred = massid.Predictor(str(UR), str(logs["params"]))
+    assert pred.predict_log(str(logs["contact"])).notes == py.notes
+    assert pred.predict_log(str(logs["clean"])).notes == []
+
+
+def test_cli_and_python_refuse_a_flipped_channel_with_the_same_message(
+        massid: Any, logs: dict[str, Path], tmp_path: Path) -> None:
+    cli = run("predict", UR, logs["params"], logs["flipped"], "-o", tmp_path / "p.csv")
+    assert cli.returncode == 2, cli.stderr
+    assert not (tmp_path / "p.csv").exists()
+    with pytest.raises(massid.InputError) as e:
+        massid.predict_log(str(UR), str(logs["params"]), str(logs["flipped"]))
+    # The library's message (the hints spelled by each door: --no-checks, checks=False).
+    assert "'fz' is negated" in e.value.message
+    errors = [line for line in cli.stderr.splitlines() if line.startswith("massid: error: ")]
+    assert len(errors) == 1, cli.stderr
+    assert errors[0].startswith("massid: error: " + e.value.message + " ("), (errors, e.value.message)
+    assert "--no-checks" in errors[0] and "checks=False" in str(e.value)
+    with pytest.raises(massid.InputError) as again:
+        massid.Predictor(str(UR), str(logs["params"])).predict_log(str(logs["flipped"]))
+    assert again.value.message == e.value.message
+    # Without the checks, as predict --no-checks: predicted as it is.
+    nochecks = run("predict", UR, logs["params"], logs["flipped"], "--no-checks", "-o",
+                   tmp_path / "n.csv")
+    assert nochecks.returncode == 0, nochecks.stderr
+    p = massid.predict_log(str(UR), str(logs["params"]), str(logs["flipped"]), checks=False)
+    written = massid.read_csv(tmp_path / "n.csv")
+    np.testing.assert_array_equal(p.compensated,
+                                  np.column_stack([written[a + "_comp"] for a in AXES]))
+
+
+def test_columns_by_name_give_the_file_s_prediction(massid: Any, logs: dict[str, Path]) -> None:
+    columns = massid.read_csv(str(logs["contact"]))
+    by_name = massid.predict_log(str(UR), str(logs["params"]), columns)
+    from_file = massid.predict_log(str(UR), str(logs["params"]), str(logs["contact"]))
+    np.testing.assert_array_equal(by_name.predicted, from_file.predicted)
+    # Rows are numbered from 0 for columns by name: the file's lines minus 2.
+    assert [(c["first_line"], c["last_line"]) for c in by_name.contact] == [(FIRST, LAST)]
+    assert by_name.notes[0].startswith("data: lines ")
