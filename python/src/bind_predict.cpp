@@ -10,6 +10,7 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 #include "hints.hpp"
+#include "io/atomic_file.hpp"
 #include "massid/core/base_regressor.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/motion_predictor.hpp"

@@ -18,11 +18,16 @@ namespace {
 // A streamed log whose largest residuals are implausible is re-read whole to
 // name its samples when it is at most 64 MB (about 250 000 rows; the dense fit
 // then needs a few hundred MB, and only then).
-bool small_enough_to_name_samples(const std::string& path) {
+bool small_enough_to_name_samples(const std::string& path, std::uintmax_t limit = 64u << 20) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
-  return !ec && size <= (64u << 20);
+  return !ec && size <= limit;
 }
+
+// A plain streamed fit looks for contact (rows an external wrench drives)
+// in logs up to 8 MB (about 30 000 rows): reading one whole costs about as
+// much again as the streamed fit there, and far more above (use --robust).
+constexpr std::uintmax_t kContactScanBytes = 8u << 20;
 
 // A log recorded while the robot moved from pose to pose: its head (the
 // first kContinuousHeadRows rows) has moving rows (rest_windows.hpp).
@@ -60,7 +65,7 @@ IdentifySummary identify_file(const Model& model, const BaseParameters& base,
   // Implausible residuals: the in-memory fit (the same estimate) names the samples.
   if (largest_residuals_implausible(summary) && small_enough_to_name_samples(path))
     return in_memory();
-  if (small_enough_to_name_samples(path)) {
+  if (small_enough_to_name_samples(path, kContactScanBytes)) {
     // The rows an external wrench drives hide from the outlier test when they
     // inflate the fitted noise: judged as predict judges them, from the
     // residuals of the samples read whole (as the in-memory fit).
