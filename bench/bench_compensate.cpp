@@ -56,8 +56,9 @@ void time_compensate(benchmark::State& state, bool motion) {
   if (motion) options.layout = ParameterLayout::full();
   const BaseParameters base = find_base_parameters(model, options);
   const std::vector<std::string> lines = stream_lines(model, motion);
-  Compensator comp(model, base, Eigen::VectorXd::Constant(base.num_unknowns(), 0.1), lines[0],
-                   "bench");
+  Compensator comp(IdentifiedModel::from_values(
+                       model, base, Eigen::VectorXd::Constant(base.num_unknowns(), 0.1)),
+                   lines[0], "bench");
   std::size_t i = 0, bytes = 0;
   for (auto _ : state) {
     const std::string_view out = comp.compensate(lines[1 + i], static_cast<int>(i + 2));

@@ -6,9 +6,9 @@
 
 #include "fuzz_support.hpp"
 #include "massid/core/base_parameters.hpp"
-#include "massid/core/predictor.hpp"
 #include "massid/io/params_file.hpp"
 #include "massid/io/urdf.hpp"
+#include "massid/live/identified_model.hpp"
 
 using namespace massid;
 
@@ -22,10 +22,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     fuzz::expect_clean("predict with the params", [&] {
       const Model model = hold_joints(
           load_urdf_string(robot.urdf_text, params.sensor_link, robot.name + ".urdf"), params.held);
-      const Predictor predictor = compile_predictor(model, params);
-      PredictorData scratch_data(predictor);
+      const IdentifiedModel identified = IdentifiedModel::from_params(model, params);
+      IdentifiedModelData scratch_data(identified);
       const Eigen::VectorXd q = Eigen::VectorXd::Constant(model.num_joints(), 0.3);
-      const Wrench w = predict(predictor, scratch_data, q, Eigen::Vector3d(0.0, 0.0, -9.81));
+      const Wrench w =
+          identified.predict_gravity(scratch_data, q, Eigen::Vector3d(0.0, 0.0, -9.81));
       (void)w;
     });
   }

@@ -148,7 +148,9 @@ TEST_P(NoAllocation, CompensateLine) {
         for (int c = 0; c < values; ++c) line += (c ? "," : "") + format_number(u(rng));
         lines.push_back(line);
       }
-      Compensator comp(model, base, Eigen::VectorXd::Ones(base.num_unknowns()), header, "test");
+      Compensator comp(
+          IdentifiedModel::from_values(model, base, Eigen::VectorXd::Ones(base.num_unknowns())),
+          header, "test");
       comp.compensate(lines[0], 2);  // the output buffer holds a line
       const long before = allocations();
       std::size_t bytes = 0;

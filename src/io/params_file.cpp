@@ -198,9 +198,4 @@ BaseParameterOptions base_parameter_options(const ParamsFile& params) {
   return options;
 }
 
-Predictor compile_predictor(const Model& model, const ParamsFile& params) {
-  const BaseParameters base = find_base_parameters(model, base_parameter_options(params));
-  return compile_predictor(model, base, values_in_basis(params, model, base));
-}
-
 }  // namespace massid

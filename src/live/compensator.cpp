@@ -79,15 +79,6 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   init(identified, text, source, options);
 }
 
-Compensator::Compensator(const Model& model, const ParamsFile& params, std::string_view text,
-                         const std::string& source, const CompensatorOptions& options)
-    : Compensator(IdentifiedModel::from_params(model, params), text, source, options) {}
-
-Compensator::Compensator(const Model& model, const BaseParameters& base,
-                         const Eigen::Ref<const Eigen::VectorXd>& values, std::string_view text,
-                         const std::string& source, const CompensatorOptions& options)
-    : Compensator(IdentifiedModel::from_values(model, base, values), text, source, options) {}
-
 void Compensator::init(const IdentifiedModel& identified, std::string_view text,
                        const std::string& source, const CompensatorOptions& options) {
   Impl& m = *impl_;

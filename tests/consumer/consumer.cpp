@@ -7,32 +7,29 @@
 #include <cstdio>
 #include <exception>
 #include <massid/core/model.hpp>
-#include <massid/core/predictor.hpp>
 #include <massid/core/samples.hpp>
 #include <massid/io/csv.hpp>
-#include <massid/io/params_file.hpp>
+#include <massid/io/read_samples.hpp>
+#include <massid/live/identified_model.hpp>
 #include <massid/version.hpp>
-
-#include "massid/io/read_samples.hpp"
-#include "massid/io/urdf.hpp"
-
 int main(int argc, char** argv) {
   if (argc != 4) {
     std::fprintf(stderr, "usage: consumer ROBOT.urdf PARAMS.json MEASUREMENTS.csv\n");
     return 2;
   }
   try {
-    const massid::ParamsFile params = massid::read_params(argv[2]);
-    const massid::Model model =
-        massid::hold_joints(massid::load_urdf(argv[1], params.sensor_link), params.held);
-    const massid::Predictor predictor = massid::compile_predictor(model, params);
-    massid::PredictorData data(predictor);
+    // The identified model every door of massid uses: the URDF loaded as the
+    // params file says, its base parameters, values, offset and predictor.
+    const massid::IdentifiedModel identified = massid::IdentifiedModel::load(argv[1], argv[2]);
+    massid::IdentifiedModelData data(identified);
+    const massid::Model& model = identified.model();
     const massid::Samples samples =
         massid::read_samples(model, massid::read_csv(argv[3]), massid::WrenchColumns::Required);
     double worst = 0.0, range = 0.0;
     for (int i = 0; i < samples.size(); ++i) {
-      const massid::Wrench w = massid::predict(predictor, data, samples.q.row(i).transpose(),
-                                               samples.gravity.row(i).transpose());
+      const Eigen::VectorXd q = samples.q.row(i).transpose();
+      const Eigen::Vector3d g = samples.gravity.row(i).transpose();
+      const massid::Wrench w = identified.sensor_reading(identified.predict_gravity(data, q, g));
       worst = std::max(worst, (w - samples.wrench.row(i).transpose()).cwiseAbs().maxCoeff());
       range = std::max(range, samples.wrench.row(i).cwiseAbs().maxCoeff());
     }

@@ -74,9 +74,4 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
 Eigen::VectorXd physical_values_in_basis(const ParamsFile& params, const Model& model,
                                          const BaseParameters& base);
 
-// The predictor of the file's values for `model`, the URDF loaded at the
-// file's sensor link with its held joints: the file's basis (offsets
-// included) mapped by values_in_basis, then compile_predictor.
-Predictor compile_predictor(const Model& model, const ParamsFile& params);
-
 }  // namespace massid

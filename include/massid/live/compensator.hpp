@@ -45,23 +45,12 @@ class Compensator {
   // static or dynamic; its compensate() gives fx_comp..mz_comp). `text` ends
   // with the header line, the lines before it blank or comments (they count
   // for line numbers); `source` names the stream in messages ("stdin").
-  // InputError naming the column, as below.
+  // InputError naming the column: a joint or wrench column missing, part of
+  // a group, no gravity, a fx_comp..mz_comp column already there, or a
+  // dynamic model without JOINT_vel and JOINT_acc. (From a params file:
+  // IdentifiedModel::load or from_params; from values: from_values.)
   Compensator(const IdentifiedModel& identified, std::string_view text, const std::string& source,
               const CompensatorOptions& options = {});
-  // Binds the stream's header. `text` ends with the header line, the lines
-  // before it blank or comments (they count for line numbers); `source` names
-  // the stream in messages ("stdin"). `model` is the URDF loaded as the params
-  // file says (load_urdf with params.sensor_link, hold_joints with
-  // params.held). InputError naming the column: a joint or wrench column
-  // missing, part of a group, no gravity, a fx_comp..mz_comp column already
-  // there, or a dynamic params file without JOINT_vel and JOINT_acc.
-  Compensator(const Model& model, const ParamsFile& params, std::string_view text,
-              const std::string& source, const CompensatorOptions& options = {});
-  // The same from base parameters and their values (the six offsets last when
-  // base.offset): a motion base (base.motion()) predicts in motion.
-  Compensator(const Model& model, const BaseParameters& base,
-              const Eigen::Ref<const Eigen::VectorXd>& values, std::string_view text,
-              const std::string& source, const CompensatorOptions& options = {});
   ~Compensator();
   Compensator(Compensator&&) noexcept;
   Compensator& operator=(Compensator&&) noexcept;
