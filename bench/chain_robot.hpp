@@ -4,6 +4,8 @@
 // and loaded like any URDF.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -19,7 +21,9 @@ inline std::string chain_urdf_text(int joints) {
                   "value=\"2\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" "
                   "izz=\"0.01\"/></inertial></link>\n";
   for (int j = 1; j <= joints; ++j) {
-    const std::string p = "l" + std::to_string(j - 1), c = "l" + std::to_string(j);
+    // (fmt, not "l" + std::to_string: GCC 12's -Wrestrict at -O3 misreads
+    // operator+(const char*, string&&).)
+    const std::string p = fmt::format("l{}", j - 1), c = fmt::format("l{}", j);
     x += "  <joint name=\"j" + std::to_string(j) + "\" type=\"revolute\"><parent link=\"" + p +
          "\"/><child link=\"" + c + "\"/><origin xyz=\"0 0 " + (j == 1 ? "0.05" : "0.15") +
          "\" rpy=\"0 0 0\"/><axis xyz=\"" + (j % 2 ? "0 0 1" : "0 1 0") +

@@ -151,9 +151,9 @@ TEST(Identification, StaticLogIsTheInMemoryFitAndItsRecordGivesItBackBitForBit) 
   EXPECT_EQ(lean.fitted.size(), 0);
 }
 
-TEST(Identification, MotionLogFromPositionsRoundTripsWithItsFilter) {
-  const test::Example ex = test::examples()[1];
-  const Model model = load_urdf(ex.urdf);
+// A noisy motion log of the second example with positions and t only (the
+// filter derives velocities and accelerations).
+Samples positions_only_motion_log(const Model& model) {
   Samples s = sample_trajectory(random_fourier_trajectory(model, 4, 5.0, 7), 10.0, 200.0,
                                 Eigen::Vector3d(0, 0, -kStandardGravity));
   SimulateOptions so;
@@ -161,8 +161,15 @@ TEST(Identification, MotionLogFromPositionsRoundTripsWithItsFilter) {
   so.noise_force = 0.05;
   so.noise_moment = 0.005;
   s.wrench = simulate_wrenches(model, s, so);
-  s.qd.resize(0, 0);  // positions and t only: the filter derives the rest
+  s.qd.resize(0, 0);
   s.qdd.resize(0, 0);
+  return s;
+}
+
+TEST(Identification, MotionLogFromPositionsRoundTripsWithItsFilter) {
+  const test::Example ex = test::examples()[1];
+  const Model model = load_urdf(ex.urdf);
+  const Samples s = positions_only_motion_log(model);
   const std::string log = write_log("motion.csv", model, s);
   IdentifyRequest request;
   request.offset = true;
@@ -467,15 +474,7 @@ TEST(IdentifyRequest, FileAndMemoryGiveTheSameNumbersOnAStaticLog) {
 TEST(IdentifyRequest, FileAndMemoryGiveTheSameNumbersOnAMotionLog) {
   const test::Example ex = test::examples()[1];
   const Model model = load_urdf(ex.urdf);
-  Samples s = sample_trajectory(random_fourier_trajectory(model, 4, 5.0, 7), 10.0, 200.0,
-                                Eigen::Vector3d(0, 0, -kStandardGravity));
-  SimulateOptions so;
-  so.dynamic = true;
-  so.noise_force = 0.05;
-  so.noise_moment = 0.005;
-  s.wrench = simulate_wrenches(model, s, so);
-  s.qd.resize(0, 0);  // positions and t only: the filter derives the rest
-  s.qdd.resize(0, 0);
+  const Samples s = positions_only_motion_log(model);
   const std::string log = write_log("request_motion.csv", model, s);
   IdentifyRequest request;
   request.offset = true;
