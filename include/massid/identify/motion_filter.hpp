@@ -162,9 +162,12 @@ class MotionFilter {
 // gravity, sensor_motion (if present) and wrench smoothed, time/line/block of
 // the kept (centre) samples, edge samples dropped, decimated;
 // derivatives_filtered = true. Requires samples.time. Velocities and
-// accelerations that the input already has (qd present; qd_upstream present)
-// are smoothed alike, not re-derived. The sample period is the median step of
-// t. Blocks are filtered separately (see above). `used` receives the kernels.
+// accelerations that the input already has (qd present; qd_upstream present,
+// or the sensor's motion with qd) are smoothed alike, not re-derived. The
+// sample period is the median step of t. Blocks are filtered separately (see
+// above). `used` receives the kernels. It runs the motion row pipeline
+// (src/identify/motion_pipeline.hpp) over the samples: the code that filters
+// a streamed file, so the two give the same rows.
 // InputError (naming source:line) for: fewer than 2 samples, no t, repeated or
 // decreasing t, non-uniform t or a gap, a log (block) shorter than the kernel,
 // cutoff at or above the Nyquist limit, decimation < 0.
