@@ -9,7 +9,6 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "core/median.hpp"
 #include "massid/core/errors.hpp"
 
 namespace massid {

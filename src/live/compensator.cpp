@@ -76,11 +76,6 @@ Eigen::Vector3d Compensator::Impl::gravity(FrameMotion& sensor) const {
 Compensator::Compensator(const IdentifiedModel& identified, std::string_view text,
                          const std::string& source, const CompensatorOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  init(identified, text, source, options);
-}
-
-void Compensator::init(const IdentifiedModel& identified, std::string_view text,
-                       const std::string& source, const CompensatorOptions& options) {
   Impl& m = *impl_;
   m.identified = identified;
   const Model& model = identified.model();

@@ -78,8 +78,6 @@ class Compensator {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  void init(const IdentifiedModel& identified, std::string_view text, const std::string& source,
-            const CompensatorOptions& options);
 };
 
 }  // namespace massid
