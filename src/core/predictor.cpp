@@ -109,17 +109,19 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
   pred.four_lanes = detail::cpu_has_avx2();
   // The joint stage's lanes, padded to a multiple of four with theta = 0.
   const std::size_t lanes = (pred.steps.size() + 3) / 4 * 4;
+  // theta = scale q + offset for a revolute joint (q's mimic map), 0 q + 0 for a
+  // prismatic one and past n.
   pred.lane_joint.assign(lanes, 0);
-  pred.lane_revolute.assign(lanes, 0.0);
-  pred.lane_scale.assign(lanes, 1.0);
+  pred.lane_scale.assign(lanes, 0.0);
   pred.lane_offset.assign(lanes, 0.0);
   for (std::size_t k = 0; k < pred.steps.size(); ++k) {
     const GravityBody& b = bodies[order[k + 1]];
     pred.lane_joint[k] = b.joint;
-    pred.lane_revolute[k] = b.type == JointType::Revolute ? 1.0 : 0.0;
+    if (b.type != JointType::Revolute) continue;
     pred.lane_scale[k] = b.joint_scale;
     pred.lane_offset[k] = b.joint_offset;
   }
+  pred.num_gathered = 4 * static_cast<int>(pred.first_moment.size());
   out.plan = std::move(plan);
   return out;
 }
@@ -136,7 +138,7 @@ void check_data(const char* function, const PredictorPlan& plan, const Predictor
                      static_cast<Eigen::Index>(plan.lane_joint.size()),
                      "the predictor's joint lanes: a workspace made for another model");
   detail::check_size(function, "data.gathered", static_cast<Eigen::Index>(data.gathered.size()),
-                     static_cast<Eigen::Index>(4 * plan.first_moment.size()),
+                     plan.num_gathered,
                      "four per body: a workspace made for another model");
   detail::check_size(function, "data.cos", static_cast<Eigen::Index>(data.cos.size()),
                      static_cast<Eigen::Index>(plan.lane_joint.size()),
@@ -149,7 +151,7 @@ PredictorData::PredictorData(const Predictor& predictor) {
   const PredictorPlan& plan = plan_of("PredictorData", predictor);
   sin.assign(plan.lane_joint.size(), 0.0);
   cos.assign(plan.lane_joint.size(), 1.0);
-  gathered.assign(4 * plan.first_moment.size(), 0.0);
+  gathered.assign(plan.num_gathered, 0.0);
 }
 
 namespace {
@@ -166,13 +168,12 @@ template <class V>
   constexpr int kLanes = sizeof(V) / sizeof(double);
   const int lanes = static_cast<int>(data.sin.size());
   const int* joint = pred.lane_joint.data();
-  const double* revolute = pred.lane_revolute.data();
   const double* scale = pred.lane_scale.data();
   const double* offset = pred.lane_offset.data();
   for (int i = 0; i < lanes; i += kLanes) {
     V theta, s, c;
     for (int l = 0; l < kLanes; ++l)
-      theta[l] = revolute[i + l] * (scale[i + l] * q[joint[i + l] * q_stride] + offset[i + l]);
+      theta[l] = scale[i + l] * q[joint[i + l] * q_stride] + offset[i + l];
     detail::sincos_lanes(theta, s, c);
     std::memcpy(data.sin.data() + i, &s, sizeof s);
     std::memcpy(data.cos.data() + i, &c, sizeof c);
@@ -180,7 +181,10 @@ template <class V>
 }
 
 // H(q) by the backward recursion of the header, two lanes: rows 0 and 1 of a
-// 3-vector share one register, row 2 is a scalar.
+// 3-vector share one register, row 2 is a scalar. Both paths run it: S's x and
+// y are broadcast in-lane (one cycle), where a four-lane S (x, y, z, 0) needs
+// lane-crossing broadcasts on the dependent chain, 10 % slower on the whole
+// call (docs/performance.md).
 [[gnu::always_inline]] inline Eigen::Vector3d recursion2(const PredictorPlan& pred,
                                                          PredictorData& data, const double* q,
                                                          Eigen::Index q_stride) {
@@ -233,51 +237,11 @@ Eigen::Vector3d first_moment_two_lanes(const PredictorPlan& pred, PredictorData&
 }
 
 #if MASSID_X86
-using detail::Lanes4;
-
-// The same recursion, four lanes: a 3-vector (and a zero) in one register.
-// Every lane computes what recursion2 computes, in the same order.
-[[gnu::always_inline]] inline Eigen::Vector3d recursion4(const PredictorPlan& pred,
-                                                         PredictorData& data, const double* q,
-                                                         Eigen::Index q_stride) {
-  const int n = static_cast<int>(pred.steps.size());
-  const PredictorStep* steps = pred.steps.data();
-  const double* sines = data.sin.data();
-  const double* cosines = data.cos.data();
-  double* gathered = data.gathered.data();
-  const Eigen::Vector3d& last = pred.first_moment.back();
-  Lanes4 S{last.x(), last.y(), last.z(), 0.0};
-  for (int k = n; k >= 1; --k) {
-    const PredictorStep& s = steps[k - 1];
-    const Lanes4 c = splat<Lanes4>(cosines[k - 1]), sn = splat<Lanes4>(sines[k - 1]);
-    const double d = s.slide * (s.joint_scale * q[s.joint * q_stride] + s.joint_offset);
-    const Lanes4 a0 = load<Lanes4>(s.axes[0]), a1 = load<Lanes4>(s.axes[1]);
-    const Lanes4 a2 = load<Lanes4>(s.axes[2]);
-    const Lanes4 b0 = a0 * c + a1 * sn, b1 = a1 * c - a0 * sn;
-    Lanes4 p = load<Lanes4>(s.constant) + splat<Lanes4>(d) * a2;
-    double* g = gathered + 4 * s.parent;
-    if (s.gathers) {
-      p += load<Lanes4>(g);
-      std::memset(g, 0, 4 * sizeof(double));
-    }
-    const Lanes4 t =
-        (b0 * splat<Lanes4>(S[0]) + b1 * splat<Lanes4>(S[1])) + (a2 * splat<Lanes4>(S[2]) + p);
-    if (s.carry) {
-      S = t;
-    } else {
-      const Lanes4 sum = load<Lanes4>(g) + t;
-      std::memcpy(g, &sum, sizeof sum);
-      S = load<Lanes4>(s.resume);
-    }
-  }
-  return {S[0], S[1], S[2]};
-}
-
 [[gnu::target("avx2")]] Eigen::Vector3d first_moment_avx2(const PredictorPlan& pred,
                                                           PredictorData& data, const double* q,
                                                           Eigen::Index q_stride) {
-  joint_stage<Lanes4>(pred, data, q, q_stride);
-  return recursion4(pred, data, q, q_stride);
+  joint_stage<detail::Lanes4>(pred, data, q, q_stride);
+  return recursion2(pred, data, q, q_stride);
 }
 #endif
 

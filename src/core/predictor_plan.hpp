@@ -32,8 +32,10 @@ struct PredictorPlan {
   std::vector<PredictorStep> steps;             // [n], steps[k - 1] is body k
   std::vector<Eigen::Vector3d> first_moment;    // [n + 1] h_b, body frame
   std::vector<int> lane_joint;                  // [n, padded to 4] joint of body k (index k - 1)
-  std::vector<double> lane_revolute;            // [n, padded to 4] revolute of body k, 0 past n
-  std::vector<double> lane_scale, lane_offset;  // [n, padded to 4] theta = scale q + offset
+  // [n, padded to 4] theta = scale q + offset: (1, 0) for a revolute joint (a
+  // mimic's multiplier and offset), (0, 0) for a prismatic one and past n.
+  std::vector<double> lane_scale, lane_offset;
+  int num_gathered = 0;  // 4 (n + 1): PredictorData::gathered's size
   bool four_lanes = false;  // AVX2 path (x86-64 CPUs that have it); same bits as the two-lane path
 };
 
