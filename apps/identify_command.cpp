@@ -78,6 +78,7 @@ IdentifyRequest IdentifyCommand::request() const {
   r.rest = rest;
   r.delay = delay;
   if (app->count("--cutoff")) r.cutoff = cutoff;
+  r.checks = !no_checks;
   r.robust = robust;
   r.physical = physical || !urdf_out.empty();
   if (app->count("--sigma-force")) r.sigma_force = sigma_force;

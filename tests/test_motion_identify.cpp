@@ -16,7 +16,9 @@
 #include "massid/core/simulate.hpp"
 #include "massid/design/excitation.hpp"
 #include "massid/identify/estimation.hpp"
+#include "massid/identify/identify_request.hpp"
 #include "massid/identify/motion_data.hpp"
+#include "massid/identify/setup_checks.hpp"
 #include "massid/io/read_samples.hpp"
 #include "massid/io/urdf.hpp"
 #include "test_support.hpp"
@@ -132,6 +134,55 @@ TEST(MotionIdentify, TiltedGravityDeterminesTheTotalMassWithOffsets) {
               4 * fit.stddev[base.total_mass]);
   for (int k = 0; k < 6; ++k)
     EXPECT_NEAR(fit.value[base.num_mass() + k], so.offset[k], 4 * fit.stddev[base.num_mass() + k]);
+}
+
+// A wrench in the reaction convention (MuJoCo's sensor, some drivers) negates
+// every parameter: in motion the set-up checks cannot compare each row's force
+// with gravity, so the fit's total mass is the evidence. The request refuses
+// it (wrench-sign, the fix named) for the log negated, level without offsets
+// and tilted three ways with offsets (level with offsets, the total mass is not
+// identifiable), and takes the log as recorded; with the checks off the fit
+// shows what was refused: the URDF's total mass negated.
+TEST(MotionIdentify, NegatedWrenchInMotionIsRefusedByTheFittedTotalMass) {
+  const Model model = load_urdf(test::examples()[1].urdf);  // ur_like
+  const FourierTrajectory tr = random_fourier_trajectory(model, 5, 10.0, 5);
+  for (const bool offset : {false, true}) {
+    SCOPED_TRACE(offset ? "tilted, with offsets" : "level, without offsets");
+    Samples recorded = sample_trajectory(tr, 20.0, 500.0, kLevel);
+    const Eigen::Vector3d tilts[3] = {kLevel,
+                                      Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) * kLevel,
+                                      Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()) * kLevel};
+    if (offset)  // three platform tilts, one after the other
+      for (int i = 0; i < recorded.size(); ++i)
+        recorded.gravity.row(i) = tilts[3 * i / recorded.size()].transpose();
+    SimulateOptions so;
+    so.dynamic = true;
+    so.noise_force = 0.1;
+    so.noise_moment = 0.01;
+    if (offset) so.offset = kDynamicOffset;
+    recorded.wrench = simulate_wrenches(model, recorded, so);
+    Samples negated = recorded;
+    negated.wrench = -recorded.wrench;
+    IdentifyRequest request;
+    request.dynamic = true;
+    request.offset = offset;
+    const Identification good = identify(model, request, IdentifySource::data(recorded));
+    ASSERT_GE(good.base.total_mass, 0);
+    EXPECT_NEAR(good.summary.value[good.base.total_mass], model.nominal_total_mass(),
+                4 * good.summary.stddev[good.base.total_mass]);
+    try {
+      identify(model, request, IdentifySource::data(negated));
+      ADD_FAILURE() << "a negated wrench in motion was identified";
+    } catch (const SetupRefused& e) {
+      ASSERT_EQ(e.errors().size(), 1u);
+      EXPECT_EQ(e.errors()[0].code, "wrench-sign");
+      EXPECT_NE(std::string(e.what()).find("negate fx,fy,fz,mx,my,mz"), std::string::npos);
+    }
+    request.checks = false;
+    const Identification unchecked = identify(model, request, IdentifySource::data(negated));
+    EXPECT_NEAR(unchecked.summary.value[unchecked.base.total_mass], -model.nominal_total_mass(),
+                4 * unchecked.summary.stddev[unchecked.base.total_mass]);
+  }
 }
 
 // The reported standard deviations against the spread of the estimates over

@@ -61,6 +61,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   IdentifyRequest request;
   request.offset = offset;
   request.dynamic = dynamic;
+  request.checks = checks;
   request.robust = robust;
   request.physical = physical;
   request.drift = drift.value_or("");

@@ -9,6 +9,7 @@
 #include "massid/identify/delay.hpp"
 #include "massid/identify/physical.hpp"
 #include "massid/identify/rest_windows.hpp"
+#include "massid/identify/setup_checks.hpp"
 #include "massid/io/csv.hpp"
 #include "massid/io/read_samples.hpp"
 #include "massid/io/urdf.hpp"
@@ -168,6 +169,10 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
     }
   }
   const std::string name = in_memory ? out.samples.source : source.path;
+  if (request.checks)
+    if (std::optional<SetupFinding> wrong =
+            check_fitted_weight(out.model, out.base, out.summary, name))
+      throw SetupRefused({std::move(*wrong)});
   if (request.keep_samples)
     out.fitted = fitted_wrenches(out.model, out.base, out.samples, out.summary);
   else

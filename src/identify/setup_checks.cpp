@@ -1053,6 +1053,26 @@ std::vector<Hint> refusal_hints(const std::vector<SetupFinding>& errors) {
 
 }  // namespace
 
+std::optional<SetupFinding> check_fitted_weight(const Model& model, const BaseParameters& base,
+                                                const IdentifySummary& summary,
+                                                const std::string& source) {
+  const int m = base.total_mass;
+  if (m < 0 || m >= summary.value.size() || m >= summary.stddev.size()) return std::nullopt;
+  const double M = summary.value[m], sd = summary.stddev[m];
+  if (!(M + 5.0 * sd < 0.0)) return std::nullopt;
+  return SetupFinding{
+      SetupFinding::Severity::Error,
+      "wrench-sign",
+      fmt::format("{}: the fit gives a total mass of {:.4g} +- {:.2g} kg (the URDF's {:.4g} kg): "
+                  "the measured force points against gravity. massid wants the wrench the "
+                  "bodies exert on the sensor (at rest f = M g; in motion their weight minus "
+                  "the rate of change of their momentum). If the sensor reports the reaction "
+                  "(MuJoCo, force plates, some drivers), negate fx,fy,fz,mx,my,mz; if gravity "
+                  "points up (gx,gy,gz, or the root gravity), negate it",
+                  source, M, sd, model.nominal_total_mass()),
+      {{Hint::Setting::Checks, "off"}}};
+}
+
 SetupRefused::SetupRefused(std::vector<SetupFinding> errors)
     : InputError(refusal_message(errors), refusal_hints(errors)), errors_(std::move(errors)) {}
 

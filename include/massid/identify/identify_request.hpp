@@ -57,6 +57,10 @@ struct IdentifyRequest {
   // Motion logs without JOINT_vel/_acc: the zero-phase low-pass cut-off, Hz
   // (unset: min(10, rate/20)).
   std::optional<double> cutoff;
+  // The set-up checks that need the fit (check_fitted_weight: a negative total
+  // mass, i.e. a negated wrench in motion); the doors' checks of the file
+  // before the fit go with the same switch.
+  bool checks = true;
   bool robust = false;    // reject samples with implausible residuals
   bool physical = false;  // also fit physically consistent standard parameters
   // The noise per axis (unset: estimated from the residuals), N and N m.

@@ -34,6 +34,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -112,6 +113,15 @@ struct SetupVerdict {
 // force-against-gravity checks). `header` as check_setup's.
 SetupVerdict check_input_setup(const Model& model, const Samples& samples,
                                const std::vector<std::string>& header, bool motion);
+
+// wrench-sign after the fit, for motion logs (whose force is not M g row by
+// row, so check_setup cannot compare it with gravity) and any log the checks
+// did not see: an error when the identified total mass M is negative beyond
+// noise, M + 5 std(M) < 0 (a negated wrench, or gravity pointing up, negates
+// every parameter). None when M is not identifiable or the fit is plausible.
+std::optional<SetupFinding> check_fitted_weight(const Model& model, const BaseParameters& base,
+                                                const IdentifySummary& summary,
+                                                const std::string& source);
 
 // A refusing verdict as an error: the message is the errors' messages, one
 // per line (a single error: its message, as a door prints it), the hints
