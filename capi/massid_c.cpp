@@ -270,6 +270,12 @@ int massid_predictor_has_offset(const massid_predictor* p) {
   return p ? (p->identified.has_offset() ? 1 : 0) : MASSID_ERROR_INVALID_ARGUMENT;
 }
 
+int massid_predictor_delay(const massid_predictor* p, double* delay) {
+  if (!p || !delay) return MASSID_ERROR_INVALID_ARGUMENT;
+  *delay = p->identified.delay();
+  return MASSID_OK;
+}
+
 int massid_predictor_offset(const massid_predictor* p, double offset[6]) {
   if (!p || !offset) return MASSID_ERROR_INVALID_ARGUMENT;
   Eigen::Map<Wrench>{offset} = p->identified.offset();

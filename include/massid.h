@@ -144,6 +144,13 @@ MASSID_C_API int massid_predictor_has_offset(const massid_predictor* p);
  * the offset; the compensated measurement is measured - wrench - offset. */
 MASSID_C_API int massid_predictor_offset(const massid_predictor* p, double offset[6]);
 
+/* *delay: the wrench's clock delay in seconds from the params file's "delay"
+ * (identify --dynamic --delay; positive: the wrench arrives late), 0 when it
+ * has none. The predict calls take the joint state they are given: to
+ * compensate the wrench logged at t, pass the joint state of t - delay (as
+ * massid predict and compensate do). */
+MASSID_C_API int massid_predictor_delay(const massid_predictor* p, double* delay);
+
 /* The mechanism's wrench at rest.
  *   q: [num_joints] joint positions; gravity: [3] in the sensor frame;
  *   wrench: [6] out, fx, fy, fz, mx, my, mz, without the offset.

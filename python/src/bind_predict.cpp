@@ -287,6 +287,13 @@ void bind_predict(py::module_& m) {
           [](const ParamsFile& p) { return optional_wrench(p.has_offset, p.offset_std); })
       .def_readonly("condition_number", &ParamsFile::condition_number)
       .def_property_readonly(
+          "delay",
+          [](const ParamsFile& p) -> py::object {
+            if (p.delay == 0.0) return py::none();
+            return py::float_(p.delay);
+          },
+          "the wrench's clock delay, s (identify delay=...), None without")
+      .def_property_readonly(
           "physical",
           [](const ParamsFile& p) -> py::object {
             if (p.physical.empty()) return py::none();
@@ -401,6 +408,10 @@ void bind_predict(py::module_& m) {
                     "compensate() and sensor_reading() apply them")
       .def_property_readonly("has_offset",
                              [](const PyPredictor& p) { return p.identified.has_offset(); })
+      .def_property_readonly(
+          "delay", [](const PyPredictor& p) { return p.identified.delay(); },
+          "the wrench's clock delay, s (0 without): predict_log applies it from t; predict() "
+          "takes the joint state it is given (pass that of t - delay)")
       .def(
           "compensate",
           [](const PyPredictor& p, const py::object& measured, const py::object& predicted) {

@@ -414,7 +414,8 @@ IdentifiedModel IdentifiedModel::from_identification(const Identification& ident
   return from_values(ident.model, ident.base, std::move(values),
                      options.physical ? Eigen::VectorXd() : ident.summary.stddev,
                      options.physical ? Eigen::MatrixXd() : ident.summary.covariance,
-                     "the identification");
+                     "the identification")
+      .with_delay(ident.summary.delay.applied ? ident.summary.delay.value : 0.0);
 }
 
 }  // namespace massid

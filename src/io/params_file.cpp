@@ -87,6 +87,11 @@ ParamsFile read_params(const std::string& path) {
       }
     }
     p.condition_number = j.value("condition_number", 0.0);
+    if (j.contains("delay")) {
+      p.delay = j["delay"].at("value").get<double>();
+      p.delay_std = j["delay"].value("std", 0.0);
+      if (!std::isfinite(p.delay)) fail("\"delay\": \"value\" is not finite");
+    }
     if (j.contains("physical")) {
       const json& links = j["physical"].at("links");
       if (!links.is_object()) fail("\"physical\": \"links\" must be an object keyed by link name");

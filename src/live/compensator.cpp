@@ -46,12 +46,64 @@ struct Compensator::Impl {
   std::string line_out;                 // the output line, reused (capacity kept)
   Wrench compensated = Wrench::Zero();  // the last good line's fx..mz_comp
 
-  Eigen::Vector3d gravity(FrameMotion& sensor) const;
+  // The clock delay (IdentifiedModel::delay, > 0): line i is predicted for the
+  // joint stream at t_i - delay, interpolated linearly between the two lines
+  // around that instant as predict does (delay_wrench, delay.hpp), or the
+  // stream's first line before it. The lines since the latest one at or before
+  // t_i - delay are kept, oldest first, in a ring that grows to the delay's
+  // span once and is then reused.
+  double delay = 0.0;
+  std::vector<double> ring;    // [capacity x num_values] the kept lines' values
+  std::vector<double> ring_t;  // [capacity] their t
+  std::size_t first = 0, count = 0;
+  std::vector<double> delayed;  // [num_values] the joint stream at t_i - delay
+
+  Eigen::Vector3d gravity(const double* v, FrameMotion& sensor) const;
+  const double* delayed_values(const double* v, int line_no);
 };
 
-Eigen::Vector3d Compensator::Impl::gravity(FrameMotion& sensor) const {
+const double* Compensator::Impl::delayed_values(const double* v, int line_no) {
+  const std::size_t n = values.size(), cap = ring_t.size();
+  const double t = v[columns.time];
+  if (count > 0 && !(t > ring_t[(first + count - 1) % cap]))
+    throw InputError(
+        fmt::format("{}:{}: t = {} does not increase (the previous line's is {}): the "
+                    "clock delay needs time in order",
+                    columns.source, line_no, t, ring_t[(first + count - 1) % cap]));
+  const double target = t - delay;
+  // Lines before the latest at or before the target are no longer needed.
+  while (count >= 2 && ring_t[(first + 1) % cap] <= target) {
+    first = (first + 1) % cap;
+    --count;
+  }
+  if (count == cap) {  // grow (while the ring learns the delay's span), oldest first
+    const std::size_t grown = std::max<std::size_t>(2 * cap, 8);
+    std::vector<double> r(grown * n), rt(grown);
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t from = (first + k) % cap;
+      std::copy_n(ring.data() + from * n, n, r.data() + k * n);
+      rt[k] = ring_t[from];
+    }
+    ring = std::move(r), ring_t = std::move(rt), first = 0;
+  }
+  const std::size_t at = (first + count) % ring_t.size();
+  std::copy_n(v, n, ring.data() + at * n);
+  ring_t[at] = t;
+  ++count;
+  // j: the latest line at or before the target (the first one before the
+  // stream reached it), frac as delay_wrench computes it.
+  const std::size_t size = ring_t.size();
+  const std::size_t j = first, j1 = count >= 2 ? (first + 1) % size : first;
+  const double span = ring_t[j1] - ring_t[j];
+  const double frac = span > 0 ? std::clamp((target - ring_t[j]) / span, 0.0, 1.0) : 0.0;
+  const double* a = ring.data() + j * n;
+  const double* b = ring.data() + j1 * n;
+  for (std::size_t k = 0; k < n; ++k) delayed[k] = (1 - frac) * a[k] + frac * b[k];
+  return delayed.data();
+}
+
+Eigen::Vector3d Compensator::Impl::gravity(const double* v, FrameMotion& sensor) const {
   const detail::SampleColumns& c = columns;
-  const double* v = values.data();
   switch (gravity_from) {
     case GravityFrom::Tilt:
       return tilted_gravity(options.level_gravity, Tilt{v[tilt], v[tilt + 1]});
@@ -143,10 +195,32 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
           "motion (a dynamic fit compensates those)",
           params_name));
   }
+  // The clock delay: t is needed; a wrench ahead of the joints would need
+  // lines not read yet.
+  m.delay = identified.delay();
+  if (m.delay != 0.0) {
+    if (m.delay < 0.0)
+      throw InputError(fmt::format(
+          "{}: {} has a negative clock delay ({:.4g} ms: the wrench ahead of the joints): "
+          "compensating it live needs lines not read yet; massid predict applies it to a file",
+          where, params_name, 1e3 * m.delay));
+    if (c.time < 0 && find(header, "t") >= 0 && c.target[find(header, "t")] < 0)
+      c.time = detail::bind_value(c, find(header, "t"), 1.0);  // a static binding leaves t
+    if (c.time < 0)
+      throw InputError(fmt::format(
+          "{}: {} has the wrench's clock delay ({:.4g} ms, identify --delay): compensate applies "
+          "it from the time column t, which the stream lacks; add t",
+          where, params_name, 1e3 * m.delay));
+    notes.push_back(fmt::format(
+        "the wrench's clock delay of {:.4g} ms ({}) applied: each line compensated with the joint "
+        "state {:.4g} ms earlier (the stream's first line until then)",
+        1e3 * m.delay, params_name, 1e3 * m.delay));
+  }
   for (const std::string& n : notes) m.note += n + "\n";
   m.data.emplace(identified);
 
   m.values.assign(c.num_values, 0.0);
+  m.delayed.assign(c.num_values, 0.0);
   // The header's own text (line ends and surrounding blank lines dropped).
   std::string_view h = text;
   while (!h.empty() && (h.back() == '\n' || h.back() == '\r')) h.remove_suffix(1);
@@ -182,18 +256,20 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
   }
   if (kind < 0 && !detail::parse_row_slow(line, line_no, c, v)) return {};
 
+  // The joint stream: this line's, or with a clock delay the one at t - delay.
+  const double* js = m.delay > 0.0 ? m.delayed_values(v, line_no) : v;
   FrameMotion sensor;
-  const Eigen::Vector3d g = m.gravity(sensor);
+  const Eigen::Vector3d g = m.gravity(js, sensor);
   if (m.dynamic && c.sensor >= 0) {
-    const double* s = v + c.sensor;
+    const double* s = js + c.sensor;
     sensor.omega = Eigen::Vector3d(s[0], s[1], s[2]);
     sensor.omega_dot = Eigen::Vector3d(s[3], s[4], s[5]);
     sensor.accel = Eigen::Vector3d(s[6], s[7], s[8]);
   }
-  const double* qd = c.qd >= 0 ? v + c.qd : v;  // static, or no joints: never read
-  const double* qdd = c.qdd >= 0 ? v + c.qdd : v;
+  const double* qd = c.qd >= 0 ? js + c.qd : js;  // static, or no joints: never read
+  const double* qdd = c.qdd >= 0 ? js + c.qdd : js;
   // The mechanism's wrench; measured - predicted - offset (identified_model.hpp).
-  const Wrench predicted = m.identified.predict(*m.data, v, qd, qdd, g, sensor);
+  const Wrench predicted = m.identified.predict(*m.data, js, qd, qdd, g, sensor);
   m.compensated = m.identified.compensate(Eigen::Map<const Wrench>(v + c.wrench), predicted);
 
   // The input text, then the six values as format_number writes them.

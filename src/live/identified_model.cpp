@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "core/argument_checks.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/standard_parameters.hpp"
@@ -16,6 +18,7 @@ struct IdentifiedModel::Impl {
   Eigen::MatrixXd covariance;
   std::string source;
   Wrench offset = Wrench::Zero();
+  double delay = 0.0;      // s, with_delay
   Predictor predictor;     // static
   MotionPredictor motion;  // dynamic
 };
@@ -63,7 +66,19 @@ IdentifiedModel IdentifiedModel::from_params(Model model, const ParamsFile& para
     if (base.offset) stddev.tail<6>() = params.offset_std;
   }
   return from_values(std::move(model), std::move(base), std::move(values), std::move(stddev), {},
-                     params.source);
+                     params.source)
+      .with_delay(params.delay);
+}
+
+IdentifiedModel IdentifiedModel::with_delay(double seconds) const {
+  if (!std::isfinite(seconds))
+    throw ArgumentError(
+        fmt::format("massid::IdentifiedModel::with_delay: the delay is not finite ({})", seconds));
+  auto impl = std::make_shared<Impl>(checked("IdentifiedModel::with_delay"));
+  impl->delay = seconds;
+  IdentifiedModel out;
+  out.impl_ = std::move(impl);
+  return out;
 }
 
 IdentifiedModel IdentifiedModel::load(const std::string& urdf_path, const ParamsFile& params,
@@ -87,6 +102,7 @@ const IdentifiedModel::Impl& IdentifiedModel::checked(const char* function) cons
 }
 
 const Model& IdentifiedModel::model() const { return checked("IdentifiedModel::model").model; }
+double IdentifiedModel::delay() const { return checked("IdentifiedModel::delay").delay; }
 const BaseParameters& IdentifiedModel::base() const {
   return checked("IdentifiedModel::base").base;
 }

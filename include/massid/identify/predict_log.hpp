@@ -6,16 +6,20 @@
 //   2. the set-up checks of the file (setup_checks.hpp: joint units and
 //      columns, gravity, and the wrench's signs, frame and units when it has
 //      one): a refusing verdict throws SetupRefused;
-//   3. a dynamic model's log without JOINT_vel/_acc: the velocities and
+//   3. a model with a clock delay (IdentifiedModel::delay, identify --delay):
+//      row i takes the joint stream at t_i - delay (delay_wrench, delay.hpp;
+//      rows whose instant lies before the log's start take its first row's),
+//      so that P_i is the wrench the sensor logs at row i; InputError without t;
+//   4. a dynamic model's log without JOINT_vel/_acc: the velocities and
 //      accelerations derived from t by the zero-phase low-pass
 //      (motion_data.hpp), every filtered row kept (no decimation), the rows it
 //      drops at each end of each block left out;
-//   4. per row i the mechanism's wrench, never the offset (eq. 29 at rest,
+//   5. per row i the mechanism's wrench, never the offset (eq. 29 at rest,
 //      Newton-Euler over the identified bodies in motion):
 //
 //        P_i = predictor(q_i[, qd_i, qdd_i], g_i)                    N, N m
 //
-//   5. with a measured wrench w_i, the compensated wrench and the contact
+//   6. with a measured wrench w_i, the compensated wrench and the contact
 //      episodes of the residual against what the sensor reads:
 //
 //        C_i = (w_i - P_i) - offset            (the *_comp columns)
@@ -65,7 +69,9 @@ struct LogPrediction {
   SetupVerdict setup;           // the checks' warnings (none refuses); empty without checks
   MotionDataReport motion;      // motion.derived: qd, qdd derived by the filter (its kernels)
   std::vector<ContactEpisode> contact;  // rows carrying an external wrench, in order
-  std::vector<std::string> notes;       // contact_note(source, e) per episode
+  // The delay applied (when the model has one), then contact_note(source, e)
+  // per episode.
+  std::vector<std::string> notes;
 
   bool has_wrench() const { return samples.has_wrench(); }
 };

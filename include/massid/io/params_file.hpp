@@ -43,6 +43,9 @@ struct ParamsFile {
   bool has_offset = false;
   Wrench offset = Wrench::Zero(), offset_std = Wrench::Zero();
   double condition_number = 0.0;
+  // "delay" (identify --dynamic --delay): the wrench's lag behind the joint
+  // stream, s (positive: the wrench arrives late); 0 without.
+  double delay = 0.0, delay_std = 0.0;
   Wrench residual_rms = Wrench::Zero();
   // "physical" (identify --physical): the ten standard parameters of every
   // measured link (m, mx, my, mz, ixx .. izz; inertia about the link origin),

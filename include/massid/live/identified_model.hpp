@@ -82,6 +82,12 @@ class IdentifiedModel {
                                      Eigen::VectorXd stddev = {}, Eigen::MatrixXd covariance = {},
                                      std::string source = "the parameters");
 
+  // The same model with the wrench's clock delay, s (delay.hpp: positive when
+  // the wrench arrives late): predict_log and the Compensator predict row i
+  // for the joint stream at t_i - delay. from_params takes the file's
+  // "delay", from_identification the delay the fit applied.
+  IdentifiedModel with_delay(double seconds) const;
+
   bool empty() const { return !impl_; }
   const Model& model() const;
   const BaseParameters& base() const;
@@ -97,6 +103,7 @@ class IdentifiedModel {
   // (sensor frame); nullopt otherwise.
   std::optional<Eigen::Vector3d> fixed_gravity() const;
   const Wrench& offset() const;  // f_0, m_0; zero without offsets
+  double delay() const;          // the clock delay, s; 0 without
 
   // The compiled predictor of the model's kind (the other: ArgumentError).
   const Predictor& predictor() const;               // static
