@@ -143,6 +143,7 @@ class Predictor:
     dynamic: bool  # dynamic parameters: the full wrench in motion
     offset: Optional[np.ndarray]  # [6] identified offsets (never in the predictions)
     has_offset: bool  # the offsets were identified
+    delay: float  # the wrench's clock delay, s (0 without): predict_log applies it from t
     def compensate(self, measured: npt.ArrayLike, predicted: npt.ArrayLike) -> np.ndarray:
         """(measured - predicted) - offset, [N, 6] or [6]: massid predict's fx_comp, to the bit."""
     def sensor_reading(self, predicted: npt.ArrayLike) -> np.ndarray:
@@ -295,6 +296,7 @@ class Params:
     offset: Optional[np.ndarray]
     offset_std: Optional[np.ndarray]
     condition_number: float
+    delay: Optional[float]  # the wrench's clock delay, s (identify delay=...)
     residual_rms: np.ndarray
     physical: Optional[dict[str, dict[str, float]]]  # "physical" links: name -> {m, mx, ..., izz}
 
