@@ -167,6 +167,7 @@ class Predictor:
         cutoff: Optional[float] = None,  # dynamic, derived from t: low-pass cut-off, Hz
         root_gravity: Optional[Sequence[float]] = None,
         checks: bool = True,  # the set-up checks (massid predict --no-checks: False)
+        columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME} (massid predict --columns)
     ) -> "LogPrediction":
         """massid predict on a log: the set-up checks (InputError with the CLI's message when
         they refuse; warnings as MassidWarning), the prediction, the compensated wrench and
@@ -274,6 +275,7 @@ def identify(
     rest: str = "auto",  # static log with t: "auto" uses its rest windows, "off" every row
     delay: Union[None, str, float] = None,  # dynamic: wrench lag, s, or "auto"
     physical: bool = False,  # also physically consistent standard parameters (.physical)
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> Identification: ...
 
 # The record `massid identify --report` hands to the report: the fit without fitting again.
@@ -314,6 +316,7 @@ def predict(
     cutoff: Optional[float] = None,
     root_gravity: Optional[Sequence[float]] = None,
     physical: bool = False,  # from the physical parameters (identify physical=True)
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> np.ndarray:
     """[N, 6] the mechanism's predicted wrench at every row of data (joint and gravity
     columns), without the identified sensor offsets (massid predict's fx_pred); dynamic
@@ -338,6 +341,7 @@ def predict_log(
     root_gravity: Optional[Sequence[float]] = None,
     physical: bool = False,
     checks: bool = True,
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> LogPrediction:
     """Predictor(robot, params, physical=physical).predict_log(data, ...): massid predict's
     pipeline, its set-up checks and contact notes included."""
@@ -353,6 +357,7 @@ def simulate(
     repeat: int = 1,
     dynamic: bool = False,  # in motion: the trajectory's JOINT_vel, JOINT_acc columns
     root_gravity: Optional[Sequence[float]] = None,
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> dict[str, np.ndarray]:
     """The plan's columns with fx ... mz that the URDF's inertials would produce."""
 

@@ -38,7 +38,8 @@
 namespace massid {
 
 struct PredictLogOptions {
-  // samples: the root gravity (a sensor below movable joints); filter: the
+  // samples: the root gravity (a sensor below movable joints) and the column
+  // names (its sensor_motion is set by the model: dynamic or not); filter: the
   // cut-off of a dynamic model's log without _vel/_acc (0: min(10, rate/20)).
   // The filter's decimation is not used: every filtered row is predicted.
   MotionDataOptions motion;
@@ -66,6 +67,7 @@ struct LogPrediction {
   MotionDataReport motion;      // motion.derived: qd, qdd derived by the filter (its kernels)
   std::vector<ContactEpisode> contact;  // rows carrying an external wrench, in order
   std::vector<std::string> notes;       // contact_note(source, e) per episode
+  std::string column_note;              // column_note (read_samples.hpp) on the header, or ""
 
   bool has_wrench() const { return samples.has_wrench(); }
 };
