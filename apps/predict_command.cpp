@@ -75,6 +75,7 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   if (!report.empty()) {
     std::vector<std::string> a{"predict", urdf, params_path, data_path, "-o", report};
     for (const std::string& m : motion.report_args()) a.push_back(m);
+    for (const std::string& m : columns) a.insert(a.end(), {"--columns", m});
     return run_report(a);
   }
   return 0;

@@ -332,6 +332,14 @@ class LogPrediction:
     contact: list[dict[str, Any]]  # first_line, last_line, rows, score, threshold, force, moment
     cutoff: Optional[float]  # dynamic, derived from t: the low-pass cut-off, Hz
 
+def column_roles(
+    robot: Union[PathType, Model],
+    names: Sequence[str],
+    *,
+    columns: Optional[Mapping[str, str]] = None,
+) -> list[str]:
+    """The role each column is read as (columns= and the recorders' spellings applied)."""
+
 def predict_log(
     robot: Union[PathType, Model],
     params: Union[PathType, Params, Identification],
@@ -387,6 +395,7 @@ def prepare_motion(
     root_gravity: Optional[Sequence[float]] = None,
     sensor: Optional[str] = None,
     fixed: Optional[Mapping[str, float]] = None,
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}
 ) -> dict[str, np.ndarray]:
     """The samples identify(dynamic=True) and predict make of a motion log, as columns
     (t, joints, JOINT_vel, JOINT_acc, gx, gy, gz, [wx..az], [fx..mz], [block], row)."""

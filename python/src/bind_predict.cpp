@@ -514,6 +514,21 @@ void bind_predict(py::module_& m) {
       "into the same predictor.");
 
   m.def(
+      "column_roles",
+      [](const py::object& robot, const std::vector<std::string>& names,
+         std::optional<std::map<std::string, std::string>> columns) {
+        const Model model = model_of(robot, std::nullopt, std::nullopt);
+        SampleOptions o;
+        o.columns = column_names_of(columns);
+        return column_roles(model, names, o);
+      },
+      py::arg("robot"), py::arg("names"), py::kw_only(), py::arg("columns") = py::none(),
+      "The role each of a header's columns is read as (its name, unless columns= {ROLE: NAME} "
+      "or a recorder's spelling of the wrench binds it otherwise; '' for a column a binding "
+      "displaced or a group ignored): the one binding of the readers, for code that looks "
+      "columns up by role.");
+
+  m.def(
       "predict_log",
       [](const py::object& robot, const py::object& params, const py::object& data,
          std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity,

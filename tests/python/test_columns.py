@@ -60,3 +60,27 @@ def test_predict_log_reads_ros_names_and_rejects_a_bad_binding(
         massid.predict_log(str(puma_urdf), puma_ident, str(path), columns={"torque_x": "mx"})
     with pytest.raises(massid.InputError, match="no column 'tx' to read as 'mx'"):
         massid.predict(str(puma_urdf), puma_ident, str(path), columns={"mx": "tx"})
+
+
+def test_predict_report_reads_the_measured_wrench_under_other_names(
+        massid: Any, puma_urdf: Path, puma_data: Mapping[str, Any], tmp_path: Path) -> None:
+    pytest.importorskip("matplotlib")
+    params = tmp_path / "p.json"
+    canonical = write_csv(tmp_path / "c.csv", puma_data)
+    massid.identify(str(puma_urdf), str(canonical), offset=True).save(str(params))
+    odd = {k: f"channel {i}" for i, k in enumerate(AXES)}
+    spelled = write_csv(tmp_path / "ros.csv", renamed(puma_data, ROS))
+    bound = write_csv(tmp_path / "odd.csv", renamed(puma_data, odd))
+    pages = {}
+    for name, path, columns in (("canonical", canonical, None), ("ros", spelled, None),
+                                ("bound", bound, odd)):
+        out = tmp_path / f"{name}.html"
+        massid.report.write_predict_report(out, str(puma_urdf), str(params), str(path),
+                                           columns=columns)
+        pages[name] = out.read_text(encoding="utf-8")
+    for name in ("ros", "bound"):
+        assert "Compensated wrench" in pages[name], name
+    # The same RMS of measured - predicted (the table row) as with the canonical names.
+    row = lambda text: text[text.index("RMS of measured"):][:400]  # noqa: E731
+    assert row(pages["ros"]) == row(pages["canonical"])
+    assert row(pages["bound"]) == row(pages["canonical"])
