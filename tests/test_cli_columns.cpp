@@ -3,21 +3,12 @@
 // --evaluate and compensate; the notes that say what was read as what; the
 // errors for a bad binding and a missing wrench.
 #include "cli_support.hpp"
+#include "column_spellings.hpp"
 
 namespace massid_cli_test {
 namespace {
 
-const std::vector<std::vector<std::string>> kSpellings = {
-    {"fx", "fy", "fz", "tx", "ty", "tz"},
-    {"Fx", "Fy", "Fz", "Tx", "Ty", "Tz"},
-    {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z"},
-    {"field.wrench.force.x", "field.wrench.force.y", "field.wrench.force.z",
-     "field.wrench.torque.x", "field.wrench.torque.y", "field.wrench.torque.z"},
-    {"/ft_sensor/wrench/force/x", "/ft_sensor/wrench/force/y", "/ft_sensor/wrench/force/z",
-     "/ft_sensor/wrench/torque/x", "/ft_sensor/wrench/torque/y", "/ft_sensor/wrench/torque/z"},
-    {"wrench.force.x", "wrench.force.y", "wrench.force.z", "wrench.torque.x", "wrench.torque.y",
-     "wrench.torque.z"},
-};
+const std::vector<std::vector<std::string>>& kSpellings = massid_test::kWrenchSpellings;
 const char* const kWrench[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
 
 class CliColumns : public Cli {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "column_spellings.hpp"
 #include "io/column_map.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/simulate.hpp"
@@ -33,18 +34,7 @@ namespace fs = std::filesystem;
 const std::string kUrdf = MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf";
 const std::string kPlan = MASSID_SOURCE_DIR "/examples/puma260/holdout.csv";
 
-// The recorders' spellings of fx fy fz mx my mz that a log may carry.
-const std::vector<std::vector<std::string>> kSpellings = {
-    {"fx", "fy", "fz", "tx", "ty", "tz"},
-    {"Fx", "Fy", "Fz", "Tx", "Ty", "Tz"},
-    {"force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z"},
-    {"field.wrench.force.x", "field.wrench.force.y", "field.wrench.force.z",
-     "field.wrench.torque.x", "field.wrench.torque.y", "field.wrench.torque.z"},
-    {"/ft_sensor/wrench/force/x", "/ft_sensor/wrench/force/y", "/ft_sensor/wrench/force/z",
-     "/ft_sensor/wrench/torque/x", "/ft_sensor/wrench/torque/y", "/ft_sensor/wrench/torque/z"},
-    {"wrench.force.x", "wrench.force.y", "wrench.force.z", "wrench.torque.x", "wrench.torque.y",
-     "wrench.torque.z"},
-};
+const std::vector<std::vector<std::string>>& kSpellings = massid_test::kWrenchSpellings;
 
 class ColumnNamesTest : public ::testing::Test {
  protected:
