@@ -14,6 +14,7 @@
 #include <cstring>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -52,6 +53,7 @@ void add_compensate_command(CLI::App& app, CompensateCommand& c) {
   s->add_option("--gravity", c.level_gravity,
                 "Gravity in the sensor frame with the platform level, gx,gy,gz (default "
                 "0,0,-9.80665): turned by the tilt_x_deg,tilt_y_deg columns");
+  add_columns_option(s, c.columns);
 }
 
 namespace {
@@ -279,7 +281,10 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
   }
   text += line;
   Compensator comp(identified, text, lines.name(), options);
-  if (!comp.note().empty()) std::cerr << "massid: note: " << comp.note() << std::flush;
+  // One "massid: note: " line per note.
+  std::istringstream notes(comp.note());
+  for (std::string note; std::getline(notes, note);) std::cerr << "massid: note: " << note << "\n";
+  std::cerr << std::flush;
   if (!write_all(1, comp.output_header().data(), comp.output_header().size())) return 0;
 
   LatencyHistogram latency;
@@ -321,6 +326,7 @@ int run_compensate(const CompensateCommand& c) {
     options.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");
   if (!c.level_gravity.empty())
     options.level_gravity = parse_numbers<3>(c.level_gravity, "--gravity", "gx,gy,gz");
+  options.columns = parse_columns(c.columns);
   install_signal_handlers();
   if (c.udp_port >= 0) {
     UdpLines lines(c.udp_port, c.reply);

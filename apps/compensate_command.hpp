@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 namespace massid::cli {
 
@@ -19,6 +20,7 @@ struct CompensateCommand {
   bool stats = false;         // --stats: the latency figures on stderr at the end
   std::string root_gravity;   // --root-gravity gx,gy,gz (root frame; upstream joints)
   std::string level_gravity;  // --gravity gx,gy,gz (sensor frame, level; tilt columns)
+  std::vector<std::string> columns;  // --columns ROLE=NAME,...
 };
 
 void add_compensate_command(CLI::App& app, CompensateCommand& cmd);

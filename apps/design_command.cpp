@@ -68,6 +68,7 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
                 "Print the figures of an existing plan or data file instead");
   d->add_flag("--no-checks", c.no_checks,
               "With --evaluate: skip the file's checks (joints in degrees or mm, units, columns)");
+  add_columns_option(d, c.columns);
   d->add_flag("--dynamic", c.dynamic,
               "An exciting trajectory for identification in motion (finite Fourier series, at "
               "rest at both ends) instead of static poses");
@@ -123,7 +124,7 @@ std::vector<Tilt> parse_tilts(const std::string& text) {
 
 int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterOptions& bo_in) {
   if (c.output.empty()) throw InputError("design --dynamic: -o TRAJ.csv is required");
-  for (const char* opt : {"--poses", "--evaluate", "--level-poses", "--no-checks"})
+  for (const char* opt : {"--poses", "--evaluate", "--level-poses", "--no-checks", "--columns"})
     if (c.app->count(opt))
       throw InputError(fmt::format(
           "design --dynamic: {} applies to static plans only (a trajectory has no poses to count "
@@ -308,8 +309,15 @@ int run_design(const DesignCommand& c) {
 
   if (!c.evaluate.empty()) {
     const CsvTable table = read_csv(c.evaluate);
-    const Samples plan = read_samples(model, table, WrenchColumns::Optional);
-    if (!c.no_checks && !check_input(model, plan, table.header, false)) return 2;
+    SampleOptions read;
+    read.columns = parse_columns(c.columns);
+    read.sensor_motion = false;  // static poses: a partial wx..az is ignored (with a note)
+    print_column_note(column_note(model, table.header,
+                                  fmt::format("{}:{}", table.source, table.header_line),
+                                  WrenchColumns::Optional, read));
+    const Samples plan = read_samples(model, table, WrenchColumns::Optional, read);
+    if (!c.no_checks && !check_input(model, plan, column_roles(model, table.header, read), false))
+      return 2;
     const DesignSummary s = evaluate_plan(model, base, plan, o);
     std::cout << design_report(model, base, s, o, c.evaluate, cli::spell);
     if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);

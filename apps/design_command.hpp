@@ -18,7 +18,8 @@ struct DesignCommand {
   unsigned long long seed = 1;
   // --dynamic: an exciting trajectory (excitation.hpp)
   bool dynamic = false;
-  bool no_checks = false;  // --evaluate: skip the file's set-up checks
+  bool no_checks = false;            // --evaluate: skip the file's set-up checks
+  std::vector<std::string> columns;  // --evaluate: --columns ROLE=NAME,...
   double duration = 30.0, rate = 1000.0, period = 10.0;
   int harmonics = 5, evaluations = 6000;
   std::vector<std::string> velocity_limits, acceleration_limits;

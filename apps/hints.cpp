@@ -63,6 +63,8 @@ std::string spell(const Hint& hint) {
       return "--rest " + or_placeholder(v, "auto");
     case Hint::Setting::RootGravity:
       return "--root-gravity " + or_placeholder(v, "gx,gy,gz");
+    case Hint::Setting::Columns:
+      return "--columns " + or_placeholder(v, "ROLE=NAME");
   }
   return "";
 }
@@ -91,6 +93,8 @@ std::string name(Hint::Setting setting) {
       return "--rest";
     case Hint::Setting::RootGravity:
       return "--root-gravity";
+    case Hint::Setting::Columns:
+      return "--columns";
     default:  // a flag, or an option spelled without a value
       return spell({setting, ""});
   }

@@ -66,6 +66,7 @@ void add_identify_command(CLI::App& app, IdentifyCommand& c) {
                 "Motion log without JOINT_vel/_acc: zero-phase low-pass cutoff, Hz, for the "
                 "derivatives and the wrench alike (default: min(10, rate/20))")
       ->check(CLI::PositiveNumber);
+  add_columns_option(i, c.columns);
 }
 
 IdentifyRequest IdentifyCommand::request() const {
@@ -88,6 +89,7 @@ IdentifyRequest IdentifyCommand::request() const {
   // With --report the samples and fitted wrenches are kept for the report,
   // which draws this fit (identification.hpp); without, any log in constant memory.
   r.keep_samples = !report.empty();
+  r.columns = parse_columns(columns);
   return r;
 }
 
@@ -96,6 +98,8 @@ int run_identify(const IdentifyCommand& c) {
   request.validate(spelling());                 // every rule, before any work
   if (!c.report.empty()) check_report_tools();  // before any work
   Model model = request.load_model(c.urdf);
+  // Which columns are read under other names, which are ignored (before any finding on them).
+  print_column_note(file_column_note(model, c.data, request.sample_options()));
   // Before any work: wrong signs, units, frames or columns (the first 20 000
   // rows of a big file). A joint that never moves is left to the
   // identifiability diagnosis below, which names it with the fix.

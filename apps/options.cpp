@@ -65,6 +65,39 @@ std::vector<std::pair<std::string, double>> parse_held(const std::vector<std::st
   return held;
 }
 
+void add_columns_option(CLI::App* sub, std::vector<std::string>& items) {
+  sub->add_option("--columns", items,
+                  "Read columns of other names as roles: ROLE=NAME,... (e.g. mx=tx,my=ty,mz=tz; "
+                  "roles fx..mz, gx..gz, t, block, wx..az, dwx..dwz, tilt_x_deg, tilt_y_deg, "
+                  "JOINT, JOINT_deg, JOINT_vel, JOINT_acc); repeatable")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+ColumnNames parse_columns(const std::vector<std::string>& items) {
+  ColumnNames names;
+  for (const std::string& item : items) {
+    size_t start = 0;
+    while (start <= item.size()) {
+      const size_t comma = item.find(',', start);
+      const std::string pair =
+          item.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      const size_t eq = pair.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == pair.size())
+        throw InputError(fmt::format(
+            "--columns: '{}' should read ROLE=NAME (e.g. --columns mx=tx,my=ty,mz=tz)", pair));
+      names.bind.emplace_back(pair.substr(0, eq), pair.substr(eq + 1));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
+  return names;
+}
+
+void print_column_note(const std::string& note) {
+  if (!note.empty()) std::cerr << "massid: note: " << note << "\n";
+}
+
 CLI::Validator sign_check(bool positive) {
   return CLI::Validator(
       [positive](std::string& text) -> std::string {

@@ -10,6 +10,7 @@
 
 #include "massid/identify/estimation.hpp"
 #include "massid/identify/setup_checks.hpp"
+#include "massid/io/read_samples.hpp"
 
 namespace massid::cli {
 
@@ -32,6 +33,14 @@ std::pair<std::string, std::string> parse_assignment(const std::string& text,
 
 // --fixed JOINT=VALUE items -> (joint, position) pairs for hold_joints().
 std::vector<std::pair<std::string, double>> parse_held(const std::vector<std::string>& items);
+
+// --columns ROLE=NAME[,ROLE=NAME...] (repeatable) on a command that reads a log.
+void add_columns_option(CLI::App* sub, std::vector<std::string>& items);
+// Its items -> the bindings (read_samples.hpp's ColumnNames); InputError for an
+// item that is not ROLE=NAME.
+ColumnNames parse_columns(const std::vector<std::string>& items);
+// A column note (column_note, read_samples.hpp) on stderr, when there is one.
+void print_column_note(const std::string& note);
 
 // A number option validator with a readable message (CLI11's ranges print DBL_MAX in full).
 CLI::Validator sign_check(bool positive);

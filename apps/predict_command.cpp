@@ -20,7 +20,8 @@ namespace {
 
 int run_predict(const std::string& urdf, const std::string& params_path,
                 const std::string& data_path, const std::string& out, const std::string& report,
-                const MotionFlags& motion, bool checks, bool physical) {
+                const MotionFlags& motion, const std::vector<std::string>& columns, bool checks,
+                bool physical) {
   if (!report.empty() && physical)
     throw InputError("predict --report draws the identified base parameters: drop --physical");
   if (!report.empty()) check_report_tools();  // before any work
@@ -33,6 +34,7 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   // The library's pipeline (predict_log.hpp); this door prints and writes.
   PredictLogOptions popts;
   popts.motion = motion.data();
+  popts.motion.samples.columns = parse_columns(columns);
   popts.checks = checks;
   popts.on_verdict = [](const SetupVerdict& v) { report_setup(v.findings); };
   LogPrediction lp;
@@ -41,6 +43,7 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   } catch (const SetupRefused&) {
     return 2;  // on_verdict printed the errors, each on its own line
   }
+  print_column_note(lp.column_note);
   const Samples& samples = lp.samples;
   if (lp.motion.derived)
     std::cout << fmt::format(
@@ -72,6 +75,7 @@ int run_predict(const std::string& urdf, const std::string& params_path,
   if (!report.empty()) {
     std::vector<std::string> a{"predict", urdf, params_path, data_path, "-o", report};
     for (const std::string& m : motion.report_args()) a.push_back(m);
+    for (const std::string& m : columns) a.insert(a.end(), {"--columns", m});
     return run_report(a);
   }
   return 0;
@@ -98,11 +102,12 @@ void add_predict_command(CLI::App& app, PredictCommand& c) {
                  "instead of its base parameters");
   pred->add_flag("--no-checks", c.no_checks,
                  "Skip the file's set-up checks (joint and wrench units, signs, frame, columns)");
+  add_columns_option(pred, c.columns);
 }
 
 int run_predict(const PredictCommand& c) {
-  return run_predict(c.urdf, c.params, c.data, c.output, c.report, c.motion, !c.no_checks,
-                     c.physical);
+  return run_predict(c.urdf, c.params, c.data, c.output, c.report, c.motion, c.columns,
+                     !c.no_checks, c.physical);
 }
 
 }  // namespace massid::cli

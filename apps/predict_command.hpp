@@ -11,7 +11,8 @@ namespace massid::cli {
 struct PredictCommand {
   CLI::App* app = nullptr;
   std::string urdf, params, data, output, report;
-  MotionFlags motion;  // --root-gravity, --cutoff
+  MotionFlags motion;                // --root-gravity, --cutoff
+  std::vector<std::string> columns;  // --columns ROLE=NAME,...
   bool no_checks = false, physical = false;
 };
 

@@ -24,12 +24,19 @@ int run_simulate(const SimulateCommand& c, const std::string& plan_path, const s
         "wrench would be zero; add the links' <inertial> elements (mass, origin) to the URDF",
         c.urdf, model.sensor_link()));
   const CsvTable table = read_csv(plan_path);
-  const Samples plan = read_samples(model, table, WrenchColumns::Optional, motion.data().samples);
+  SampleOptions read = motion.data().samples;
+  read.columns = parse_columns(c.columns);
+  read.sensor_motion = opts.dynamic;  // at rest, a partial wx..az is ignored (with a note)
+  print_column_note(column_note(model, table.header,
+                                fmt::format("{}:{}", table.source, table.header_line),
+                                WrenchColumns::Optional, read));
+  const Samples plan = read_samples(model, table, WrenchColumns::Optional, read);
   if (plan.gravity_from_force) throw InputError(plan_path + ": simulate needs gx,gy,gz columns");
   // Joints in degrees or mm, gravity in g, ... (a wrench in the plan is replaced: not judged).
   Samples judged = plan;
   judged.wrench.resize(0, 0);
-  if (checks && !check_input(model, judged, table.header, opts.dynamic)) return 2;
+  if (checks && !check_input(model, judged, column_roles(model, table.header, read), opts.dynamic))
+    return 2;
   if (opts.dynamic) {
     if (model.num_joints() > 0 && plan.qd.cols() != model.num_joints())
       throw InputError(fmt::format(
@@ -83,6 +90,7 @@ void add_simulate_command(CLI::App& app, SimulateCommand& c) {
   add_motion_options(simulate, c.motion, false);
   simulate->add_flag("--no-checks", c.no_checks,
                      "Skip the plan's checks (joints in degrees or mm, gravity units, columns)");
+  add_columns_option(simulate, c.columns);
 }
 
 int run_simulate(SimulateCommand c) {

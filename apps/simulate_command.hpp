@@ -16,6 +16,7 @@ struct SimulateCommand {
   std::string old_offset;     // --offset fx,..,mz: --sensor-offset's old spelling
   SimulateOptions sim;
   MotionFlags motion;
+  std::vector<std::string> columns;  // --columns ROLE=NAME,...
   bool no_checks = false;
 };
 

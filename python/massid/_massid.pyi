@@ -168,6 +168,7 @@ class Predictor:
         cutoff: Optional[float] = None,  # dynamic, derived from t: low-pass cut-off, Hz
         root_gravity: Optional[Sequence[float]] = None,
         checks: bool = True,  # the set-up checks (massid predict --no-checks: False)
+        columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME} (massid predict --columns)
     ) -> "LogPrediction":
         """massid predict on a log: the set-up checks (InputError with the CLI's message when
         they refuse; warnings as MassidWarning), the prediction, the compensated wrench and
@@ -275,6 +276,7 @@ def identify(
     rest: str = "auto",  # static log with t: "auto" uses its rest windows, "off" every row
     delay: Union[None, str, float] = None,  # dynamic: wrench lag, s, or "auto"
     physical: bool = False,  # also physically consistent standard parameters (.physical)
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> Identification: ...
 
 # The record `massid identify --report` hands to the report: the fit without fitting again.
@@ -316,6 +318,7 @@ def predict(
     cutoff: Optional[float] = None,
     root_gravity: Optional[Sequence[float]] = None,
     physical: bool = False,  # from the physical parameters (identify physical=True)
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> np.ndarray:
     """[N, 6] the mechanism's predicted wrench at every row of data (joint and gravity
     columns), without the identified sensor offsets (massid predict's fx_pred); dynamic
@@ -331,6 +334,14 @@ class LogPrediction:
     contact: list[dict[str, Any]]  # first_line, last_line, rows, score, threshold, force, moment
     cutoff: Optional[float]  # dynamic, derived from t: the low-pass cut-off, Hz
 
+def column_roles(
+    robot: Union[PathType, Model],
+    names: Sequence[str],
+    *,
+    columns: Optional[Mapping[str, str]] = None,
+) -> list[str]:
+    """The role each column is read as (columns= and the recorders' spellings applied)."""
+
 def predict_log(
     robot: Union[PathType, Model],
     params: Union[PathType, Params, Identification],
@@ -340,6 +351,7 @@ def predict_log(
     root_gravity: Optional[Sequence[float]] = None,
     physical: bool = False,
     checks: bool = True,
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> LogPrediction:
     """Predictor(robot, params, physical=physical).predict_log(data, ...): massid predict's
     pipeline, its set-up checks and contact notes included."""
@@ -355,6 +367,7 @@ def simulate(
     repeat: int = 1,
     dynamic: bool = False,  # in motion: the trajectory's JOINT_vel, JOINT_acc columns
     root_gravity: Optional[Sequence[float]] = None,
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> dict[str, np.ndarray]:
     """The plan's columns with fx ... mz that the URDF's inertials would produce."""
 
@@ -384,6 +397,7 @@ def prepare_motion(
     root_gravity: Optional[Sequence[float]] = None,
     sensor: Optional[str] = None,
     fixed: Optional[Mapping[str, float]] = None,
+    columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}
 ) -> dict[str, np.ndarray]:
     """The samples identify(dynamic=True) and predict make of a motion log, as columns
     (t, joints, JOINT_vel, JOINT_acc, gx, gy, gz, [wx..az], [fx..mz], [block], row)."""

@@ -1446,8 +1446,10 @@ def _params_of(params: Any) -> tuple[dict[str, Any], str, Any]:
 def _predict_html(robot: Union[PathType, Any, None], params: Any,
                   data: Union[PathType, Mapping[str, Any]], title: Optional[str],
                   figs: _Figures, cutoff: Optional[float] = None,
-                  root_gravity: Optional[Sequence[float]] = None) -> str:
-    motion_args: dict[str, Any] = {"cutoff": cutoff, "root_gravity": root_gravity}
+                  root_gravity: Optional[Sequence[float]] = None,
+                  columns: Optional[Mapping[str, str]] = None) -> str:
+    motion_args: dict[str, Any] = {"cutoff": cutoff, "root_gravity": root_gravity,
+                                   "columns": columns}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         predicted = np.asarray(massid.predict(robot, params, data, **motion_args), dtype=float)
@@ -1463,6 +1465,9 @@ def _predict_html(robot: Union[PathType, Any, None], params: Any,
         model = robot
     dynamic = pj.get("model") == "dynamic"
     cols, source = _data_columns(data)
+    # The columns by the roles massid reads them as (--columns, recorders' spellings).
+    roles = massid.column_roles(model, list(cols), columns=columns)
+    cols = {(role or f"\0{k}"): v for (k, v), role in zip(cols.items(), roles)}
     n = predicted.shape[0]
     predicted = predicted.reshape(n, 6)
     joints = _joint_infos(model)
@@ -1612,7 +1617,8 @@ def _predict_html(robot: Union[PathType, Any, None], params: Any,
 def write_predict_report(path: PathType, robot: Union[PathType, Any, None], params: Any,
                          data: Union[PathType, Mapping[str, Any]], *,
                          title: Optional[str] = None, cutoff: Optional[float] = None,
-                         root_gravity: Optional[Sequence[float]] = None) -> None:
+                         root_gravity: Optional[Sequence[float]] = None,
+                         columns: Optional[Mapping[str, str]] = None) -> None:
     """Write the HTML report of a prediction.
 
     Args:
@@ -1632,6 +1638,9 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any, None], para
             the low-pass cutoff (Hz) that derives them from ``t`` and the positions
             (default min(10, rate/20), as ``massid predict``).
         root_gravity: gravity in the URDF root frame (a sensor below movable joints).
+        columns: columns of other names read as roles, ``{ROLE: NAME}`` (``massid
+            predict --columns``); the recorders' spellings of the wrench are read
+            without it.
 
     With dynamic parameters the report compares the full wrench in motion and
     shows it along time, the spectrum of the compensated wrench and the
@@ -1643,7 +1652,7 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any, None], para
         OSError: the file cannot be written.
     """
     with _Figures() as figs:
-        text = _predict_html(robot, params, data, title, figs, cutoff, root_gravity)
+        text = _predict_html(robot, params, data, title, figs, cutoff, root_gravity, columns)
     _massid._write_file_atomically(path, text)
 
 
@@ -1706,7 +1715,24 @@ def _parser() -> argparse.ArgumentParser:
                       help="dynamic params, a log without JOINT_vel/_acc: low-pass cutoff, Hz")
     pred.add_argument("--root-gravity", type=_three_numbers, metavar="GX,GY,GZ",
                       help="gravity in the URDF root frame (sensor below movable joints)")
+    pred.add_argument("--columns", action="append", metavar="ROLE=NAME,...",
+                      help="read columns of other names as roles (repeatable)")
     return p
+
+
+def _parse_columns(items: Optional[Iterable[str]]) -> Optional[dict[str, str]]:
+    if not items:
+        return None
+    out: dict[str, str] = {}
+    for item in items:
+        for pair in item.split(","):
+            role, sep, name = pair.partition("=")
+            if not sep or not role or not name:
+                raise massid.InputError(f"--columns: '{pair}' should read ROLE=NAME")
+            if role in out:
+                raise massid.InputError(f"--columns: role '{role}' is bound twice")
+            out[role] = name
+    return out
 
 
 def _positive(text: str) -> float:
@@ -1764,7 +1790,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             write_identify_report(args.output, massid.load_identification(args.record))
         else:
             write_predict_report(args.output, args.robot, args.params, args.data,
-                                 cutoff=args.cutoff, root_gravity=args.root_gravity)
+                                 cutoff=args.cutoff, root_gravity=args.root_gravity,
+                                 columns=_parse_columns(args.columns))
     except MatplotlibMissing:
         print(f"massid: error: {MATPLOTLIB_MISSING}", file=sys.stderr)
         return 2

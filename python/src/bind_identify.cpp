@@ -55,8 +55,8 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
                             std::optional<double> sigma_moment, bool checks, bool dynamic,
                             std::optional<double> cutoff,
                             std::optional<std::vector<double>> root_gravity,
-                            std::optional<std::string> rest, const py::object& delay,
-                            bool physical) {
+                            std::optional<std::string> rest, const py::object& delay, bool physical,
+                            std::optional<std::map<std::string, std::string>> columns) {
   // The keywords as a request (identify_request.hpp), checked by its rules.
   IdentifyRequest request;
   request.offset = offset;
@@ -73,6 +73,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   request.sigma_force = sigma_force;
   request.sigma_moment = sigma_moment;
   if (root_gravity) request.root_gravity = root_gravity_of(root_gravity);
+  request.columns = column_names_of(columns);
   request.validate(spelling());
   Model model = model_of(robot, sensor, fixed);  // a URDF path or a Model
   std::vector<Warning> notes;
@@ -80,6 +81,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   if (is_path(data)) {
     // As massid identify [--dynamic]: streamed where it can be.
     const std::string path = path_of(data);
+    warn_column_note(file_column_note(model, path, request.sample_options()));
     if (checks) notes = run_checks(model, data, nullptr, {}, dynamic, request.sample_options());
     py::gil_scoped_release release;
     out = identify(std::move(model), request, IdentifySource::file(path));
@@ -88,7 +90,11 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
     std::vector<std::string> header;
     Samples raw =
         samples_of(model, data, WrenchColumns::Required, &header, request.sample_options());
-    if (checks) notes = run_checks(model, data, &raw, header, dynamic);
+    warn_column_note(
+        column_note(model, header, "data", WrenchColumns::Required, request.sample_options()));
+    if (checks)
+      notes = run_checks(model, data, &raw, column_roles(model, header, request.sample_options()),
+                         dynamic);
     py::gil_scoped_release release;
     out = identify(std::move(model), request, IdentifySource::data(std::move(raw)));
   }
@@ -397,7 +403,7 @@ a record or whose URDF no longer gives the same base parameters.)");
         py::arg("sigma_force") = py::none(), py::arg("sigma_moment") = py::none(),
         py::arg("checks") = true, py::arg("dynamic") = false, py::arg("cutoff") = py::none(),
         py::arg("root_gravity") = py::none(), py::arg("rest") = py::none(),
-        py::arg("delay") = py::none(), py::arg("physical") = false,
+        py::arg("delay") = py::none(), py::arg("physical") = false, py::arg("columns") = py::none(),
         R"(Identifies the base parameters from measured wrenches (massid identify [--dynamic]).
 
 robot: URDF path or Model. data: a CSV path (streamed, as the CLI) or columns by name
@@ -417,7 +423,10 @@ then give gravity in the sensor frame when there are no gx,gy,gz), at rest and i
 dynamic: identification in motion, ten parameters per link (inertia about the link origin):
 the data add JOINT_vel and JOINT_acc, or t to derive them from the positions by a zero-phase
 low-pass (cutoff Hz; default min(10, rate/20)); optionally wx..wz, dwx..dwz, ax..az (sensor
-motion) and the joints above the sensor link (with their _vel, _acc).
+motion) and the joints above the sensor link (with their _vel, _acc). columns: columns of
+other names read as roles, {ROLE: NAME} (e.g. {'mx': 'tx', 'my': 'ty', 'mz': 'tz'}); the
+recorders' common spellings of the wrench (Fx, tx, torque_x, field.wrench.force.x,
+/ft_sensor/wrench/force/x, ...) are recognised without it, with a MassidWarning naming them.
 Raises InputError (bad input, failed check) or IdentifiabilityError; warnings are issued
 as MassidWarning and kept in .warnings.)");
 }

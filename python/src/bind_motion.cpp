@@ -93,9 +93,11 @@ py::dict prepare_motion(const py::object& robot, const py::object& data,
                         std::optional<double> cutoff, std::optional<int> decimation,
                         std::optional<std::vector<double>> root_gravity,
                         std::optional<std::string> sensor,
-                        std::optional<std::map<std::string, double>> fixed) {
+                        std::optional<std::map<std::string, double>> fixed,
+                        std::optional<std::map<std::string, std::string>> columns) {
   const Model model = model_of(robot, sensor, fixed);
   MotionDataOptions o = motion_data_options(cutoff, root_gravity);
+  o.samples.columns = column_names_of(columns);
   if (decimation) {
     if (*decimation < 1) throw InputError(fmt::format("decimation: {} is not >= 1", *decimation));
     o.filter.decimation = *decimation;
@@ -160,7 +162,7 @@ void bind_motion(py::module_& m) {
   m.def("prepare_motion", &prepare_motion, py::arg("robot"), py::arg("data"), py::kw_only(),
         py::arg("cutoff") = py::none(), py::arg("decimation") = py::none(),
         py::arg("root_gravity") = py::none(), py::arg("sensor") = py::none(),
-        py::arg("fixed") = py::none(),
+        py::arg("fixed") = py::none(), py::arg("columns") = py::none(),
         R"(The samples that identify(..., dynamic=True) and predict make of a motion log, as
 columns: t, joints, JOINT_vel, JOINT_acc (given, or derived from t and the positions by the
 zero-phase low-pass: cutoff Hz, default min(10, rate/20); the positions, gravity, sensor

@@ -210,10 +210,12 @@ CsvTable table_of(const py::handle& data) {
 // warnings raised as MassidWarning.
 LogPrediction predict_log_of(const IdentifiedModel& identified, const py::object& data,
                              std::optional<double> cutoff,
-                             std::optional<std::vector<double>> root_gravity, bool checks) {
+                             std::optional<std::vector<double>> root_gravity, bool checks,
+                             const ColumnNames& columns) {
   if (!identified.dynamic() && cutoff) throw InputError("cutoff goes with dynamic parameters");
   PredictLogOptions o;
   o.motion = motion_data_options(cutoff, root_gravity);
+  o.motion.samples.columns = columns;
   o.checks = checks;
   CsvTable table = table_of(data);
   const std::string source = is_path(data) ? path_of(data) : std::string("data");
@@ -224,6 +226,7 @@ LogPrediction predict_log_of(const IdentifiedModel& identified, const py::object
   }
   const py::object warn = py::module_::import("warnings").attr("warn");
   const py::object category = py::module_::import("massid").attr("MassidWarning");
+  warn_column_note(out.column_note);
   for (const Warning& w : out.setup.warnings()) warn(with_hints(w.message, w.hints), category, 3);
   return out;
 }
@@ -447,11 +450,14 @@ void bind_predict(py::module_& m) {
       .def(
           "predict_log",
           [](const PyPredictor& p, const py::object& data, std::optional<double> cutoff,
-             std::optional<std::vector<double>> root_gravity, bool checks) {
-            return predict_log_of(p.identified, data, cutoff, std::move(root_gravity), checks);
+             std::optional<std::vector<double>> root_gravity, bool checks,
+             std::optional<std::map<std::string, std::string>> columns) {
+            return predict_log_of(p.identified, data, cutoff, std::move(root_gravity), checks,
+                                  column_names_of(columns));
           },
           py::arg("data"), py::kw_only(), py::arg("cutoff") = py::none(),
           py::arg("root_gravity") = py::none(), py::arg("checks") = true,
+          py::arg("columns") = py::none(),
           "massid predict on a log (a CSV path, or columns by name): the set-up checks (InputError "
           "with the CLI's message when they refuse; warnings as MassidWarning), the motion "
           "filter of a dynamic model's log without JOINT_vel/_acc, the predicted and "
@@ -478,10 +484,12 @@ void bind_predict(py::module_& m) {
       "predict",
       [](const py::object& robot, const py::object& params, const py::object& data,
          std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity,
-         bool physical) {
+         bool physical, std::optional<std::map<std::string, std::string>> columns) {
         auto p = make_predictor(robot, params, physical);
         SampleOptions sopts;
         sopts.root_gravity = root_gravity_of(root_gravity);
+        sopts.columns = column_names_of(columns);
+        sopts.sensor_motion = p->dynamic;
         if (!p->dynamic) {
           if (cutoff) throw InputError("cutoff goes with dynamic parameters");
           const Samples s = samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts);
@@ -494,6 +502,7 @@ void bind_predict(py::module_& m) {
         const Eigen::Index rows = raw.size();
         const bool from_file = is_path(data);
         MotionDataOptions o = motion_data_options(cutoff, root_gravity);
+        o.samples = sopts;
         o.filter.decimation = 1;
         const Samples s = prepare_motion_samples(p->model, std::move(raw), o);
         const Eigen::MatrixXd W = p->predict_samples(s);
@@ -501,7 +510,7 @@ void bind_predict(py::module_& m) {
       },
       py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),
       py::arg("cutoff") = py::none(), py::arg("root_gravity") = py::none(),
-      py::arg("physical") = false,
+      py::arg("physical") = false, py::arg("columns") = py::none(),
       "[N, 6] the mechanism's predicted wrench at every row of data, WITHOUT the identified "
       "sensor offsets (massid predict's fx_pred..mz_pred; a Predictor's call and "
       "Predictor.offset give the offsets): data is a CSV path or columns by name "
@@ -510,20 +519,38 @@ void bind_predict(py::module_& m) {
       "JOINT_acc, or derived from t and the positions by the zero-phase low-pass of massid "
       "predict (cutoff Hz): the rows the filter drops at each end (of each block) are NaN. "
       "root_gravity: gravity in the URDF root frame (sensor below movable joints). "
-      "physical: from the params' physical parameters (identify physical=True), K pi_phys "
+      "columns: columns of other names read as roles, {ROLE: NAME} (as massid predict "
+      "--columns). physical: from the params' physical parameters (identify physical=True), K "
+      "pi_phys "
       "into the same predictor.");
+
+  m.def(
+      "column_roles",
+      [](const py::object& robot, const std::vector<std::string>& names,
+         std::optional<std::map<std::string, std::string>> columns) {
+        const Model model = model_of(robot, std::nullopt, std::nullopt);
+        SampleOptions o;
+        o.columns = column_names_of(columns);
+        return column_roles(model, names, o);
+      },
+      py::arg("robot"), py::arg("names"), py::kw_only(), py::arg("columns") = py::none(),
+      "The role each of a header's columns is read as (its name, unless columns= {ROLE: NAME} "
+      "or a recorder's spelling of the wrench binds it otherwise; '' for a column a binding "
+      "displaced or a group ignored): the one binding of the readers, for code that looks "
+      "columns up by role.");
 
   m.def(
       "predict_log",
       [](const py::object& robot, const py::object& params, const py::object& data,
          std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity,
-         bool physical, bool checks) {
+         bool physical, bool checks, std::optional<std::map<std::string, std::string>> columns) {
         const auto p = make_predictor(robot, params, physical);
-        return predict_log_of(p->identified, data, cutoff, std::move(root_gravity), checks);
+        return predict_log_of(p->identified, data, cutoff, std::move(root_gravity), checks,
+                              column_names_of(columns));
       },
       py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),
       py::arg("cutoff") = py::none(), py::arg("root_gravity") = py::none(),
-      py::arg("physical") = false, py::arg("checks") = true,
+      py::arg("physical") = false, py::arg("checks") = true, py::arg("columns") = py::none(),
       "Predictor(robot, params, physical=physical).predict_log(data, ...): massid predict's "
       "pipeline on a log, its set-up checks and contact notes included (a LogPrediction).");
 
@@ -532,7 +559,8 @@ void bind_predict(py::module_& m) {
       [](const py::object& robot, const py::object& plan, double noise_force, double noise_moment,
          std::optional<std::vector<double>> sensor_offset, std::uint64_t seed, int repeat,
          bool dynamic, std::optional<std::vector<double>> root_gravity,
-         std::optional<std::vector<double>> offset) {
+         std::optional<std::vector<double>> offset,
+         std::optional<std::map<std::string, std::string>> columns) {
         if (offset) {  // the old spelling of sensor_offset
           if (sensor_offset)
             throw InputError("offset= is the old spelling of sensor_offset=: give one");
@@ -544,6 +572,8 @@ void bind_predict(py::module_& m) {
         const Model model = model_of(robot, std::nullopt, std::nullopt);
         SampleOptions sopts;
         sopts.root_gravity = root_gravity_of(root_gravity);
+        sopts.columns = column_names_of(columns);
+        sopts.sensor_motion = dynamic;
         py::dict in;
         Samples s;
         if (py::isinstance<Plan>(plan)) {
@@ -597,7 +627,7 @@ void bind_predict(py::module_& m) {
       py::arg("robot"), py::arg("plan"), py::kw_only(), py::arg("noise_force") = 0.0,
       py::arg("noise_moment") = 0.0, py::arg("sensor_offset") = py::none(), py::arg("seed") = 1,
       py::arg("repeat") = 1, py::arg("dynamic") = false, py::arg("root_gravity") = py::none(),
-      py::arg("offset") = py::none(),
+      py::arg("offset") = py::none(), py::arg("columns") = py::none(),
       "The plan's columns (each repeated `repeat` times) with the wrenches fx ... mz that the "
       "URDF's inertials would produce, plus Gaussian noise (N, N m) and a constant offset: a "
       "data set for identify.\n"

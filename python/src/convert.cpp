@@ -134,6 +134,19 @@ Eigen::Vector3d root_gravity_of(const std::optional<std::vector<double>>& root_g
   return Eigen::Map<const Eigen::Vector3d>(root_gravity->data());
 }
 
+ColumnNames column_names_of(const std::optional<std::map<std::string, std::string>>& columns) {
+  ColumnNames out;
+  if (columns)
+    for (const auto& [role, name] : *columns) out.bind.emplace_back(role, name);
+  return out;
+}
+
+void warn_column_note(const std::string& note) {
+  if (note.empty()) return;
+  py::module_::import("warnings")
+      .attr("warn")(note, py::module_::import("massid").attr("MassidWarning"), 3);
+}
+
 Eigen::MatrixXd optional_matrix(const py::handle& array, Eigen::Index rows, int cols,
                                 const std::string& what) {
   if (array.is_none()) return Eigen::MatrixXd(0, 0);

@@ -55,6 +55,8 @@ const char* keyword(Hint::Setting s) {
       return "rest";
     case Hint::Setting::RootGravity:
       return "root_gravity";
+    case Hint::Setting::Columns:
+      return "columns";
   }
   return "";
 }
@@ -104,6 +106,17 @@ std::string spell(const Hint& hint) {
       return "rest='" + or_placeholder(v, "auto") + "'";
     case Hint::Setting::RootGravity:
       return "root_gravity=" + (v.empty() ? std::string("[gx, gy, gz]") : "[" + v + "]");
+    case Hint::Setting::Columns: {  // "fx=Fx,fy=Fy" -> columns={'fx': 'Fx', 'fy': 'Fy'}
+      std::string out;
+      std::istringstream in(v);
+      std::string pair;
+      while (std::getline(in, pair, ',')) {
+        const auto eq = pair.find('=');
+        out += (out.empty() ? "" : ", ") + ("'" + pair.substr(0, eq) + "': '") +
+               (eq == std::string::npos ? "NAME" : pair.substr(eq + 1)) + "'";
+      }
+      return "columns={" + or_placeholder(out, "'ROLE': 'NAME'") + "}";
+    }
     default:
       return v.empty() ? k : k + "=" + v;
   }

@@ -81,11 +81,11 @@ record_json rest_json(const RestWindows& w) {
 // The settings by name, in the order of Hint::Setting (a record names them:
 // the enumeration may grow).
 constexpr const char* kSettingNames[] = {
-    "hold_joints",   "offset",       "checks",      "robust",      "drift",
-    "dynamic",       "cutoff",       "delay",       "min_height",  "limits",
-    "level_gravity", "tilt_max",     "physical",    "sensor_link", "poses",
-    "sigma_force",   "sigma_moment", "level_poses", "rest",        "root_gravity"};
-static_assert(std::size(kSettingNames) == static_cast<std::size_t>(Hint::Setting::RootGravity) + 1,
+    "hold_joints", "offset",       "checks",     "robust",      "drift",         "dynamic",
+    "cutoff",      "delay",        "min_height", "limits",      "level_gravity", "tilt_max",
+    "physical",    "sensor_link",  "poses",      "sigma_force", "sigma_moment",  "level_poses",
+    "rest",        "root_gravity", "columns"};
+static_assert(std::size(kSettingNames) == static_cast<std::size_t>(Hint::Setting::Columns) + 1,
               "a name for every setting");
 
 record_json warnings_json(const std::vector<Warning>& warnings, HintSpeller spell) {

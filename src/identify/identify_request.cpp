@@ -120,6 +120,8 @@ MotionDataOptions IdentifyRequest::motion_options() const {
   MotionDataOptions o;
   if (cutoff) o.filter.cutoff = *cutoff;
   if (root_gravity) o.samples.root_gravity = *root_gravity;
+  o.samples.columns = columns;
+  o.samples.sensor_motion = dynamic;
   return o;
 }
 

@@ -38,9 +38,14 @@ LogPrediction predict_log(const IdentifiedModel& identified, CsvTable table,
   LogPrediction out;
   out.source = source;
   const bool motion = identified.dynamic();
-  Samples samples = read_samples(model, table, WrenchColumns::Optional, options.motion.samples);
+  SampleOptions read = options.motion.samples;
+  read.sensor_motion = motion;  // a static prediction ignores a partial wx..az (an IMU's ax..az)
+  out.column_note =
+      column_note(model, table.header, fmt::format("{}:{}", table.source, table.header_line),
+                  WrenchColumns::Optional, read);
+  Samples samples = read_samples(model, table, WrenchColumns::Optional, read);
   if (options.checks) {
-    out.setup = check_input_setup(model, samples, table.header, motion);
+    out.setup = check_input_setup(model, samples, column_roles(model, table.header, read), motion);
     if (options.on_verdict) options.on_verdict(out.setup);
     if (out.setup.refused()) throw SetupRefused(out.setup.shown());
   }
@@ -70,6 +75,7 @@ LogPrediction predict_log(const IdentifiedModel& identified, CsvTable table,
   if (motion) {
     // The full wrench, weight and motion, from the dynamic base parameters.
     MotionDataOptions mopts = options.motion;
+    mopts.samples = read;
     mopts.filter.decimation = 1;  // a prediction for every row the filter keeps
     samples = prepare_motion_samples(model, std::move(samples), mopts, &out.motion);
     if (out.motion.derived) table = keep_lines(std::move(table), samples.line);

@@ -4,7 +4,9 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cctype>
 #include <numbers>
+#include <set>
 
 #include "massid/core/errors.hpp"
 #include "massid/io/read_samples.hpp"
@@ -15,6 +17,18 @@ namespace {
 int find(const std::vector<std::string>& header, const std::string& name) {
   const auto it = std::find(header.begin(), header.end(), name);
   return it == header.end() ? -1 : static_cast<int>(it - header.begin());
+}
+
+const char* const kSensorMotion[9] = {"wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az"};
+
+// "a,b,c" of the first 40 names, then " and N more".
+std::string name_list(const std::vector<std::string>& names, const char* separator = ",") {
+  constexpr size_t kShown = 40;
+  std::string out;
+  for (size_t i = 0; i < std::min(names.size(), kShown); ++i)
+    out += (i ? separator : "") + names[i];
+  if (names.size() > kShown) out += fmt::format(" and {} more", names.size() - kShown);
+  return out.empty() ? "no columns" : out;
 }
 
 // Columns that must be all present or all absent.
@@ -52,7 +66,65 @@ ColumnGroup suffixed(const std::vector<Joint>& joints, const std::vector<std::st
   return out;
 }
 
+// The roles a column can be bound to: the fixed ones, then every joint's.
+bool is_role(const Model& model, const std::string& role) {
+  static const std::set<std::string> fixed = {
+      "fx", "fy", "fz", "mx",  "my",  "mz",  "gx", "gy", "gz", "t",          "block",
+      "wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az", "tilt_x_deg", "tilt_y_deg"};
+  if (fixed.count(role)) return true;
+  for (const auto* joints : {&model.joints, &model.upstream_joints})
+    for (const Joint& j : *joints)
+      if (role == j.name || role == j.name + "_vel" || role == j.name + "_acc" ||
+          (j.type == JointType::Revolute && role == j.name + "_deg"))
+        return true;
+  return false;
+}
+
+// "fx=A,fy=B,..." for the wrench: the column read as each role, else NAME.
+std::string wrench_proposal(const std::vector<std::string>& header,
+                            const std::vector<std::string>& roles, const int (&candidate)[6]) {
+  std::string out;
+  for (int k = 0; k < 6; ++k) {
+    const int c = find(roles, kWrenchColumns[k]);
+    const int col = c >= 0 ? c : candidate[k];
+    out += fmt::format("{}{}={}", k ? "," : "", kWrenchColumns[k], col >= 0 ? header[col] : "NAME");
+  }
+  return out;
+}
+
 }  // namespace
+
+int wrench_spelling(const std::string& name) {
+  // Tokens of the lower-cased name, split at . / _ - and blanks.
+  std::vector<std::string> tokens(1);
+  for (const char ch : name) {
+    if (ch == '.' || ch == '/' || ch == '_' || ch == '-' || ch == ' ') {
+      if (!tokens.back().empty()) tokens.emplace_back();
+    } else {
+      tokens.back() += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    }
+  }
+  if (tokens.back().empty()) tokens.pop_back();
+  const auto axis = [](const std::string& a) {
+    return a.size() == 1 && a[0] >= 'x' && a[0] <= 'z' ? a[0] - 'x' : -1;
+  };
+  if (tokens.size() == 1 && tokens[0].size() == 2) {  // Fx, FX, tx, Tx, Mx (not fx itself)
+    const int a = axis(tokens[0].substr(1));
+    const char kind = tokens[0][0];
+    if (a < 0 || (name == tokens[0] && kind != 't')) return -1;
+    if (kind == 'f') return a;
+    if (kind == 't' || kind == 'm') return 3 + a;
+    return -1;
+  }
+  if (tokens.size() >= 2) {  // force_x, torque_x, field.wrench.force.x, /ft/wrench/torque/z
+    const int a = axis(tokens.back());
+    const std::string& kind = tokens[tokens.size() - 2];
+    if (a < 0) return -1;
+    if (kind == "force") return a;
+    if (kind == "torque" || kind == "moment") return 3 + a;
+  }
+  return -1;
+}
 
 ColumnGroup position_columns(const std::vector<Joint>& joints,
                              const std::vector<std::string>& header, const std::string& where) {
@@ -71,39 +143,159 @@ ColumnGroup position_columns(const std::vector<Joint>& joints,
 }
 
 ColumnMap map_columns(const Model& model, const std::vector<std::string>& header,
-                      const std::string& where, WrenchColumns wrench) {
+                      const std::string& where, WrenchColumns wrench, const ColumnNames& names,
+                      bool sensor_motion) {
+  // The role of every column: its own name, unless a binding or a spelling
+  // says otherwise ("" for a column named as a role bound to another column).
+  std::vector<std::string> roles = header;
+  std::vector<std::string> renamed, ignored_why;
+  const Hint columns_hint{Hint::Setting::Columns, ""};
+  std::set<std::string> seen_roles, seen_names;
+  for (const auto& [role, name] : names.bind) {
+    if (!is_role(model, role)) {
+      std::vector<std::string> joints;
+      for (const auto* js : {&model.joints, &model.upstream_joints})
+        for (const Joint& j : *js) joints.push_back(j.name);
+      throw InputError(
+          fmt::format("{}: '{}={}' binds an unknown role '{}': the roles are fx,fy,fz,mx,my,mz, "
+                      "gx,gy,gz, t, block, wx,wy,wz,dwx,dwy,dwz,ax,ay,az, tilt_x_deg,tilt_y_deg "
+                      "and the joints ({}), also as JOINT_deg, JOINT_vel, JOINT_acc",
+                      where, role, name, role, name_list(joints)),
+          {columns_hint});
+    }
+    if (!seen_roles.insert(role).second)
+      throw InputError(
+          fmt::format("{}: role '{}' is bound twice: bind each role to one column", where, role),
+          {columns_hint});
+    if (!seen_names.insert(name).second)
+      throw InputError(
+          fmt::format("{}: column '{}' is bound to two roles: bind each column to one role", where,
+                      name),
+          {columns_hint});
+    const int col = find(header, name);
+    if (col < 0)
+      throw InputError(fmt::format("{}: no column '{}' to read as '{}': the header has {}", where,
+                                   name, role, name_list(header)),
+                       {columns_hint});
+  }
+  for (const auto& [role, name] : names.bind) {
+    const int col = find(header, name);
+    for (size_t c = 0; c < roles.size(); ++c)
+      if (roles[c] == role && static_cast<int>(c) != col) {
+        roles[c] = "";
+        ignored_why.push_back(fmt::format("{} (bound to '{}' instead)", header[c], name));
+      }
+    roles[col] = role;
+    if (name != role) renamed.push_back(fmt::format("{} as {}", name, role));
+  }
+  // Recorders' spellings of the wrench: each role from one column, all six or none.
+  int candidate[6] = {-1, -1, -1, -1, -1, -1};
+  if (names.spellings) {
+    bool complete = true, spelled = false;
+    for (int k = 0; k < 6; ++k) {
+      if (find(roles, kWrenchColumns[k]) >= 0) continue;
+      for (size_t c = 0; c < header.size(); ++c) {
+        if (roles[c] != header[c] || seen_names.count(header[c]) || is_role(model, header[c]) ||
+            wrench_spelling(header[c]) != k)
+          continue;
+        if (candidate[k] >= 0)
+          throw InputError(
+              fmt::format("{}: columns '{}' and '{}' could both be {} (recorders' spellings of "
+                          "it): say which to read",
+                          where, header[candidate[k]], header[c], kWrenchColumns[k]),
+              {{Hint::Setting::Columns,
+                fmt::format("{}={}", kWrenchColumns[k], header[candidate[k]])}});
+        candidate[k] = static_cast<int>(c);
+      }
+      complete &= candidate[k] >= 0;
+      spelled |= candidate[k] >= 0;
+    }
+    if (complete && spelled)
+      for (int k = 0; k < 6; ++k)
+        if (candidate[k] >= 0) {
+          roles[candidate[k]] = kWrenchColumns[k];
+          renamed.push_back(fmt::format("{} as {}", header[candidate[k]], kWrenchColumns[k]));
+        }
+  }
+
   ColumnMap m;
-  m.q = position_columns(model.joints, header, where);
-  m.qd = suffixed(model.joints, header, where, "_vel");
-  m.qdd = suffixed(model.joints, header, where, "_acc");
+  m.q = position_columns(model.joints, roles, where);
+  m.qd = suffixed(model.joints, roles, where, "_vel");
+  m.qdd = suffixed(model.joints, roles, where, "_acc");
   if (m.qd.empty() != m.qdd.empty())
     throw InputError(
         fmt::format("{}: the header has joint {} columns but no {} columns: give "
                     "both, or neither (derived from t and the positions)",
                     where, m.qd.empty() ? "_acc" : "_vel", m.qd.empty() ? "_vel" : "_acc"));
-  m.sensor_motion =
-      all_or_none(header, where, {"wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az"});
+  // The sensor frame's motion: all nine or none; in part, an error only where
+  // it is needed (an IMU's ax,ay,az beside the wrench of a static fit).
+  {
+    std::vector<std::string> present, missing;
+    for (const char* n : kSensorMotion) (find(roles, n) >= 0 ? present : missing).push_back(n);
+    if (missing.empty()) {
+      for (const char* n : kSensorMotion) m.sensor_motion.push_back({find(roles, n), 1.0});
+    } else if (!present.empty()) {
+      const std::string accel =
+          find(roles, "ax") >= 0 || find(roles, "ay") >= 0 || find(roles, "az") >= 0
+              ? "; ax,ay,az are read as the sensor frame's origin acceleration without gravity, "
+                "m/s^2 (an IMU's reading in g, gravity included, is not that)"
+              : "";
+      if (sensor_motion)
+        throw InputError(fmt::format(
+            "{}: column(s) {} missing (the header has some of the sensor frame's motion "
+            "wx,wy,wz,dwx,dwy,dwz,ax,ay,az but not all){}: give all nine, or rename the columns "
+            "that are not these",
+            where, fmt::join(missing, ","), accel));
+      for (const std::string& n : present) {
+        const int c = find(roles, n);
+        roles[c] = "";
+        ignored_why.push_back(header[c]);
+      }
+      ignored_why.back() +=
+          fmt::format(" (the sensor frame's motion in part, without {}: a static fit needs none{})",
+                      fmt::join(missing, ","), accel);
+    }
+  }
   // Joints above the sensor link: once one is there, all of them.
   const bool any_upstream =
       std::any_of(model.upstream_joints.begin(), model.upstream_joints.end(), [&](const Joint& j) {
-        return find(header, j.name) >= 0 || find(header, j.name + "_deg") >= 0;
+        return find(roles, j.name) >= 0 || find(roles, j.name + "_deg") >= 0;
       });
   if (any_upstream) {
-    m.q_upstream = position_columns(model.upstream_joints, header, where);
-    m.qd_upstream = suffixed(model.upstream_joints, header, where, "_vel");
-    m.qdd_upstream = suffixed(model.upstream_joints, header, where, "_acc");
+    m.q_upstream = position_columns(model.upstream_joints, roles, where);
+    m.qd_upstream = suffixed(model.upstream_joints, roles, where, "_vel");
+    m.qdd_upstream = suffixed(model.upstream_joints, roles, where, "_acc");
     if (m.qd_upstream.empty() != m.qdd_upstream.empty())
       throw InputError(
           fmt::format("{}: the upstream joints have _vel or _acc columns but not both", where));
   }
-  m.wrench = all_or_none(header, where, {"fx", "fy", "fz", "mx", "my", "mz"});
-  if (m.wrench.empty() && wrench == WrenchColumns::Required)
-    throw InputError(
-        fmt::format("{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed", where));
-  m.time = find(header, "t");
-  m.block = find(header, "block");
-  m.gravity = all_or_none(header, where, {"gx", "gy", "gz"});
-  m.tilt = all_or_none(header, where, {"tilt_x_deg", "tilt_y_deg"});
+  {
+    std::vector<std::string> missing;
+    for (const char* n : kWrenchColumns) {
+      m.wrench.push_back({find(roles, n), 1.0});
+      if (m.wrench.back().column < 0) missing.push_back(n);
+    }
+    const Hint proposal{Hint::Setting::Columns, wrench_proposal(header, roles, candidate)};
+    if (missing.size() == 6) {
+      m.wrench.clear();
+      if (wrench == WrenchColumns::Required)
+        throw InputError(
+            fmt::format("{}: no measured wrench: the columns fx,fy,fz,mx,my,mz are needed, and "
+                        "the header has {}: bind the wrench's columns to them",
+                        where, name_list(header)),
+            {proposal});
+    } else if (!missing.empty()) {
+      throw InputError(
+          fmt::format("{}: column(s) {} missing (the header has some of fx,fy,fz,mx,my,mz but "
+                      "not all; it has {}): bind the wrench's columns to them",
+                      where, fmt::join(missing, ","), name_list(header)),
+          {proposal});
+    }
+  }
+  m.time = find(roles, "t");
+  m.block = find(roles, "block");
+  m.gravity = all_or_none(roles, where, {"gx", "gy", "gz"});
+  m.tilt = all_or_none(roles, where, {"tilt_x_deg", "tilt_y_deg"});
   for (BoundColumn& b : m.tilt) b.scale = std::numbers::pi / 180.0;
   if (!m.gravity.empty())
     m.gravity_from = GravityFrom::Columns;
@@ -114,6 +306,26 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
   else
     throw InputError(
         fmt::format("{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame)", where));
+
+  // The note: what was read under another name, what was ignored and why.
+  std::vector<bool> read(header.size(), false);
+  for (const ColumnGroup* g : {&m.q, &m.qd, &m.qdd, &m.sensor_motion, &m.q_upstream, &m.qd_upstream,
+                               &m.qdd_upstream, &m.wrench, &m.gravity, &m.tilt})
+    for (const BoundColumn& b : *g) read[b.column] = true;
+  for (const int c : {m.time, m.block})
+    if (c >= 0) read[c] = true;
+  std::vector<std::string> ignored = ignored_why;
+  for (size_t c = 0; c < header.size(); ++c)
+    if (!read[c] && roles[c] == header[c]) ignored.push_back(header[c]);
+  const bool no_wrench = m.wrench.empty() && !ignored.empty();
+  m.roles = roles;
+  if (renamed.empty() && ignored_why.empty() && !no_wrench) return m;
+  std::vector<std::string> parts;
+  if (!renamed.empty()) parts.push_back("read " + fmt::format("{}", fmt::join(renamed, ", ")));
+  if (no_wrench)
+    parts.push_back("no measured wrench (fx..mz, or a recorder's spelling of all six)");
+  if (!ignored.empty()) parts.push_back("ignored: " + name_list(ignored, ", "));
+  m.note = fmt::format("{}: {}", where, fmt::join(parts, "; "));
   return m;
 }
 

@@ -23,7 +23,10 @@
 //                             gx,gy,gz; the other readers carry it through
 //   t                         time, s
 //   block                     an integer: the sensor re-zeroed between blocks
-// Other columns are ignored.
+// Other columns are ignored. A column of another name is read as a role when
+// SampleOptions::columns binds it (ROLE=NAME), or, for the wrench, when its
+// name is a recorder's common spelling (wrench_spelling, the one table) and
+// fx..mz are absent.
 #pragma once
 
 #include <string>
@@ -60,14 +63,29 @@ struct ColumnMap {
   ColumnGroup tilt;                       // [2] tilt_x_deg tilt_y_deg, scale pi/180
   int time = -1, block = -1;              // columns t, block; -1 when absent
   GravityFrom gravity_from = GravityFrom::Columns;
+  // column_note's text: "" when every column read is read under its own name
+  // and no group was ignored.
+  std::string note;
+  // [columns] the role each column is read as (its own name unless bound or
+  // spelled otherwise; "" for a column a binding displaced or a group ignored).
+  std::vector<std::string> roles;
 };
 
-// Binds `header` (the column names) to `model`. `where` starts every message
-// (the header's "file:line", or the arrays' name). InputError for a missing
-// joint, a group given in part, _vel without _acc (or the reverse), no wrench
-// when it is required, no gravity at all.
+// Binds `header` (the column names) to `model`, with the roles that
+// options.columns gives other names. `where` starts every message (the
+// header's "file:line", or the arrays' name). InputError for a bad binding
+// (ColumnNames), a missing joint, a group given in part (the sensor motion
+// wx..az only when `sensor_motion`: otherwise it is ignored, with a note),
+// _vel without _acc (or the reverse), no wrench when it is required (listing
+// the header and proposing the binding), no gravity at all.
 ColumnMap map_columns(const Model& model, const std::vector<std::string>& header,
-                      const std::string& where, WrenchColumns wrench);
+                      const std::string& where, WrenchColumns wrench, const ColumnNames& names = {},
+                      bool sensor_motion = true);
+
+// The wrench role (0..5: fx fy fz mx my mz) a recorder's spelling of a column
+// name stands for, or -1 (the canonical names themselves: -1). The one table
+// of spellings (read_samples.hpp's ColumnNames lists them).
+int wrench_spelling(const std::string& name);
 
 // The position columns of `joints` alone (by name, or NAME_deg for a revolute
 // joint); InputError for a joint without one.

@@ -106,7 +106,9 @@ SampleColumns bind(const Model& model, std::string_view text, const std::string&
 
   // The one binding (column_map.hpp): every header error, read_samples' messages.
   const ColumnMap map = map_columns(model, c.header, fmt::format("{}:{}", source, c.header_line),
-                                    WrenchColumns::Required);
+                                    WrenchColumns::Required, options.columns, motion);
+  c.note = map.note;
+  c.roles = map.roles;
   c.num_joints = model.num_joints();
   c.num_upstream = model.num_upstream_joints();
   c.motion = motion;
@@ -244,7 +246,7 @@ Samples read_file_samples(const Model& model, const std::string& path, int max_r
   const MappedFile file(path);
   const std::string_view text = file.text();
   const SampleColumns cols = bind_columns(model, text, path, read);
-  if (header) *header = cols.header;
+  if (header) *header = cols.roles;
   const int nj = model.num_joints(), w = cols.wrench_value();
   const size_t limit = static_cast<size_t>(std::max(1, max_rows));
   std::vector<double> q, g, wrench;

@@ -80,14 +80,17 @@ struct SampleColumns {
   int q_up = -1, qd_up = -1, qdd_up = -1;  // [num_upstream]
   int time = -1, block = -1;               // t, block
   ColumnGroup tilt;  // [2 or 0] tilt_x_deg, tilt_y_deg (map_columns), not laid out: bind_value them
+  std::string note;  // map_columns' note on the header ("" for none)
+  std::vector<std::string> roles;  // map_columns' roles of the columns
   int wrench_value() const { return wrench; }
   int gravity_value() const { return gravity; }
 };
 
 // Reads the header and binds it with map_columns (column_map.hpp; InputError
 // as read_csv/read_samples with WrenchColumns::Required, incl. "header but no
-// data rows"): every optional group is checked; with `motion` they are laid
-// out too.
+// data rows"), with options.columns: every optional group is checked (the
+// sensor motion wx..az given in part only with `motion`: else ignored); with
+// `motion` they are laid out too.
 SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
                            const SampleOptions& options, bool motion = false);
 

@@ -7,6 +7,7 @@
 
 #include "core/argument_checks.hpp"
 #include "io/column_map.hpp"
+#include "io/csv_stream.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/kinematics.hpp"
 #include "massid/io/csv.hpp"
@@ -81,8 +82,8 @@ Eigen::MatrixXd read_group(const Columns& table, const detail::ColumnGroup& grou
 template <class Columns>
 Samples samples_of(const Model& model, const Columns& table, const std::string& source,
                    WrenchColumns wrench, const SampleOptions& options) {
-  const detail::ColumnMap map =
-      detail::map_columns(model, table.names(), table.header_where(), wrench);
+  const detail::ColumnMap map = detail::map_columns(model, table.names(), table.header_where(),
+                                                    wrench, options.columns, options.sensor_motion);
   Samples s;
   s.source = source;
   s.root_gravity = options.root_gravity;
@@ -168,6 +169,26 @@ void resolve_upstream(const Model& model, Samples& s) {
     if (s.gravity_from_upstream) s.gravity.row(i) = g.transpose();
     if (moving) s.sensor_motion.row(i) = motion.transpose();
   }
+}
+
+std::string column_note(const Model& model, const std::vector<std::string>& header,
+                        const std::string& where, WrenchColumns wrench,
+                        const SampleOptions& options) {
+  return detail::map_columns(model, header, where, wrench, options.columns, options.sensor_motion)
+      .note;
+}
+
+std::vector<std::string> column_roles(const Model& model, const std::vector<std::string>& header,
+                                      const SampleOptions& options) {
+  return detail::map_columns(model, header, "header", WrenchColumns::Optional, options.columns,
+                             false)
+      .roles;
+}
+
+std::string file_column_note(const Model& model, const std::string& path,
+                             const SampleOptions& options) {
+  const detail::MappedFile file(path);
+  return detail::bind_header(model, file.text(), path, options, options.sensor_motion).note;
 }
 
 Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table) {

@@ -22,6 +22,36 @@
 namespace massid {
 namespace {
 
+// The first element (document order) in the xacro namespace: a name prefixed
+// "xacro:" or by any prefix an element declares for xacro's URI
+// (xmlns:P="http://www.ros.org/wiki/xacro"); null when none.
+bool xacro_uri(std::string_view uri) {
+  return uri.find("ros.org/wiki/xacro") != std::string_view::npos;
+}
+
+const tinyxml2::XMLElement* first_xacro_element(const tinyxml2::XMLNode& node,
+                                                std::vector<std::string>& prefixes) {
+  for (const tinyxml2::XMLElement* e = node.FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const size_t declared = prefixes.size();
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
+      const std::string_view n = a->Name();
+      if (n.substr(0, 6) == "xmlns:" && xacro_uri(a->Value()))
+        prefixes.emplace_back(std::string(n.substr(6)) + ":");
+    }
+    const std::string_view name = e->Name();
+    for (const std::string& p : prefixes)
+      if (name.substr(0, p.size()) == p) return e;
+    if (const tinyxml2::XMLElement* inner = first_xacro_element(*e, prefixes)) return inner;
+    prefixes.resize(declared);
+  }
+  return nullptr;
+}
+
+const tinyxml2::XMLElement* first_xacro_element(const tinyxml2::XMLDocument& doc) {
+  std::vector<std::string> prefixes{"xacro:"};
+  return first_xacro_element(doc, prefixes);
+}
+
 class CaptureLog : public console_bridge::OutputHandler {
  public:
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
@@ -374,13 +404,13 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   }
   if (!doc.FirstChildElement("robot"))
     throw InputError(fmt::format("{}:1: not a URDF: no <robot> element", source));
-  // An unexpanded xacro file (expanded ones keep xmlns:xacro, not its elements).
-  if (const size_t at = xml.find("<xacro:"); at != std::string::npos) {
-    const int line = 1 + static_cast<int>(std::count(xml.begin(), xml.begin() + at, '\n'));
+  // An unexpanded xacro file: an element in the xacro namespace (expanded
+  // files keep xmlns:xacro, not its elements; "xacro" in a comment, a name or
+  // any other text is no xacro).
+  if (const tinyxml2::XMLElement* e = first_xacro_element(doc))
     throw InputError(fmt::format(
         "{}:{}: this is a xacro file, not a URDF: expand it first (xacro {} > robot.urdf)", source,
-        line, source));
-  }
+        e->GetLineNum(), source));
   check_tree(doc, source);
 
   CaptureLog capture;

@@ -136,6 +136,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   m.dynamic = identified.dynamic();
   SampleOptions read;
   read.root_gravity = options.root_gravity;
+  read.columns = options.columns;
   m.columns = detail::bind_header(model, text, source, read, m.dynamic);
   detail::SampleColumns& c = m.columns;
   const std::vector<std::string>& header = c.header;
@@ -170,6 +171,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   }
 
   std::vector<std::string> notes;
+  if (!c.note.empty()) notes.push_back(c.note);
   if (m.dynamic) {
     if (c.num_joints > 0 && c.qd < 0) {
       std::vector<std::string> need;

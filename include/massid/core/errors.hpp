@@ -37,6 +37,8 @@ struct Hint {
     // Identification (identify_request.hpp):
     Rest,         // the rest windows of a static log: "auto" or "off"
     RootGravity,  // gravity in the URDF root frame, gx,gy,gz
+    // Reading a log (read_samples.hpp):
+    Columns,  // columns bound to roles by name: "ROLE=NAME,ROLE=NAME..." (NAME unknown: "NAME")
   };
   Setting setting;
   std::string value;  // empty: the setting itself

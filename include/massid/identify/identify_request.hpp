@@ -68,6 +68,8 @@ struct IdentifyRequest {
   // Gravity in the URDF root frame, for a sensor below movable joints whose
   // columns the data have and no gx,gy,gz (unset: 0,0,-9.80665).
   std::optional<Eigen::Vector3d> root_gravity;
+  // Columns of the log read as roles under other names (read_samples.hpp).
+  ColumnNames columns;
   // Keep every sample and the fitted wrenches in the result (Python, the
   // report); without, a file is identified in constant memory.
   bool keep_samples = true;
@@ -85,7 +87,8 @@ struct IdentifyRequest {
   bool with_offset() const { return offset || !drift.empty(); }
   // The estimator's options (validate() first: they assume a valid request).
   IdentifyOptions options() const;
-  // How a log is read (root gravity) and, in motion, filtered (cutoff).
+  // How a log is read (root gravity, column names; the sensor motion needed
+  // only when dynamic) and, in motion, filtered (cutoff).
   MotionDataOptions motion_options() const;
   SampleOptions sample_options() const { return motion_options().samples; }
   // load_urdf(urdf, sensor_link) with the held joints held.

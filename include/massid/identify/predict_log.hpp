@@ -42,7 +42,8 @@
 namespace massid {
 
 struct PredictLogOptions {
-  // samples: the root gravity (a sensor below movable joints); filter: the
+  // samples: the root gravity (a sensor below movable joints) and the column
+  // names (its sensor_motion is set by the model: dynamic or not); filter: the
   // cut-off of a dynamic model's log without _vel/_acc (0: min(10, rate/20)).
   // The filter's decimation is not used: every filtered row is predicted.
   MotionDataOptions motion;
@@ -72,6 +73,7 @@ struct LogPrediction {
   // The delay applied (when the model has one), then contact_note(source, e)
   // per episode.
   std::vector<std::string> notes;
+  std::string column_note;  // column_note (read_samples.hpp) on the header, or ""
 
   bool has_wrench() const { return samples.has_wrench(); }
 };

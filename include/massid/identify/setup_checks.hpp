@@ -75,8 +75,9 @@ struct SetupCheckOptions {
 
 // The checks on samples read with read_samples. Without a wrench (a plan, or
 // a file given to predict), only the joint, gravity and joint-column checks.
-// `header` is the file's column names (to tell JOINT from JOINT_deg columns);
-// empty: every joint column is named as the joint.
+// `header` is the roles of the file's columns (column_roles, read_samples.hpp:
+// the names, with the bindings of SampleOptions::columns applied), to tell
+// JOINT from JOINT_deg columns; empty: every joint column is named as the joint.
 std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples,
                                       const std::vector<std::string>& header,
                                       const SetupCheckOptions& options = {});
@@ -84,7 +85,8 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
 // The first max_rows samples of a data file, read by the one streaming reader
 // of data files (memory-mapped; memory bounded by max_rows, whatever the
 // file's size; lines after the last sample read are not looked at), with
-// read_csv's and read_samples' rules and errors. header: the file's column names.
+// read_csv's and read_samples' rules and errors. header: the roles of the
+// file's columns (column_roles).
 Samples read_samples_head(const Model& model, const std::string& path, int max_rows,
                           std::vector<std::string>* header = nullptr,
                           const SampleOptions& read = {});

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "massid/core/model.hpp"
@@ -14,12 +15,37 @@ namespace massid {
 
 enum class WrenchColumns { Required, Optional };
 
+// Columns named otherwise than their roles (docs/formats.md, "Columns named
+// otherwise"). `bind`: (ROLE, NAME) pairs, each reading the column NAME as
+// ROLE: fx..mz, gx..gz, t, block, wx..az, dwx..dwz, tilt_x_deg, tilt_y_deg, a
+// joint (Model::joints or upstream_joints) or JOINT_deg, JOINT_vel,
+// JOINT_acc. A column already named ROLE is then ignored. InputError for an
+// unknown role, a name the header does not have, a role or a name given twice.
+// `spellings`: where fx..mz are absent, recorders' common spellings are
+// read as them (the one table: column_map.cpp): Fx/FX, tx/Tx/Mx (torque),
+// force_x/torque_x, and ROS exports ending in force.x / torque.x or
+// force/x / torque/x after any prefix (field.wrench.force.x,
+// /ft_sensor/wrench/force/x, wrench.torque.z), only when all six come
+// together and each from one column (two candidates for one: InputError
+// naming both).
+struct ColumnNames {
+  std::vector<std::pair<std::string, std::string>> bind;
+  bool spellings = true;
+};
+
 // What a reader takes from a file beyond its columns.
 struct SampleOptions {
   double g0 = kStandardGravity;  // |g| for gravity from the force direction (eq. 37)
   // Gravity in the URDF root frame, for a sensor below movable joints whose
   // columns the file has (used when the file has no gx,gy,gz).
   Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};
+  // Columns bound to roles by other names.
+  ColumnNames columns;
+  // The reader's use needs the sensor frame's motion (a motion log): the
+  // group wx..az given in part is an error. false (a static fit, a plan):
+  // such a part (an IMU's ax,ay,az beside the wrench) is ignored, and
+  // column_note says so.
+  bool sensor_motion = true;
 };
 
 // The columns of a data file and what each means: src/io/column_map.hpp (the one
@@ -49,6 +75,28 @@ Samples samples_from_columns(const Model& model, const std::vector<std::string>&
 // Gravity and sensor motion from the upstream joints (as read_samples does;
 // again after their derivatives were filtered or derived).
 void resolve_upstream(const Model& model, Samples& samples);
+
+// What the binding of `header` to the model's roles did beyond the columns'
+// own names, for the note every command prints (one line, without a prefix,
+// starting with `where`): the columns read as a role under another name
+// (ColumnNames), the groups ignored and why, and then every column not read;
+// "" when every column read is read under its own name and no group was
+// ignored. With WrenchColumns::Optional and no wrench bound, a header with
+// columns not read gets a note too (a wrench under names not recognised
+// would otherwise be silently absent). InputError as read_samples.
+std::string column_note(const Model& model, const std::vector<std::string>& header,
+                        const std::string& where, WrenchColumns wrench,
+                        const SampleOptions& options);
+// The same for a data file's header (read alone; the wrench required).
+std::string file_column_note(const Model& model, const std::string& path,
+                             const SampleOptions& options);
+
+// The header as the roles its columns are read as (ColumnNames applied; ""
+// for a column a binding displaced or a group ignored): what the set-up checks
+// (setup_checks.hpp) take as the header. For a header read_samples accepted
+// with these options.
+std::vector<std::string> column_roles(const Model& model, const std::vector<std::string>& header,
+                                      const SampleOptions& options);
 
 // [N x num_joints] joint columns (named as the joint, or JOINT_deg in degrees).
 Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table);

@@ -26,6 +26,7 @@
 #include "massid/core/predictor.hpp"
 #include "massid/core/samples.hpp"
 #include "massid/io/params_file.hpp"
+#include "massid/io/read_samples.hpp"
 #include "massid/live/identified_model.hpp"
 
 namespace massid {
@@ -37,6 +38,8 @@ struct CompensatorOptions {
   // Gravity in the sensor frame with the platform level: tilt_x_deg,tilt_y_deg
   // turn it (when the stream has no gx,gy,gz and no upstream joints).
   Eigen::Vector3d level_gravity{0.0, 0.0, -kStandardGravity};
+  // Columns of the stream read as roles under other names (read_samples.hpp).
+  ColumnNames columns;
 };
 
 class Compensator {
