@@ -13,6 +13,7 @@
 #include "massid/core/simulate.hpp"
 #include "massid/design/design.hpp"
 #include "massid/identify/estimation.hpp"
+#include "massid/identify/setup_checks.hpp"
 #include "massid/io/urdf.hpp"
 #include "test_support.hpp"
 
@@ -70,6 +71,59 @@ TEST_F(PumaDesign, AnyTiltUpTo25DegreesReaches2Point5) {
   EXPECT_LE(test::paper_condition_number(as_samples(d.plan)), 2.5);  // about 2.26 is reachable
   for (const PlanPose& p : d.plan)
     EXPECT_LE(tilt_angle(o.level_gravity, p.tilt), 25 * kDeg + 1e-12);
+}
+
+// Level poses are there so that fz varies (DesignOptions::level_poses): the
+// set-up check's offset-free force statistic then sees a negated fz even when
+// the sensor was zeroed with the load on it (an offset as large as the
+// weight). The PUMA 260 plans as `design --tilt-max 25` makes them (four tilt
+// groups): the paper's condition number (eq. 33's F*W*, computed here from the
+// paper) for none, one and the default quarter of level poses, and the check
+// on data simulated from each with fz negated.
+TEST_F(PumaDesign, LevelPosesKeepANegatedFzVisibleAndWhatTheyCost) {
+  struct Case {
+    int level;
+    double cond_max;
+    bool found;
+  };
+  for (const Case& c : {Case{0, 2.32, false}, Case{1, 2.33, true}, Case{-1, 2.7, true}}) {
+    DesignOptions o = puma_options();
+    o.tilt_max = 25 * kDeg;
+    o.tilt_groups = 4;
+    o.level_poses = c.level;
+    const DesignSummary d = design(model, base, o);
+    Samples s = as_samples(d.plan);
+    const double paper = test::paper_condition_number(s);
+    EXPECT_NEAR(d.condition_number, paper, 1e-9 * paper);
+    EXPECT_LE(paper, c.cond_max) << "level poses " << c.level;
+    double gz_min = INFINITY, gz_max = -INFINITY;
+    for (int i = 0; i < s.size(); ++i) {
+      gz_min = std::min(gz_min, s.gravity(i, 2));
+      gz_max = std::max(gz_max, s.gravity(i, 2));
+    }
+    // fz varies by M g (1 - cos 25 deg) between level and tilted poses, or not at all.
+    EXPECT_NEAR(gz_max - gz_min, c.found ? kStandardGravity * (1 - std::cos(25 * kDeg)) : 0.0,
+                1e-9);
+    // A sensor zeroed level with the load on: the offset is minus the wrench
+    // at the plan's first pose, levelled; fz then negated.
+    Samples zero = s;
+    zero.gravity.row(0) = o.level_gravity.transpose();
+    SimulateOptions so;
+    so.noise_force = 0.05;
+    so.noise_moment = 0.005;
+    so.repeat = 1;
+    so.offset = -simulate_wrenches(model, zero).row(0).transpose();
+    s.wrench = simulate_wrenches(model, s, so);
+    s.wrench.col(2) *= -1.0;
+    for (int i = 0; i < s.size(); ++i) s.line.push_back(i + 2);
+    const std::vector<SetupFinding> f = check_setup(model, s, {});
+    bool negated = false;
+    for (const SetupFinding& x : f)
+      negated |=
+          x.code == "force-channels" && x.message.find("'fz' is negated") != std::string::npos;
+    EXPECT_EQ(negated, c.found) << "level poses " << c.level << ": " << f.size() << " findings"
+                                << (f.empty() ? "" : ", first: " + f.front().message);
+  }
 }
 
 TEST_F(PumaDesign, FourTiltGroupsKeepTheTargetWithThreeTiltChanges) {

@@ -322,10 +322,13 @@ void bind_identify(py::module_& m) {
             d["rows"] = w.rows;
             d["moving"] = w.moving;
             d["criterion"] = w.criterion;
+            d["trimmed"] = w.trimmed;
+            d["longest_settling"] = w.longest_settling;
             return d;
           },
           "a continuous static log: its rest windows as (first, last) rows of the log, samples, "
-          "rows, moving rows and what moved; None when every row is a sample")
+          "rows, moving rows and what moved, rows trimmed where the wrench had not settled and the "
+          "longest such cut at a window's start (s); None when every row is a sample")
       .def_property_readonly("drift",
                              [sum](const I& i) -> py::object {
                                switch (sum(i).drift) {

@@ -74,8 +74,14 @@ Eigen::Matrix<double, R, 1> vector_of(const record_json& j) {
 record_json rest_json(const RestWindows& w) {
   record_json windows = record_json::array();
   for (const RestWindow& r : w.windows) windows.push_back({r.first, r.last});
-  return {{"continuous", w.continuous}, {"windows", windows}, {"rows", w.rows},
-          {"samples", w.samples},       {"moving", w.moving}, {"criterion", w.criterion}};
+  return {{"continuous", w.continuous},
+          {"windows", windows},
+          {"rows", w.rows},
+          {"samples", w.samples},
+          {"moving", w.moving},
+          {"criterion", w.criterion},
+          {"trimmed", w.trimmed},
+          {"longest_settling", w.longest_settling}};
 }
 
 // The settings by name, in the order of Hint::Setting (a record names them:
@@ -138,6 +144,8 @@ RestWindows rest_of(const record_json& j) {
   w.samples = j.at("samples");
   w.moving = j.at("moving");
   w.criterion = j.at("criterion");
+  w.trimmed = j.value("trimmed", 0);  // absent in records written before the settling check
+  w.longest_settling = j.value("longest_settling", 0.0);
   return w;
 }
 

@@ -85,7 +85,9 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
                            {"samples", s->rest.samples},
                            {"rows", s->rest.rows},
                            {"moving", s->rest.moving},
-                           {"criterion", s->rest.criterion}};
+                           {"criterion", s->rest.criterion},
+                           {"trimmed", s->rest.trimmed},
+                           {"longest_settling", s->rest.longest_settling}};
     if (base.total_mass >= 0) j["total_mass"] = s->value[base.total_mass];
   }
   if (base.motion()) {

@@ -34,6 +34,114 @@ int mark(const Eigen::Ref<const Eigen::VectorXd>& x, int k, double tol, std::vec
   return marked;
 }
 
+// The settling check (rest_windows.hpp): blocks of `len` rows from the
+// window's start (and from its end) against the statistics of the blocks of
+// the windows' second halves, pooled over the windows, per wrench channel.
+struct Reference {
+  std::vector<Eigen::Matrix<double, 6, 1>> level;  // per window: median of its second half
+  Eigen::Matrix<double, 6, 1> mean_scale, energy_median, energy_scale;
+  bool ok = false;
+};
+
+// Mean deviation from `level` and mean square deviation of rows [r, r + len).
+void block_stats(const Eigen::MatrixXd& wrench, int r, int len,
+                 const Eigen::Matrix<double, 6, 1>& level, Eigen::Matrix<double, 6, 1>& mean,
+                 Eigen::Matrix<double, 6, 1>& energy) {
+  mean.setZero();
+  energy.setZero();
+  for (int i = r; i < r + len; ++i) {
+    const Eigen::Matrix<double, 6, 1> d = wrench.row(i).transpose() - level;
+    mean += d;
+    energy += d.cwiseAbs2();
+  }
+  mean /= len;
+  energy /= len;
+}
+
+Reference reference(const Eigen::MatrixXd& wrench, const std::vector<RestWindow>& windows,
+                    int len) {
+  Reference ref;
+  std::vector<std::vector<double>> means(6), energies(6);
+  for (const RestWindow& w : windows) {
+    const int mid = (w.first + w.last + 1) / 2;
+    Eigen::Matrix<double, 6, 1> level;
+    for (int c = 0; c < 6; ++c) {
+      std::vector<double> v;
+      for (int i = mid; i <= w.last; ++i) v.push_back(wrench(i, c));
+      level[c] = median(std::move(v));
+    }
+    ref.level.push_back(level);
+    Eigen::Matrix<double, 6, 1> m, e;
+    for (int r = mid; r + len - 1 <= w.last; r += len) {
+      block_stats(wrench, r, len, level, m, e);
+      for (int c = 0; c < 6; ++c) {
+        means[c].push_back(std::abs(m[c]));
+        energies[c].push_back(e[c]);
+      }
+    }
+  }
+  if (means[0].size() < 8) return ref;
+  for (int c = 0; c < 6; ++c) {
+    ref.mean_scale[c] = 1.4826 * median(means[c]);
+    ref.energy_median[c] = median(energies[c]);
+    std::vector<double> spread;
+    for (double e : energies[c]) spread.push_back(std::abs(e - ref.energy_median[c]));
+    ref.energy_scale[c] = 1.4826 * median(std::move(spread));
+  }
+  ref.ok = (ref.mean_scale.array() > 0).all() && (ref.energy_scale.array() > 0).all();
+  return ref;
+}
+
+// A block still settling: its mean or its mean square deviation from the
+// window's level is beyond what the reference blocks show (4.5 and 6 of their
+// robust scales: a block of noise goes beyond about once in 10^5).
+bool unsettled(const Eigen::MatrixXd& wrench, int r, int len, const Reference& ref, int window) {
+  Eigen::Matrix<double, 6, 1> m, e;
+  block_stats(wrench, r, len, ref.level[window], m, e);
+  return (m.cwiseAbs().array() > 4.5 * ref.mean_scale.array()).any() ||
+         (e.array() > ref.energy_median.array() + 6.0 * ref.energy_scale.array()).any();
+}
+
+// Trims each window where the wrench has not settled: at its start, up to
+// the last unsettled block in its first half; at its end, the unsettled
+// blocks before the next motion. Blocks of `base` rows and of 8 times that.
+void trim_settling(const Eigen::MatrixXd& wrench, int base, int shortest, RestWindows& out,
+                   double dt) {
+  std::vector<RestWindow> trimmed = out.windows;
+  for (int len : {base, 8 * base}) {
+    const Reference ref = reference(wrench, out.windows, len);
+    if (!ref.ok) continue;
+    for (std::size_t k = 0; k < out.windows.size(); ++k) {
+      const RestWindow& w = out.windows[k];
+      const int mid = (w.first + w.last + 1) / 2;
+      if (w.last - mid + 1 < 2 * len) continue;  // too short to judge at this scale
+      for (int r = w.first; r + len <= mid; r += len)
+        if (unsettled(wrench, r, len, ref, static_cast<int>(k)))
+          trimmed[k].first = std::max(trimmed[k].first, r + len);
+      for (int r = w.last - len + 1;
+           r >= mid && unsettled(wrench, r, len, ref, static_cast<int>(k)); r -= len)
+        trimmed[k].last = std::min(trimmed[k].last, r - 1);
+    }
+  }
+  std::vector<RestWindow> kept;
+  out.samples = 0;
+  for (std::size_t k = 0; k < trimmed.size(); ++k) {
+    const RestWindow& w = trimmed[k];
+    const int before = out.windows[k].last - out.windows[k].first + 1;
+    const int after = std::max(0, w.last - w.first + 1);
+    const int start = std::max(0, w.first - out.windows[k].first);
+    out.longest_settling = std::max(out.longest_settling, start * dt);
+    if (after >= shortest) {
+      kept.push_back(w);
+      out.samples += after;
+      out.trimmed += before - after;
+    } else {
+      out.trimmed += before;
+    }
+  }
+  out.windows = std::move(kept);
+}
+
 RestWindows every_row(int n) {
   RestWindows w;
   w.rows = w.samples = n;
@@ -103,6 +211,10 @@ RestWindows find_rest_windows(const Samples& s, const RestWindowOptions& o) {
     }
     i = last + 1;
   }
+  // The settling the data show: blocks of 20 ms (at least 2 rows).
+  if (o.trim && s.has_wrench())
+    trim_settling(s.wrench, std::max(2, static_cast<int>(std::lround(0.02 / dt))), shortest, out,
+                  dt);
   return out;
 }
 

@@ -103,8 +103,10 @@ std::string identify_report(const Model& model, const BaseParameters& base,
   if (s.rest.continuous)
     out += fmt::format(
         "rest windows of a continuous log: {} windows, {} of {} rows used ({} rows found moving "
-        "by the {}; the rows around each motion and while the wrench settles dropped)\n",
-        s.rest.windows.size(), s.rest.samples, s.rest.rows, s.rest.moving, s.rest.criterion);
+        "by the {}; the rows around each motion dropped, and {} rows where the wrench had not "
+        "settled, at most {:.3g} s after a stop)\n",
+        s.rest.windows.size(), s.rest.samples, s.rest.rows, s.rest.moving, s.rest.criterion,
+        s.rest.trimmed, s.rest.longest_settling);
   const int uw = base.motion() ? 6 : 5;  // "kg m^2"
   out += fmt::format("  {:<10} {:>14} {:>12} {:<{}} {}\n", "name", "value", "std", "unit", uw,
                      "expression");

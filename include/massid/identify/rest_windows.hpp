@@ -24,8 +24,12 @@ enum class RestDetection {
 
 struct RestWindowOptions {
   RestDetection detection = RestDetection::Auto;
-  double lag = 0.05;          // s: a row moves when it differs from the rows `lag` before and after
-  double settle = 0.25;       // s dropped after each motion (the wrench rings), and `lag` before
+  double lag = 0.05;     // s: a row moves when it differs from the rows `lag` before and after
+  double settle = 0.05;  // s dropped after each motion at least, and `lag` before
+  // Trim each window further where its wrench has not settled (the ringing
+  // after a stop, the sensor's own filter, the next move's start), as the
+  // data show: see find_rest_windows.
+  bool trim = true;
   double min_duration = 0.1;  // s: shorter windows are dropped
   double max_step = 0.1;      // s: a log sampled slower is a set of poses, not a continuous log
 };
@@ -41,6 +45,8 @@ struct RestWindows {
   int samples = 0;                  // rows inside the windows
   int moving = 0;                   // rows found moving (joints, gravity or wrench)
   std::string criterion;            // what showed the motion: "joints", "gravity", "wrench"
+  int trimmed = 0;                  // rows the settling check cut from the windows
+  double longest_settling = 0.0;    // s: the longest cut at a window's start
 };
 
 // The rest windows of `samples` (rows in time order; needs time for Auto).
@@ -55,6 +61,18 @@ struct RestWindows {
 // the force turned; the force then also marks the ringing after a stop. A
 // force that jumps while nothing moves (a bump) leaves the log whole: the
 // outlier test judges it.
+// Settling (options.trim): the rest rows, `settle` after a motion and `lag`
+// before one, may still carry what a motion leaves in the wrench (the
+// structure ringing after a stop, the sensor's own low-pass filter catching
+// up, the next move starting). Each window's level per wrench channel is the
+// median of its second half; blocks of 20 ms (at least 2 rows) and of 8
+// times that in the windows' second halves, pooled over the windows, give
+// the noise of a block's mean deviation from the level and of its mean
+// square deviation (robust scales). A window then starts after the last
+// block of its first half whose mean is beyond 4.5 scales or whose mean
+// square is beyond 6 (ringing, a lag's tail), and ends before the blocks at
+// its end that are; `trimmed` counts the rows cut, and windows left shorter
+// than min_duration are dropped.
 RestWindows find_rest_windows(const Samples& samples, const RestWindowOptions& options = {});
 
 // The samples inside the windows (all of them when !windows.continuous).
