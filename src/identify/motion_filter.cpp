@@ -102,7 +102,7 @@ int kernel_samples(double dt, double cutoff) {
 }
 
 int correlated_rows(const FilterKernels& k, int decimation) {
-  return (k.size() - 1) / std::max(decimation, 1);
+  return std::min((k.size() - 1) / std::max(decimation, 1), kMaxNoiseLags);
 }
 
 FilterPlan plan_filter(double dt, const MotionFilterOptions& options, const std::string& source,
