@@ -187,6 +187,148 @@ NoiseFit fit_noise(const AxisFactors& f, int q, double used, const IdentifyOptio
   return out;
 }
 
+// ---------------------------------------------------------------- correlated rows
+
+namespace {
+constexpr int kFactorRows = 16;
+}
+
+void LagProducts::Factor::add(const Eigen::VectorXd& z) {
+  B.row(pending) = z.transpose();
+  if (++pending == kFactorRows) flush();
+}
+
+void LagProducts::Factor::flush() {
+  if (pending == 0) return;
+  fold_rows(R.data(), static_cast<int>(R.rows()), B.data(), pending, kFactorRows);
+  pending = 0;
+}
+
+void LagProducts::Factor::merge(Factor& later) {
+  flush();
+  later.flush();
+  Eigen::MatrixXd T = later.R;
+  fold_rows(R.data(), static_cast<int>(R.rows()), T.data(), static_cast<int>(T.rows()),
+            static_cast<int>(T.rows()));
+}
+
+LagProducts::LagProducts(int lags, int q) : lags_(lags), q_(q) {
+  G_.assign(6 * static_cast<size_t>(lags), Eigen::MatrixXd::Zero(q + 1, q + 1));
+  const Factor empty{Eigen::MatrixXd::Zero(q + 1, q + 1), Eigen::MatrixXd(kFactorRows, q + 1), 0};
+  plus_.assign(6 * static_cast<size_t>(lags), empty);
+  minus_.assign(6 * static_cast<size_t>(lags), empty);
+  pairs_.assign(static_cast<size_t>(lags), 0.0);
+}
+
+void LagProducts::pair(const Sample& a, const Sample& b, int lag) {
+  pairs_[static_cast<size_t>(lag - 1)] += 1.0;
+  for (int k = 0; k < 6; ++k) {
+    const size_t at = static_cast<size_t>(k * lags_ + lag - 1);
+    G_[at].topLeftCorner(q_, q_).noalias() +=
+        a.rows.col(k).head(q_) * b.rows.col(k).head(q_).transpose();
+    plus_[at].add(a.rows.col(k) + b.rows.col(k));
+    minus_[at].add(a.rows.col(k) - b.rows.col(k));
+  }
+}
+
+void LagProducts::add(const Rows& rows, double run) {
+  if (!active()) return;
+  if (!tail_.empty() && tail_.back().run != run) {
+    tail_.clear();
+    tail_is_all_ = false;
+  }
+  Sample s{rows, run};
+  const int n = static_cast<int>(tail_.size());
+  for (int i = 0; i < n; ++i) pair(tail_[static_cast<size_t>(i)], s, n - i);
+  if (static_cast<int>(head_.size()) < lags_) head_.push_back(s);
+  tail_.push_back(std::move(s));
+  if (static_cast<int>(tail_.size()) > lags_) {
+    tail_.erase(tail_.begin());
+    tail_is_all_ = false;
+  }
+  ++count_;
+}
+
+void LagProducts::merge(const LagProducts& later) {
+  if (!active() || later.count_ == 0) return;
+  if (count_ == 0) {
+    *this = later;
+    return;
+  }
+  const int L = lags_;
+  // This one's last samples (one run) with the later one's first of that run.
+  const int n = static_cast<int>(tail_.size());
+  for (int j = 0; j < static_cast<int>(later.head_.size()); ++j) {
+    if (later.head_[static_cast<size_t>(j)].run != tail_.back().run) break;
+    for (int i = 0; i < n; ++i)
+      if (n - i + j <= L)
+        pair(tail_[static_cast<size_t>(i)], later.head_[static_cast<size_t>(j)], n - i + j);
+  }
+  LagProducts copy = later;  // (merge flushes its factors)
+  for (size_t k = 0; k < G_.size(); ++k) {
+    G_[k] += later.G_[k];
+    plus_[k].merge(copy.plus_[k]);
+    minus_[k].merge(copy.minus_[k]);
+  }
+  for (int l = 0; l < L; ++l)
+    pairs_[static_cast<size_t>(l)] += later.pairs_[static_cast<size_t>(l)];
+  for (const Sample& s : later.head_)
+    if (static_cast<int>(head_.size()) < L) head_.push_back(s);
+  if (later.tail_is_all_ && tail_.back().run == later.tail_.front().run) {
+    tail_.insert(tail_.end(), later.tail_.begin(), later.tail_.end());
+    if (static_cast<int>(tail_.size()) > L) {
+      tail_.erase(tail_.begin(), tail_.end() - L);
+      tail_is_all_ = false;
+    }
+  } else {
+    tail_ = later.tail_;
+    tail_is_all_ = false;
+  }
+  count_ += later.count_;
+}
+
+Eigen::MatrixXd LagProducts::covariance(const Eigen::MatrixXd& P, const Vector6d& sigma,
+                                        const Eigen::VectorXd& x, const Vector6d& ssr,
+                                        double used) const {
+  if (!active() || used < 2) return P;
+  const int L = lags_;
+  Eigen::VectorXd v(q_ + 1);
+  v << x, -1.0;
+  std::vector<Factor> plus = plus_, minus = minus_;
+  for (Factor& f : plus) f.flush();
+  for (Factor& f : minus) f.flush();
+  const auto norm2 = [&](const Factor& f) {
+    return (f.R.triangularView<Eigen::Upper>() * v).squaredNorm();
+  };
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(q_, q_);
+  for (int a = 0; a < 6; ++a) {
+    if (!(ssr[a] > 0)) continue;
+    std::vector<double> rho(static_cast<size_t>(L), 0.0);
+    for (int l = 0; l < L; ++l)
+      if (pairs_[static_cast<size_t>(l)] > 0)
+        rho[static_cast<size_t>(l)] = 0.25 *
+                                      (norm2(plus[static_cast<size_t>(a * L + l)]) -
+                                       norm2(minus[static_cast<size_t>(a * L + l)])) /
+                                      pairs_[static_cast<size_t>(l)] / (ssr[a] / used);
+    // C_a positive semi-definite: its spectrum on a grid, shrunk if negative.
+    double worst = 0.0;
+    for (int k = 0; k <= 256; ++k) {
+      const double w = 3.141592653589793 * k / 256.0;
+      double sum = 0.0;
+      for (int l = 0; l < L; ++l) sum += 2.0 * rho[static_cast<size_t>(l)] * std::cos(w * (l + 1));
+      worst = std::min(worst, sum);
+    }
+    const double shrink = worst < -1.0 ? -1.0 / worst : 1.0;
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(q_, q_);
+    for (int l = 0; l < L; ++l)
+      K += shrink * rho[static_cast<size_t>(l)] *
+           G_[static_cast<size_t>(a * L + l)].topLeftCorner(q_, q_);
+    S += (K + K.transpose()) / (sigma[a] * sigma[a]);
+  }
+  Eigen::MatrixXd C = P + P * S * P;
+  return 0.5 * (C + C.transpose());
+}
+
 // ---------------------------------------------------------------- the summary
 
 IdentifySummary start_summary(long long samples, bool gravity_from_force,

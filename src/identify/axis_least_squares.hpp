@@ -93,6 +93,76 @@ struct NoiseFit {
 };
 NoiseFit fit_noise(const AxisFactors& f, int q, double used, const IdentifyOptions& options);
 
+// ---------------------------------------------------------------- correlated rows
+
+// Rows whose noise correlates with their neighbours' (a filtered motion log:
+// Samples::noise_lags). Two noises reach a filtered row: the wrench's through
+// the smoothing kernel, and the positions' (encoder noise, quantisation)
+// through the derivative kernels into the regressor, whose acceleration part
+// lies near the cutoff; their mix, hence the rows' correlation, depends on
+// the log. It is zero beyond L rows (the filter windows of rows further apart
+// share no sample) and across runs. So it is estimated from the residuals,
+// per axis a and lag l = 1 .. L (axes taken as independent):
+//   rho_al = (sum_i r_i r_{i+l} / n_l) / (SSR_a / N)       (n_l pairs in runs)
+// and the weighted least-squares estimate's covariance is the sandwich
+//   P (sum_a M_a^T C_a M_a / sigma_a^2) P = P + P (sum_a K_a / sigma_a^2) P,
+//   K_a = sum_l rho_al sum_i (m_i m_{i+l}^T + m_{i+l} m_i^T),
+// P = (sum_a M_a^T M_a / sigma_a^2)^-1, C_a the correlation matrix of axis
+// a's rows (ones on its diagonal, rho_al l rows off it), m_i axis a's row of
+// sample i. Both need only the lagged products of the rows augmented with
+// their measurement, z_i = [m_i; y_i]: G_al = sum_i z_i z_{i+l}^T gives
+// sum_i r_i r_{i+l} = [x; -1]^T G_al [x; -1] once x is known, and K_a from
+// its leading block, so one pass suffices. That sum would cancel (y against
+// its residual), so it is taken from the triangular factors T+-_al of the
+// rows z_i +- z_{i+l} instead, as a residual sum of squares is:
+//   sum_i r_i r_{i+l} = (|T+_al v|^2 - |T-_al v|^2) / 4,  v = [x; -1].
+// Only G_al's leading block is used. LagProducts accumulates G_al a
+// sample at a time in order, keeping the last L samples; merge() appends a
+// later partial (its first L samples pair with this one's last), so a stream
+// split into blocks gives the in-memory sums. (If the estimated rho_al would
+// make C_a indefinite, they are shrunk until its spectrum
+// 1 + 2 sum_l rho_al cos(w l) is non-negative.)
+class LagProducts {
+ public:
+  // [(q + 1) x 6]: column a, axis a's row over the q unknowns, then y_a.
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, 6>;
+  LagProducts() = default;  // independent rows: nothing accumulated
+  LagProducts(int lags, int q);
+  bool active() const { return lags_ > 0; }
+  LagProducts empty_like() const { return active() ? LagProducts(lags_, q_) : LagProducts(); }
+  // The next sample's rows; consecutive samples with equal `run` are one run.
+  void add(const Rows& rows, double run);
+  void merge(const LagProducts& later);
+  // The sandwich for the solution x [q] with per-axis residual sums of
+  // squares ssr over `used` samples, weighted by sigma (P itself when
+  // inactive).
+  Eigen::MatrixXd covariance(const Eigen::MatrixXd& P, const Vector6d& sigma,
+                             const Eigen::VectorXd& x, const Vector6d& ssr, double used) const;
+
+ private:
+  struct Sample {
+    Rows rows;
+    double run = 0.0;
+  };
+  // The triangular factor of rows folded in chunks (householder_fold.hpp).
+  struct Factor {
+    Eigen::MatrixXd R, B;  // [n x n], [kRows x n] pending rows
+    int pending = 0;
+    void add(const Eigen::VectorXd& z);
+    void flush();
+    void merge(Factor& later);
+  };
+  void pair(const Sample& a, const Sample& b, int lag);
+  int lags_ = 0, q_ = 0;
+  std::vector<Eigen::MatrixXd> G_;    // [6 L]: axis a, lag l at a L + l - 1
+  std::vector<Factor> plus_, minus_;  // [6 L]: T+-_al
+  std::vector<double> pairs_;         // [L]
+  std::vector<Sample> head_;          // the first L samples
+  std::vector<Sample> tail_;          // the last L samples of the current run, in order
+  long long count_ = 0;
+  bool tail_is_all_ = true;  // tail_ holds every sample added (one run)
+};
+
 // ---------------------------------------------------------------- the summary
 
 // What every fit reports of its data and options (samples, where gravity came

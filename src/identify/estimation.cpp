@@ -50,18 +50,24 @@ using detail::chi_quantile;
 
 // The residuals the outlier test judges, as six numbers per sample whose
 // per-axis scales robust_sigma estimates. With gravity taken along the
-// measured force (eq. 37) a sample's force residual is f - M g0 f/|f|: it
-// lies along the force, so its three axes carry one noise variable whose share
-// per axis depends on the pose; it is replaced by its component along the
-// gravity row (the first force axis; the other two are zero), which leaves 4
-// degrees of freedom per sample instead of 6. The moments then carry the
-// force's direction noise too: g = g0 f/|f| turns by the force noise across
-// it, d g = g0 / |f| (1 - u u^T) d f (u = f/|f|), and the fitted moment moves
-// by J d g, J = d m / d g (the moment is linear in g). Each sample's moment
-// residual is whitened with C_i = diag(s^2) + (g0 s_f / |f_i|)^2 J_i (1 -
-// u u^T) J_i^T, s_f the robust scale of the force residual along the force,
-// s^2 the moment noise per axis (the robust residual scale less the median
-// direction part).
+// measured force (eq. 37, g^ = g0 u, u = f/|f|) each sample's residuals have
+// a covariance of their own, derived to first order in the force noise e_f
+// (covariance s_f^2 1) and the moment noise e_m (diag(s_m^2)):
+//   force:  r_f = f - M g0 u = (|f| - M g0) u: along u, one noise variable
+//           a = u^T r_f ~ u^T e_f of variance s_f^2 (the other two axes are
+//           zero: 4 degrees of freedom per sample instead of 6);
+//   moment: the moment is linear in g, m = J g (J = dm/dg at the fit), and
+//           g^ turns with the force noise across it,
+//             d g^ = g0 / |f| (1 - u u^T) e_f,
+//           so r_m = e_m - J d g^ has covariance
+//             C_i = diag(s_m^2) + D_i,  D_i = (g0 s_f / |f_i|)^2 J_i (1 - u_i u_i^T) J_i^T,
+//           and no correlation with a ((1 - u u^T) u = 0).
+// s_f is the robust scale of a; s_m is estimated below (D_i has rank 2 at
+// most: the direction noise moves the moment across the centre of mass only,
+// so along it the residual is the moment noise alone, and a per-axis scale
+// that ignores this mis-whitens it). Each sample's moment residual is then
+// whitened by C_i (z = L_i^-1 r_m, C_i = L_i L_i^T): z has unit covariance,
+// and robust_sigma finds its scale near 1.
 Eigen::VectorXd outlier_residuals(const Model& model, const BaseParameters& base, const Samples& s,
                                   const Eigen::VectorXd& x, const Eigen::VectorXd& r) {
   if (!s.gravity_from_force || base.motion()) return r;
@@ -76,9 +82,8 @@ Eigen::VectorXd outlier_residuals(const Model& model, const BaseParameters& base
     a.push_back(std::abs(out[6 * i]));
   }
   if (N < 2) return out;
-  const auto mad = [](const std::vector<double>& v) { return 1.4826 * detail::median(v); };
-  const double sf = mad(a);
-  // Direction part of each sample's moment covariance.
+  const double sf = 1.4826 * detail::median(a);
+  // D_i, the direction part of each sample's moment covariance.
   RegressorData data(model, base);
   const int nm = base.num_mass();
   std::vector<Eigen::Matrix3d> D(static_cast<size_t>(N));
@@ -93,20 +98,41 @@ Eigen::VectorXd outlier_residuals(const Model& model, const BaseParameters& base
     const double k = f > 0 ? kStandardGravity * sf / f : 0.0;
     D[i] = k * k * J * (Eigen::Matrix3d::Identity() - u * u.transpose()) * J.transpose();
   }
+  // s_m^2 per axis (V = diag(v)) by maximum likelihood of r_m,i ~ N(0, V + D_i),
+  // EM for variance components: with C_i = V + D_i, the moment noise e_m of
+  // sample i given r_m,i has E[e e^T | r] = V - V C_i^-1 V + V C_i^-1 r r^T C_i^-1 V,
+  // and v_k <- the mean of its diagonal (monotone in the likelihood). Samples
+  // whose score is implausible (chi^2 with 3 dof above its 0.999 quantile)
+  // are left out of the mean, so that a bump does not inflate the noise.
   Eigen::Vector3d var;
   for (int k = 0; k < 3; ++k) {
-    std::vector<double> m, d;
+    std::vector<double> m;
+    for (Eigen::Index i = 0; i < N; ++i) m.push_back(std::abs(r[6 * i + 3 + k]));
+    const double total = 1.4826 * detail::median(m);
+    var[k] = total * total + 1e-300;
+  }
+  const Eigen::Vector3d floor = 1e-6 * var;
+  const double cut = chi_quantile(0.001, 3);
+  for (int it = 0; it < 200; ++it) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double used = 0.0;
+    const Eigen::Matrix3d V = var.asDiagonal();
     for (Eigen::Index i = 0; i < N; ++i) {
-      m.push_back(std::abs(r[6 * i + 3 + k]));
-      d.push_back(D[i](k, k));
+      const Eigen::Matrix3d Ci = (V + D[i]).inverse();
+      const Eigen::Vector3d ri = r.segment<3>(6 * i + 3), c = Ci * ri;
+      if (it > 0 && std::sqrt(ri.dot(c)) > cut) continue;
+      sum += var - (V * Ci * V).diagonal() + var.cwiseProduct(var).cwiseProduct(c.cwiseProduct(c));
+      used += 1.0;
     }
-    const double total = mad(m), part = mad(d) / 1.4826;
-    var[k] = std::max(total * total - part, 0.01 * total * total) + 1e-300;
+    if (used < 1) break;
+    const Eigen::Vector3d next = (sum / used).cwiseMax(floor);
+    const bool done = ((next - var).cwiseAbs().array() <= 1e-10 * var.array()).all();
+    var = next;
+    if (done) break;
   }
   for (Eigen::Index i = 0; i < N; ++i) {
     const Eigen::Matrix3d C = Eigen::Matrix3d(var.asDiagonal()) + D[i];
-    const Eigen::Vector3d z = C.llt().matrixL().solve(r.segment<3>(6 * i + 3));
-    out.segment<3>(6 * i + 3) = z;
+    out.segment<3>(6 * i + 3) = C.llt().matrixL().solve(r.segment<3>(6 * i + 3));
   }
   return out;
 }
@@ -338,6 +364,22 @@ IdentifySummary identify(const Model& model, const BaseParameters& base, const S
     residual = y - M * fit.solution.x;
   }
 
+  if (samples.noise_lags > 0 && base.motion()) {
+    // Filtered rows: neighbours' noise correlates (axis_least_squares.hpp).
+    detail::LagProducts lags(samples.noise_lags, q);
+    detail::LagProducts::Rows rows(q + 1, 6);
+    for (int i = 0; i < N; ++i) {
+      if (w[i] > 0) {
+        rows.topRows(q) = M.middleRows(6 * i, 6).transpose();
+        rows.bottomRows<1>() = y.segment<6>(6 * i).transpose();
+      } else {
+        rows.setZero();  // rejected: its place in the run stays
+      }
+      lags.add(rows, i < static_cast<int>(samples.block.size()) ? samples.block[i] : 0.0);
+    }
+    fit.solution.covariance = lags.covariance(fit.solution.covariance, fit.sigma, fit.solution.x,
+                                              fit.solution.ssr, w.sum());
+  }
   detail::fill_summary(out, fit, p, w.sum());
   out.drift_names = drift.names;
   out.drift_value = fit.solution.x.tail(e);

@@ -287,6 +287,7 @@ record_json samples_json(const Samples& s) {
           {"gravity_from_force", s.gravity_from_force},
           {"gravity_from_upstream", s.gravity_from_upstream},
           {"derivatives_filtered", s.derivatives_filtered},
+          {"noise_lags", s.noise_lags},
           {"root_gravity", matrix(s.root_gravity)}};
 }
 
@@ -308,6 +309,7 @@ Samples samples_of(const record_json& j) {
   s.gravity_from_force = j.at("gravity_from_force");
   s.gravity_from_upstream = j.at("gravity_from_upstream");
   s.derivatives_filtered = j.at("derivatives_filtered");
+  s.noise_lags = j.value("noise_lags", 0);  // (records before it: independent rows)
   s.root_gravity = vector_of<3>(j.at("root_gravity"));
   return s;
 }

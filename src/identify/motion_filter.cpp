@@ -101,6 +101,10 @@ int kernel_samples(double dt, double cutoff) {
   return 2 * static_cast<int>(std::floor(kKernelSpan / (cutoff * dt) * (1.0 + 1e-9))) + 1;
 }
 
+int correlated_rows(const FilterKernels& k, int decimation) {
+  return std::min((k.size() - 1) / std::max(decimation, 1), kMaxNoiseLags);
+}
+
 FilterPlan plan_filter(double dt, const MotionFilterOptions& options, const std::string& source,
                        int first_line, int last_line) {
   const double rate = 1.0 / dt;

@@ -192,6 +192,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   s.gravity_from_force = samples.gravity_from_force;
   s.gravity_from_upstream = samples.gravity_from_upstream;
   s.derivatives_filtered = true;
+  s.noise_lags = correlated_rows(f.kernels, f.decimation);
   if (used) *used = f.kernels;
   return s;
 }

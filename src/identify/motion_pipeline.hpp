@@ -146,7 +146,7 @@ struct FinalRow {
   double t;
   double block;
   int line;
-  MotionRow motion() const { return MotionRow{q, qd, qdd, g, sm, w, line}; }
+  MotionRow motion() const { return MotionRow{q, qd, qdd, g, sm, w, line, block}; }
 };
 
 // The filter, its kernels and decimation (filter_motion's, for a period).

@@ -82,6 +82,10 @@ struct AccumulatorState {
   std::vector<int> kept_line;
   std::vector<double> qmin, qmax;
   std::string source = "<samples>";
+  // Filtered rows: their noise correlation (set_noise_correlation) and the
+  // lagged products of the covariance's sandwich (axis_least_squares.hpp).
+  LagProducts lags;
+  LagProducts::Rows lag_rows;
   bool gravity_from_force = false;
   bool gravity_from_upstream = false;  // gravity from the joints above the sensor link
 
@@ -254,6 +258,13 @@ struct AccumulatorState {
       B[static_cast<size_t>(nc) * kChunk] = s.wrench[a];
     }
     if (track) store_sample(s, pending_samples.data() + static_cast<size_t>(r) * sample_size);
+    if (lags.active()) {
+      lag_rows.setZero();
+      for (int a = 0; a < 6; ++a)
+        for (size_t c = 0; c < src[a].size(); ++c) lag_rows(axes[a].unknown[c], a) = y[src[a][c]];
+      lag_rows.bottomRows<1>() = Eigen::Map<const Eigen::Matrix<double, 1, 6>>(s.wrench);
+      lags.add(lag_rows, s.run);
+    }
     if (++pending == kChunk) flush();
     if (count < keep) {
       const auto put = [](std::vector<double>& v, const double* x, int n) {
@@ -442,6 +453,7 @@ struct AccumulatorState {
       kept_line.push_back(later.kept_line[i]);
     }
     count += later.count;
+    lags.merge(later.lags);
     if (track) {
       for (int a = 0; a < 6; ++a) {
         for (auto& c : later.candidates[a]) candidates[a].push_back(std::move(c));
@@ -497,6 +509,7 @@ struct SamplesRows {
   size_t blocks() const { return (size() + rows - 1) / rows; }
   void set_source(IdentifyAccumulator& acc) const {
     acc.set_source(samples.source, samples.gravity_from_force, samples.gravity_from_upstream);
+    acc.set_noise_lags(samples.noise_lags);
   }
   template <class Sink>
   void range(size_t begin, size_t end, Sink&& sink) const {
@@ -521,6 +534,7 @@ struct SamplesRows {
       at.line = i < samples.line.size() ? samples.line[i]
                 : no_line < 0           ? 0
                                         : static_cast<int>(i) + no_line;
+      at.run = i < samples.block.size() ? samples.block[i] : 0.0;
       sink(at);
     }
   }
@@ -591,6 +605,7 @@ IdentifyAccumulator accumulate_rows(const Model& model, const BaseParameters& ba
       src.blocks(), thread_count(stream),
       [&](size_t k) {
         IdentifyAccumulator acc(model, base);
+        src.set_source(acc);  // (the noise lags: the partials pair their rows)
         if (xhat) acc.track_residuals(*xhat);
         src.block(k, [&](const MotionRow& r) { acc.add(r); });
         return acc;
@@ -633,11 +648,23 @@ void IdentifyAccumulator::add(const double* q, const double* gravity, const doub
 void IdentifyAccumulator::add(const MotionRow& row) { state_->add_motion(row); }
 
 void IdentifyAccumulator::add(const Samples& samples) {
+  if (state_->count == 0 && samples.noise_lags > 0) set_noise_lags(samples.noise_lags);
   const SamplesRows rows(samples, state_->motion, 1, -1);
   rows.range(0, rows.size(), [&](const MotionRow& r) { state_->add_motion(r); });
 }
 
 void IdentifyAccumulator::merge(IdentifyAccumulator&& later) { state_->merge(*later.state_); }
+
+void IdentifyAccumulator::set_noise_lags(int lags) {
+  if (state_->count > 0) throw std::logic_error("IdentifyAccumulator::set_noise_lags: after add()");
+  if (lags <= 0 || !state_->motion) {
+    state_->lags = detail::LagProducts();
+    return;
+  }
+  const int p = state_->base->num_unknowns();
+  state_->lags = detail::LagProducts(lags, p);
+  state_->lag_rows = detail::LagProducts::Rows::Zero(p + 1, 6);
+}
 
 void IdentifyAccumulator::track_residuals(const Eigen::VectorXd& estimate) {
   state_->track_residuals(estimate);
@@ -652,6 +679,10 @@ void IdentifyAccumulator::track_residuals(const Eigen::VectorXd& estimate,
 IdentifyAccumulator IdentifyAccumulator::empty_like() const {
   IdentifyAccumulator out(*state_->model, *state_->base);
   out.set_source(state_->source, state_->gravity_from_force, state_->gravity_from_upstream);
+  if (state_->lags.active()) {
+    out.state_->lags = state_->lags.empty_like();
+    out.state_->lag_rows = state_->lag_rows;
+  }
   if (state_->track) out.state_->track_residuals(state_->xhat);
   if (state_->leverage) out.state_->use_leverage(state_->leverage);
   return out;
@@ -751,7 +782,9 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
 
   IdentifySummary out =
       detail::start_summary(N, st.gravity_from_force, st.gravity_from_upstream, options);
-  const detail::NoiseFit fit = detail::fit_noise(factors, p, static_cast<double>(N), options);
+  detail::NoiseFit fit = detail::fit_noise(factors, p, static_cast<double>(N), options);
+  fit.solution.covariance = st.lags.covariance(fit.solution.covariance, fit.sigma, fit.solution.x,
+                                               fit.solution.ssr, static_cast<double>(N));
   detail::fill_summary(out, fit, p, static_cast<double>(N));
   const Eigen::VectorXd& x = out.value;
   out.residual_max.setConstant(std::numeric_limits<double>::quiet_NaN());

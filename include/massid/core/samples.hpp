@@ -34,6 +34,11 @@ struct Samples {
   bool gravity_from_upstream = false;  // gravity from the upstream joints and the root gravity
   bool derivatives_filtered = false;   // qd, qdd derived from positions (motion_filter.hpp)
   Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};  // root frame, for the upstream joints
+  // Filtered rows (motion_filter.hpp, correlated_rows): the noise of rows up
+  // to this many apart in one run (consecutive rows, equal block or no block
+  // column) may correlate; the fit's covariance accounts for it. 0:
+  // independent rows.
+  int noise_lags = 0;
 
   int size() const { return static_cast<int>(q.rows()); }
   bool has_wrench() const { return wrench.cols() == 6; }

@@ -96,6 +96,16 @@ FilterKernels make_kernels(double dt, double cutoff);
 // 2 floor(kKernelSpan/(cutoff dt)) + 1: the samples one filtered output needs.
 int kernel_samples(double dt, double cutoff);
 
+// Kept rows (every `decimation`-th = D) whose filter windows share a sample:
+// up to L = floor(2H / D) rows apart. Their noise (the wrench's through the
+// smoothing kernel, the positions' through the derivative kernels) may
+// correlate; beyond L it cannot (Samples::noise_lags). Returns
+// min(L, kMaxNoiseLags): 12 at the default decimation; a decimation far below
+// it (D = 1: L = 2H) would cost L factors per axis, and the correlation
+// beyond kMaxNoiseLags rows is then left out (the std understated).
+constexpr int kMaxNoiseLags = 24;
+int correlated_rows(const FilterKernels& k, int decimation);
+
 // The filter a log of sample period dt gets from `options` (defaults filled
 // in): its kernels and decimation. InputError naming `source` and the lines
 // first_line-last_line of the log for a cutoff that is not positive or at or

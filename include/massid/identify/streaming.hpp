@@ -98,6 +98,9 @@ struct MotionRow {
   const double* sensor_motion = nullptr;
   const double* wrench = nullptr;  // [6] fx..mz
   int line = 0;                    // for the identifiability diagnosis (0 if none)
+  // Filtered rows (set_noise_lags): consecutive rows with equal `run`
+  // are one run of the filter (its block), whose noise correlates.
+  double run = 0.0;
 };
 
 namespace detail {
@@ -152,6 +155,12 @@ class IdentifyAccumulator {
   Eigen::VectorXd rough_estimate() const;
 
   long long samples() const;
+  // Filtered rows (Samples::noise_lags; before the first add): the
+  // covariance accounts for the correlation of the noise of rows up to `lags`
+  // apart within a run (MotionRow::run), estimated from the residuals
+  // (axis_least_squares.hpp, LagProducts). 0: independent rows. add(samples)
+  // of a fresh accumulator takes the samples' own.
+  void set_noise_lags(int lags);
   // Where the samples came from, for messages, and whether their gravity was
   // taken from the measured force (eq. 37) or from the joints above the
   // sensor link (IdentifySummary::gravity_from_upstream).
