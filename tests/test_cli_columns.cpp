@@ -8,8 +8,8 @@
 namespace massid_cli_test {
 namespace {
 
-const std::vector<std::vector<std::string>>& kSpellings = massid_test::kWrenchSpellings;
-const char* const kWrench[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+const std::vector<std::vector<std::string>>& kCliSpellings = massid_test::kWrenchSpellings;
+const char* const kCliWrench[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
 
 class CliColumns : public Cli {
  protected:
@@ -25,7 +25,7 @@ class CliColumns : public Cli {
   std::string renamed(const std::string& in, const std::string& name,
                       const std::vector<std::string>& names) {
     Table t = read_table(in);
-    for (int k = 0; k < 6; ++k) t.header[t.col(kWrench[k])] = names[k];
+    for (int k = 0; k < 6; ++k) t.header[t.col(kCliWrench[k])] = names[k];
     return file(name, to_csv(t));
   }
   // identify --offset; the params file's text.
@@ -57,13 +57,13 @@ TEST_F(CliColumns, EveryCommonSpellingAndABindingIdentifyAsTheCanonicalNames) {
   EXPECT_EQ(canonical.err.find("note:"), std::string::npos) << canonical;
   // The offsets were found (a real fit, not zeros on both sides).
   EXPECT_NEAR(ref["sensor_offset"]["force"][0].get<double>(), 0.5, 0.05);
-  for (size_t s = 0; s < kSpellings.size(); ++s) {
+  for (size_t s = 0; s < kCliSpellings.size(); ++s) {
     Result r;
     const json got =
-        figures(identify(renamed(d, "s" + std::to_string(s) + ".csv", kSpellings[s]), {}, &r));
-    EXPECT_EQ(got, ref) << kSpellings[s][0];  // bit for bit: the JSON's shortest round trip
+        figures(identify(renamed(d, "s" + std::to_string(s) + ".csv", kCliSpellings[s]), {}, &r));
+    EXPECT_EQ(got, ref) << kCliSpellings[s][0];  // bit for bit: the JSON's shortest round trip
     EXPECT_NE(r.err.find("massid: note: "), std::string::npos) << r;
-    EXPECT_NE(r.err.find(kSpellings[s][5] + " as mz"), std::string::npos) << r;
+    EXPECT_NE(r.err.find(kCliSpellings[s][5] + " as mz"), std::string::npos) << r;
   }
   const std::vector<std::string> odd = {"c1", "c2", "c3", "c4", "c5", "c6"};
   const std::string o = renamed(d, "odd.csv", odd);
@@ -78,14 +78,14 @@ TEST_F(CliColumns, EveryCommonSpellingAndABindingIdentifyAsTheCanonicalNames) {
 TEST_F(CliColumns, PredictWritesCompColumnsForRosNames) {
   const std::string d = data();
   identify(d, {});
-  const std::string ros = renamed(d, "ros.csv", kSpellings[4]);
+  const std::string ros = renamed(d, "ros.csv", kCliSpellings[4]);
   const Result a = run({"predict", kPumaUrdf, path("p.json"), d, "-o", path("a.csv")});
   const Result b = run({"predict", kPumaUrdf, path("p.json"), ros, "-o", path("b.csv")});
   ASSERT_EQ(a.code, 0) << a;
   ASSERT_EQ(b.code, 0) << b;
   const Table ta = read_table(path("a.csv")), tb = read_table(path("b.csv"));
   ASSERT_EQ(ta.rows.size(), tb.rows.size());
-  for (const char* w : kWrench) {
+  for (const char* w : kCliWrench) {
     const std::string comp = std::string(w) + "_comp";
     ASSERT_GE(tb.col(comp), 0) << comp << " missing\n" << b;
     for (size_t i = 0; i < ta.rows.size(); ++i) EXPECT_EQ(ta.num(i, comp), tb.num(i, comp));
@@ -135,7 +135,7 @@ TEST_F(CliColumns, AMissingWrenchListsTheHeaderAndProposesTheBinding) {
                      {d + ":1: no measured wrench", "the header has joint1,joint2,joint3,gx,",
                       "(--columns fx=Fx,fy=Fy,fz=Fz,mx=NAME,my=NAME,mz=NAME)"});
   // Two spellings of one role: refused, naming both.
-  Table t = read_table(renamed(data(), "two.csv", kSpellings[1]));
+  Table t = read_table(renamed(data(), "two.csv", kCliSpellings[1]));
   t.header.push_back("force_x");
   for (auto& row : t.rows) row.push_back(row[t.col("Fx")]);
   const std::string two = file("two.csv", to_csv(t));
@@ -169,7 +169,7 @@ TEST_F(CliColumns, CompensateReadsTheSpelledHeader) {
   identify(d, {});
   const Result a = run({"compensate", kPumaUrdf, path("p.json")}, d);
   const Result b =
-      run({"compensate", kPumaUrdf, path("p.json")}, renamed(d, "ati.csv", kSpellings[1]));
+      run({"compensate", kPumaUrdf, path("p.json")}, renamed(d, "ati.csv", kCliSpellings[1]));
   ASSERT_EQ(a.code, 0) << a;
   ASSERT_EQ(b.code, 0) << b;
   EXPECT_NE(b.err.find("massid: note: stdin:1: read Fx as fx"), std::string::npos) << b;

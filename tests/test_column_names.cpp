@@ -31,19 +31,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kUrdf = MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf";
-const std::string kPlan = MASSID_SOURCE_DIR "/examples/puma260/holdout.csv";
+const std::string kColumnsRobot = MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf";
+const std::string kColumnsPlan = MASSID_SOURCE_DIR "/examples/puma260/holdout.csv";
 
-const std::vector<std::vector<std::string>>& kSpellings = massid_test::kWrenchSpellings;
+const std::vector<std::vector<std::string>>& kColumnSpellings = massid_test::kWrenchSpellings;
 
 class ColumnNamesTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("massid_columns_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
-    model_ = load_urdf(kUrdf);
+    model_ = load_urdf(kColumnsRobot);
     // The example plan (three gravity directions) with noisy wrenches and an offset.
-    const CsvTable plan = read_csv(kPlan);
+    const CsvTable plan = read_csv(kColumnsPlan);
     SimulateOptions o;
     o.noise_force = 0.05;
     o.noise_moment = 0.005;
@@ -116,9 +116,9 @@ TEST_F(ColumnNamesTest, EveryCommonSpellingIdentifiesAsTheCanonicalNames) {
     EXPECT_NEAR(ref.summary.value[n - 6 + k], test::kOffset[k],
                 5 * ref.summary.stddev[n - 6 + k] + 1e-9);
   EXPECT_EQ(column_note(model_, header_, "canonical.csv:1", WrenchColumns::Required, {}), "");
-  for (size_t s = 0; s < kSpellings.size(); ++s) {
-    const std::string path = log("spelled" + std::to_string(s) + ".csv", kSpellings[s]);
-    expect_same_fit(identified(path).summary, ref.summary, kSpellings[s][3]);
+  for (size_t s = 0; s < kColumnSpellings.size(); ++s) {
+    const std::string path = log("spelled" + std::to_string(s) + ".csv", kColumnSpellings[s]);
+    expect_same_fit(identified(path).summary, ref.summary, kColumnSpellings[s][3]);
     // Streamed and in memory alike (the robust fit reads the file whole).
     IdentifyRequest r;
     r.offset = true;
@@ -127,12 +127,12 @@ TEST_F(ColumnNamesTest, EveryCommonSpellingIdentifiesAsTheCanonicalNames) {
     IdentifyRequest rc = r;
     expect_same_fit(identify(model_, r, IdentifySource::file(path)).summary,
                     identify(model_, rc, IdentifySource::file(canonical())).summary,
-                    "robust " + kSpellings[s][3]);
+                    "robust " + kColumnSpellings[s][3]);
     // The note names what was read as what.
     const std::string note = file_column_note(model_, path, SampleOptions{});
-    EXPECT_NE(note.find(kSpellings[s][3] + " as mx"), std::string::npos) << note;
+    EXPECT_NE(note.find(kColumnSpellings[s][3] + " as mx"), std::string::npos) << note;
     if (s > 0) {
-      EXPECT_NE(note.find(kSpellings[s][0] + " as fx"), std::string::npos) << note;
+      EXPECT_NE(note.find(kColumnSpellings[s][0] + " as fx"), std::string::npos) << note;
     }
   }
 }
@@ -208,7 +208,7 @@ TEST_F(ColumnNamesTest, BadBindingsAreErrorsNamingTheBinding) {
 TEST_F(ColumnNamesTest, TwoSpellingsOfOneRoleAreRefusedNamingBoth) {
   std::vector<std::string> header = header_;
   std::vector<std::vector<std::string>> rows = rows_;
-  std::copy(kSpellings[1].begin(), kSpellings[1].end(), header.end() - 6);  // Fx..Tz
+  std::copy(kColumnSpellings[1].begin(), kColumnSpellings[1].end(), header.end() - 6);  // Fx..Tz
   header.push_back("force_x");
   for (auto& row : rows) row.push_back(row[header_.size() - 6]);
   const std::string path = (dir_ / "ambiguous.csv").string();
@@ -254,7 +254,7 @@ TEST_F(ColumnNamesTest, PredictReadsRosNamesAndNeverDropsTheWrenchSilently) {
   const LogPrediction ref = predict_log(im, read_csv(canonical()), "canonical.csv");
   ASSERT_TRUE(ref.has_wrench());
   EXPECT_EQ(ref.column_note, "");
-  const std::string ros = log("ros.csv", kSpellings[4]);
+  const std::string ros = log("ros.csv", kColumnSpellings[4]);
   const LogPrediction lp = predict_log(im, read_csv(ros), "ros.csv");
   ASSERT_TRUE(lp.has_wrench());
   ASSERT_EQ(lp.compensated.rows(), ref.compensated.rows());
@@ -295,7 +295,7 @@ TEST_F(ColumnNamesTest, CompensateBindsAStreamHeaderTheSameWay) {
   std::string header;
   for (size_t c = 0; c < header_.size(); ++c) {
     const std::string n =
-        c + 6 >= header_.size() ? kSpellings[2][c + 6 - header_.size()] : header_[c];
+        c + 6 >= header_.size() ? kColumnSpellings[2][c + 6 - header_.size()] : header_[c];
     header += (c ? "," : "") + n;
   }
   Compensator spelled(im, header, "stdin");
