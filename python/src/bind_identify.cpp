@@ -81,7 +81,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   if (is_path(data)) {
     // As massid identify [--dynamic]: streamed where it can be.
     const std::string path = path_of(data);
-    warn_column_note(file_column_note(model, path, request.sample_options()));
+    warn_note(file_column_note(model, path, request.sample_options()));
     if (checks) notes = run_checks(model, data, nullptr, {}, dynamic, request.sample_options());
     py::gil_scoped_release release;
     out = identify(std::move(model), request, IdentifySource::file(path));
@@ -90,7 +90,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
     std::vector<std::string> header;
     Samples raw =
         samples_of(model, data, WrenchColumns::Required, &header, request.sample_options());
-    warn_column_note(
+    warn_note(
         column_note(model, header, "data", WrenchColumns::Required, request.sample_options()));
     if (checks)
       notes = run_checks(model, data, &raw, column_roles(model, header, request.sample_options()),

@@ -16,6 +16,7 @@
 #include "massid/core/motion_predictor.hpp"
 #include "massid/core/predictor.hpp"
 #include "massid/core/simulate.hpp"
+#include "massid/identify/delay.hpp"
 #include "massid/identify/motion_data.hpp"
 #include "massid/identify/predict_log.hpp"
 #include "massid/io/csv.hpp"
@@ -226,7 +227,7 @@ LogPrediction predict_log_of(const IdentifiedModel& identified, const py::object
   }
   const py::object warn = py::module_::import("warnings").attr("warn");
   const py::object category = py::module_::import("massid").attr("MassidWarning");
-  warn_column_note(out.column_note);
+  warn_note(out.column_note);
   for (const Warning& w : out.setup.warnings()) warn(with_hints(w.message, w.hints), category, 3);
   return out;
 }
@@ -490,15 +491,24 @@ void bind_predict(py::module_& m) {
         sopts.root_gravity = root_gravity_of(root_gravity);
         sopts.columns = column_names_of(columns);
         sopts.sensor_motion = p->dynamic;
+        // As massid predict: the clock delay applied (delay.hpp), then in motion
+        // the derivatives from the columns, else derived (every filtered row
+        // kept); rows the filter drops are NaN.
+        const auto delayed = [&](Samples s) {
+          std::string note;
+          s = delay_joint_stream(std::move(s), p->identified.delay(), p->identified.source(),
+                                 &note);
+          warn_note(note);
+          return s;
+        };
         if (!p->dynamic) {
           if (cutoff) throw InputError("cutoff goes with dynamic parameters");
-          const Samples s = samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts);
-          return p->predict_samples(s);
+          return p->predict_samples(
+              delayed(samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts)));
         }
-        // As massid predict: derivatives from the columns, else derived (every
-        // filtered row kept); rows the filter drops are NaN.
         CsvTable table;
-        Samples raw = samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts, &table);
+        Samples raw =
+            delayed(samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts, &table));
         const Eigen::Index rows = raw.size();
         const bool from_file = is_path(data);
         MotionDataOptions o = motion_data_options(cutoff, root_gravity);

@@ -141,7 +141,7 @@ ColumnNames column_names_of(const std::optional<std::map<std::string, std::strin
   return out;
 }
 
-void warn_column_note(const std::string& note) {
+void warn_note(const std::string& note) {
   if (note.empty()) return;
   py::module_::import("warnings")
       .attr("warn")(note, py::module_::import("massid").attr("MassidWarning"), 3);

@@ -63,7 +63,7 @@ Eigen::Vector3d root_gravity_of(const std::optional<std::vector<double>>& root_g
 // The columns= keyword ({ROLE: NAME}) as read_samples' ColumnNames.
 ColumnNames column_names_of(const std::optional<std::map<std::string, std::string>>& columns);
 // A column note (column_note, read_samples.hpp) as a MassidWarning, when there is one.
-void warn_column_note(const std::string& note);
+void warn_note(const std::string& note);
 
 // [N x cols] of an optional array argument with N rows (0 x 0 when None).
 Eigen::MatrixXd optional_matrix(const py::handle& array, Eigen::Index rows, int cols,

@@ -84,6 +84,31 @@ Samples delay_wrench(const Samples& raw, double delay, int margin) {
   return out;
 }
 
+Samples delay_joint_stream(Samples samples, double delay, const std::string& model_source,
+                           std::string* note) {
+  if (note) note->clear();
+  if (delay == 0.0) return samples;
+  if (samples.time.size() != samples.size() || samples.size() < 3)
+    throw InputError(fmt::format(
+        "{}: {} has the wrench's clock delay ({:.4g} ms, identify --delay): the prediction "
+        "applies it from the time column t, which this log lacks; add t",
+        samples.source, model_source, 1e3 * delay));
+  const double first = samples.time[0], last = samples.time[samples.size() - 1];
+  int held = 0;
+  for (int i = 0; i < samples.size(); ++i)
+    held += samples.time[i] - delay < first || samples.time[i] - delay > last;
+  if (note)
+    *note = fmt::format(
+        "{}: the wrench's clock delay of {:.4g} ms ({}) applied: each row predicted for the "
+        "joint state {:.4g} ms {}{}",
+        samples.source, 1e3 * delay, model_source, 1e3 * std::abs(delay),
+        delay > 0 ? "earlier" : "later",
+        held > 0 ? fmt::format("; {} row(s) at the log's {} take its {} row's", held,
+                               delay > 0 ? "start" : "end", delay > 0 ? "first" : "last")
+                 : "");
+  return delay_wrench(samples, delay, 0);
+}
+
 DelayEstimate estimate_delay(const Model& model, const Samples& raw, bool offset,
                              const IdentifyOptions& options, const MotionDataOptions& data,
                              double max_delay) {

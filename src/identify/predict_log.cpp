@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <utility>
 
 #include "massid/identify/delay.hpp"
@@ -49,29 +48,11 @@ LogPrediction predict_log(const IdentifiedModel& identified, CsvTable table,
     if (options.on_verdict) options.on_verdict(out.setup);
     if (out.setup.refused()) throw SetupRefused(out.setup.shown());
   }
-  if (identified.delay() != 0.0) {
-    // The clock delay: row i takes the joint stream at t_i - delay (delay.hpp),
-    // before the filter, as identify applied it.
-    const double delay = identified.delay();
-    if (samples.time.size() != samples.size() || samples.size() < 3)
-      throw InputError(
-          fmt::format("{}: {} has the wrench's clock delay ({:.4g} ms, identify --delay): predict "
-                      "applies it from the time column t, which this log lacks; add t",
-                      source, identified.source(), 1e3 * delay));
-    const double first = samples.time[0], last = samples.time[samples.size() - 1];
-    int held = 0;
-    for (int i = 0; i < samples.size(); ++i)
-      held += samples.time[i] - delay < first || samples.time[i] - delay > last;
-    samples = delay_wrench(samples, delay, 0);
-    out.notes.push_back(fmt::format(
-        "{}: the wrench's clock delay of {:.4g} ms ({}) applied: each row predicted for the "
-        "joint state {:.4g} ms {}{}",
-        source, 1e3 * delay, identified.source(), 1e3 * std::abs(delay),
-        delay > 0 ? "earlier" : "later",
-        held > 0 ? fmt::format("; {} row(s) at the log's {} take its {} row's", held,
-                               delay > 0 ? "start" : "end", delay > 0 ? "first" : "last")
-                 : ""));
-  }
+  // The clock delay, before the filter, as identify applied it.
+  std::string delay_note;
+  samples =
+      delay_joint_stream(std::move(samples), identified.delay(), identified.source(), &delay_note);
+  if (!delay_note.empty()) out.notes.push_back(delay_note);
   if (motion) {
     // The full wrench, weight and motion, from the dynamic base parameters.
     MotionDataOptions mopts = options.motion;

@@ -119,3 +119,31 @@ def test_columns_by_name_give_the_file_s_prediction(massid: Any, logs: dict[str,
     # Rows are numbered from 0 for columns by name: the file's lines minus 2.
     assert [(c["first_line"], c["last_line"]) for c in by_name.contact] == [(FIRST, LAST)]
     assert by_name.notes[0].startswith("data: lines ")
+
+
+def test_every_door_applies_the_params_clock_delay(massid: Any, logs: dict[str, Path],
+                                                   tmp_path: Path) -> None:
+    """A params file with "delay": massid.predict, massid.predict_log and massid predict
+    predict each row for the joint state delay seconds earlier, the same figures at each
+    door, and not the ones the file without the delay gives."""
+    import json
+    params = json.loads(Path(logs["params"]).read_text())
+    params["delay"] = {"value": 0.004, "std": 0.0}
+    delayed = tmp_path / "delayed.json"
+    delayed.write_text(json.dumps(params))
+    columns = {k: np.asarray(v, dtype=float) for k, v in massid.read_csv(str(logs["clean"])).items()}
+    columns["t"] = 0.01 * np.arange(len(columns["fx"]))
+    log = write_csv(tmp_path / "timed.csv", columns)
+    with pytest.warns(massid.MassidWarning, match="clock delay of 4 ms"):
+        by_predict = massid.predict(str(UR), str(delayed), str(log))
+    by_log = massid.predict_log(str(UR), str(delayed), str(log), checks=False)
+    np.testing.assert_array_equal(by_predict, by_log.predicted)
+    assert any("clock delay of 4 ms" in n for n in by_log.notes)
+    cli = run("predict", UR, delayed, log, "--no-checks", "-o", tmp_path / "p.csv")
+    assert cli.returncode == 0, cli.stderr
+    assert "clock delay of 4 ms" in cli.stderr
+    written = massid.read_csv(tmp_path / "p.csv")
+    np.testing.assert_array_equal(by_log.predicted,
+                                  np.column_stack([written[a + "_pred"] for a in AXES]))
+    undelayed = massid.predict(str(UR), str(logs["params"]), str(log))
+    assert np.abs(by_predict - undelayed).max() > 1e-3

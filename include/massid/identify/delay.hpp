@@ -22,6 +22,16 @@ namespace massid {
 // same). InputError without a t column.
 Samples delay_wrench(const Samples& raw, double delay, int margin);
 
+// A log to predict with a model's clock delay (IdentifiedModel::delay): every
+// row takes the joint stream at t_i - delay (delay_wrench with no margin;
+// instants before the log's start or after its end take its first or last
+// row's), so that the prediction at row i is the wrench the sensor logs there.
+// Unchanged when delay is 0. InputError without t (`model_source` names where
+// the delay comes from). *note, when not null: what was applied, for the door
+// to show ("" when delay is 0).
+Samples delay_joint_stream(Samples samples, double delay, const std::string& model_source,
+                           std::string* note = nullptr);
+
 // The delay in [-max_delay, max_delay] whose fit leaves the least chi^2 (the
 // residuals weighted by the noise of the fit at delay 0): a coarse scan in
 // max_delay/8 steps, a fine one in quarter steps around its best, and the
