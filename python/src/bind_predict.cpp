@@ -16,7 +16,6 @@
 #include "massid/core/motion_predictor.hpp"
 #include "massid/core/predictor.hpp"
 #include "massid/core/simulate.hpp"
-#include "massid/identify/delay.hpp"
 #include "massid/identify/motion_data.hpp"
 #include "massid/identify/predict_log.hpp"
 #include "massid/io/csv.hpp"
@@ -207,10 +206,10 @@ CsvTable table_of(const py::handle& data) {
   return t;
 }
 
-// massid predict's pipeline (predict_log.hpp) on a data argument, its
-// warnings raised as MassidWarning.
-LogPrediction predict_log_of(const IdentifiedModel& identified, const py::object& data,
-                             std::optional<double> cutoff,
+// massid predict's pipeline (predict_log.hpp) on a data argument's table
+// (table_of), its warnings raised as MassidWarning.
+LogPrediction predict_log_of(const IdentifiedModel& identified, CsvTable table,
+                             const std::string& source, std::optional<double> cutoff,
                              std::optional<std::vector<double>> root_gravity, bool checks,
                              const ColumnNames& columns) {
   if (!identified.dynamic() && cutoff) throw InputError("cutoff goes with dynamic parameters");
@@ -218,8 +217,6 @@ LogPrediction predict_log_of(const IdentifiedModel& identified, const py::object
   o.motion = motion_data_options(cutoff, root_gravity);
   o.motion.samples.columns = columns;
   o.checks = checks;
-  CsvTable table = table_of(data);
-  const std::string source = is_path(data) ? path_of(data) : std::string("data");
   LogPrediction out;
   {
     py::gil_scoped_release release;
@@ -230,6 +227,14 @@ LogPrediction predict_log_of(const IdentifiedModel& identified, const py::object
   warn_note(out.column_note);
   for (const Warning& w : out.setup.warnings()) warn(with_hints(w.message, w.hints), category, 3);
   return out;
+}
+
+LogPrediction predict_log_of(const IdentifiedModel& identified, const py::object& data,
+                             std::optional<double> cutoff,
+                             std::optional<std::vector<double>> root_gravity, bool checks,
+                             const ColumnNames& columns) {
+  return predict_log_of(identified, table_of(data), is_path(data) ? path_of(data) : "data", cutoff,
+                        std::move(root_gravity), checks, columns);
 }
 
 // [N x 6] or [6] as numpy gives them, as a matrix of six columns.
@@ -486,37 +491,19 @@ void bind_predict(py::module_& m) {
       [](const py::object& robot, const py::object& params, const py::object& data,
          std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity,
          bool physical, std::optional<std::map<std::string, std::string>> columns) {
-        auto p = make_predictor(robot, params, physical);
-        SampleOptions sopts;
-        sopts.root_gravity = root_gravity_of(root_gravity);
-        sopts.columns = column_names_of(columns);
-        sopts.sensor_motion = p->dynamic;
-        // As massid predict: the clock delay applied (delay.hpp), then in motion
-        // the derivatives from the columns, else derived (every filtered row
-        // kept); rows the filter drops are NaN.
-        const auto delayed = [&](Samples s) {
-          std::string note;
-          s = delay_joint_stream(std::move(s), p->identified.delay(), p->identified.source(),
-                                 &note);
-          warn_note(note);
-          return s;
-        };
-        if (!p->dynamic) {
-          if (cutoff) throw InputError("cutoff goes with dynamic parameters");
-          return p->predict_samples(
-              delayed(samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts)));
-        }
-        CsvTable table;
-        Samples raw =
-            delayed(samples_of(p->model, data, WrenchColumns::Optional, nullptr, sopts, &table));
-        const Eigen::Index rows = raw.size();
-        const bool from_file = is_path(data);
-        MotionDataOptions o = motion_data_options(cutoff, root_gravity);
-        o.samples = sopts;
-        o.filter.decimation = 1;
-        const Samples s = prepare_motion_samples(p->model, std::move(raw), o);
-        const Eigen::MatrixXd W = p->predict_samples(s);
-        return PyPredictor::spread_rows(W, s.line, rows, from_file ? &table.line : nullptr);
+        // massid predict's pipeline without its set-up checks (predict_log.hpp),
+        // its notes of the clock delay applied raised as MassidWarning, and its
+        // rows spread back over the data's: rows the filter drops are NaN.
+        const auto p = make_predictor(robot, params, physical);
+        CsvTable table = table_of(data);
+        const std::vector<int> lines = table.line;
+        const LogPrediction out =
+            predict_log_of(p->identified, std::move(table), is_path(data) ? path_of(data) : "data",
+                           cutoff, std::move(root_gravity), false, column_names_of(columns));
+        const size_t delay_notes = out.notes.size() - out.contact.size();
+        for (size_t k = 0; k < delay_notes; ++k) warn_note(out.notes[k]);
+        return PyPredictor::spread_rows(out.predicted, out.samples.line,
+                                        static_cast<Eigen::Index>(lines.size()), &lines);
       },
       py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),
       py::arg("cutoff") = py::none(), py::arg("root_gravity") = py::none(),
