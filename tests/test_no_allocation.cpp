@@ -121,44 +121,49 @@ TEST_P(NoAllocation, PredictMotionSingleAndBatch) {
 }
 
 // compensate's per-line path: parse, predict (static and in motion; gravity
-// from gx,gy,gz and from the platform's tilt), format the output line.
+// from gx,gy,gz and from the platform's tilt; with a clock delay, the joint
+// stream's ring, grown once to the delay's span), format the output line.
 TEST_P(NoAllocation, CompensateLine) {
   const Model model = load_urdf(GetParam().urdf);
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-3.0, 3.0);
   for (const bool motion : {false, true})
-    for (const char* gravity : {"gx,gy,gz", "tilt_x_deg,tilt_y_deg"}) {
-      BaseParameterOptions bo;
-      bo.offset = true;
-      if (motion) bo.layout = ParameterLayout::full();
-      const BaseParameters base = find_base_parameters(model, bo);
-      std::string header, line;
-      const int columns = model.num_joints() * (motion ? 3 : 1);
-      for (int c = 0; c < columns; ++c) {
-        const int j = c % std::max(model.num_joints(), 1);
-        header += model.joints[j].name + (c < model.num_joints()       ? ","
-                                          : c < 2 * model.num_joints() ? "_vel,"
-                                                                       : "_acc,");
+    for (const char* gravity : {"gx,gy,gz", "tilt_x_deg,tilt_y_deg"})
+      for (const double delay : {0.0, 0.004}) {
+        BaseParameterOptions bo;
+        bo.offset = true;
+        if (motion) bo.layout = ParameterLayout::full();
+        const BaseParameters base = find_base_parameters(model, bo);
+        std::string header = delay > 0 ? "t," : "", line;
+        const int columns = model.num_joints() * (motion ? 3 : 1);
+        for (int c = 0; c < columns; ++c) {
+          const int j = c % std::max(model.num_joints(), 1);
+          header += model.joints[j].name + (c < model.num_joints()       ? ","
+                                            : c < 2 * model.num_joints() ? "_vel,"
+                                                                         : "_acc,");
+        }
+        header += std::string(gravity) + ",fx,fy,fz,mx,my,mz";
+        const int values = columns + (gravity[0] == 'g' ? 3 : 2) + 6;
+        // 1 ms apart: the 4 ms delay keeps five lines in its ring.
+        std::vector<std::string> lines;
+        for (int i = 0; i < 120; ++i) {
+          line = delay > 0 ? format_number(0.001 * i) + "," : "";
+          for (int c = 0; c < values; ++c) line += (c ? "," : "") + format_number(u(rng));
+          lines.push_back(line);
+        }
+        const IdentifiedModel identified =
+            IdentifiedModel::from_values(model, base, Eigen::VectorXd::Ones(base.num_unknowns()))
+                .with_delay(delay);
+        Compensator comp(identified, header, "test");
+        for (int k = 0; k < 20; ++k) comp.compensate(lines[k], k + 2);  // buffers and ring grown
+        const long before = allocations();
+        std::size_t bytes = 0;
+        for (int k = 20; k < 120; ++k) bytes += comp.compensate(lines[k], k + 2).size();
+        EXPECT_EQ(allocations() - before, 0)
+            << (motion ? "motion, " : "static, ") << gravity << ", delay " << delay;
+        EXPECT_GT(bytes, 100 * lines[0].size() / 2);
+        EXPECT_TRUE(comp.compensated().allFinite());
       }
-      header += std::string(gravity) + ",fx,fy,fz,mx,my,mz";
-      const int values = columns + (gravity[0] == 'g' ? 3 : 2) + 6;
-      std::vector<std::string> lines;
-      for (int i = 0; i < 16; ++i) {
-        line.clear();
-        for (int c = 0; c < values; ++c) line += (c ? "," : "") + format_number(u(rng));
-        lines.push_back(line);
-      }
-      Compensator comp(
-          IdentifiedModel::from_values(model, base, Eigen::VectorXd::Ones(base.num_unknowns())),
-          header, "test");
-      comp.compensate(lines[0], 2);  // the output buffer holds a line
-      const long before = allocations();
-      std::size_t bytes = 0;
-      for (int k = 0; k < 100; ++k) bytes += comp.compensate(lines[k % 16], k + 2).size();
-      EXPECT_EQ(allocations() - before, 0) << (motion ? "motion, " : "static, ") << gravity;
-      EXPECT_GT(bytes, 100 * lines[0].size() / 2);
-      EXPECT_TRUE(comp.compensated().allFinite());
-    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::examples()),
