@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -64,6 +65,10 @@ constexpr double kMinSpread = 0.02;
 constexpr int kNominalRows = 2000;
 // Checks that compare columns over rows need this many rows.
 constexpr int kMinRows = 3;
+// Residuals correlated over rows (a sensor's low-pass filter, a logger faster
+// than the sensor) carry fewer independent values than rows: at most one per
+// this many rows is assumed for AR(1)-like noise with rho near 1.
+constexpr double kMaxCorrelationRows = 200.0;
 
 // --- formatting ---------------------------------------------------------------
 
@@ -96,6 +101,24 @@ std::string matrix_text(const Eigen::Matrix3d& R) {
 }
 
 bool constant(const Eigen::VectorXd& c) { return c.size() > 0 && c.maxCoeff() == c.minCoeff(); }
+
+// Rows per independent value of a residual whose rows are in time order
+// ([rows x k], any number of columns): (1 + rho) / (1 - rho) for the lag-1
+// autocorrelation rho pooled over the columns, the factor by which an AR(1)
+// noise's variance of a mean or a slope exceeds white noise's. 1 for white
+// (or anti-correlated) residuals; at most kMaxCorrelationRows. Every verdict
+// below judges its statistic against the noise's variance times this factor,
+// so that a filtered sensor's 1,500 rows at one pose are not taken for 1,500
+// independent measurements (issue 29: a 3 % difference between two
+// hypotheses is no evidence).
+double correlation_rows(const Eigen::MatrixXd& r) {
+  if (r.rows() < 3) return 1.0;
+  const double lag0 = r.squaredNorm();
+  if (!(lag0 > 0)) return 1.0;
+  const double lag1 = (r.topRows(r.rows() - 1).array() * r.bottomRows(r.rows() - 1).array()).sum();
+  const double rho = std::clamp(lag1 / lag0, 0.0, 0.999);
+  return std::min((1.0 + rho) / (1.0 - rho), kMaxCorrelationRows);
+}
 
 // The rotation R minimising sum |b_i - R a_i|^2 (Kabsch) from H = sum a_i b_i^T.
 Eigen::Matrix3d kabsch(const Eigen::Matrix3d& H) {
@@ -232,7 +255,8 @@ bool check_sign(Context& c, const Centred& k) {
   if (k.spread_ok) {
     const double s = (k.Fc.array() * k.Gc.array()).sum() / Sgg;
     const double dof = std::max(1, 3 * c.N - 4);
-    const double sigma = std::sqrt((k.Fc - s * k.Gc).squaredNorm() / dof);
+    const Eigen::MatrixXd r = k.Fc - s * k.Gc;
+    const double sigma = std::sqrt(r.squaredNorm() / dof * correlation_rows(r));
     if (std::abs(s) > 10.0 * sigma / std::sqrt(Sgg)) {
       decided = true;
       negative = s < 0;
@@ -287,7 +311,8 @@ void check_rotation(Context& c, const Centred& k) {
     R = kabsch(k.Gc.transpose() * k.Fc);
     const double s = (k.Fc.array() * (k.Gc * R.transpose()).array()).sum() / k.lambda.sum();
     const double dof = std::max(1, 3 * c.N - 7);
-    const double sigma = std::sqrt((k.Fc - s * k.Gc * R.transpose()).squaredNorm() / dof);
+    const Eigen::MatrixXd r = k.Fc - s * k.Gc * R.transpose();
+    const double sigma = std::sqrt(r.squaredNorm() / dof * correlation_rows(r));
     angle = Eigen::AngleAxisd(R).angle();
     sigma_angle = sigma / (std::abs(s) * std::sqrt(l23));
     basis = "from the centred data, so a sensor offset does not matter";
@@ -296,7 +321,8 @@ void check_rotation(Context& c, const Centred& k) {
     const Eigen::VectorXd t = k.Gc * dg;
     const Eigen::Vector3d v = k.Fc.transpose() * t / l1;
     const double dof = std::max(1, 3 * c.N - 6);
-    const double sigma = std::sqrt((k.Fc - t * v.transpose()).squaredNorm() / dof);
+    const Eigen::MatrixXd r = k.Fc - t * v.transpose();
+    const double sigma = std::sqrt(r.squaredNorm() / dof * correlation_rows(r));
     angle = std::acos(std::clamp(v.normalized().dot(dg), -1.0, 1.0));
     sigma_angle = sigma / (v.norm() * std::sqrt(l1));
     // The full rotation from the raw vectors (assuming no offset): two
@@ -353,7 +379,10 @@ int changed_channels(const Eigen::Matrix3d& P) {
 // The identity is excluded when it is worse than the best by more than 100
 // variances (10 sigma) and by a factor 4 (model errors such as a 1 deg
 // misalignment or an as-built mass inflate every fit alike; a flipped channel
-// that varies is far worse).
+// that varies is far worse). The variance is the best fit's residual variance
+// times its correlation_rows (`residual` gives the residual of the i-th P): a
+// difference of SSR between two hypotheses grows with the noise's correlation
+// as the variance of a mean does.
 struct ChannelFit {
   std::vector<double> ssr;
   std::vector<bool> tie;
@@ -362,7 +391,8 @@ struct ChannelFit {
 };
 
 ChannelFit channel_fit(std::vector<double> ssr, double dof, double rows, double total,
-                       const std::vector<bool>* among = nullptr) {
+                       const std::vector<bool>* among,
+                       const std::function<Eigen::MatrixXd(size_t)>& residual) {
   const size_t n = ssr.size();
   ChannelFit f;
   f.rows = rows;
@@ -370,9 +400,14 @@ ChannelFit channel_fit(std::vector<double> ssr, double dof, double rows, double 
   f.ssr = ssr;
   if (!(dof >= 1)) return f;
   double best = INFINITY;
+  size_t at = 0;
   for (size_t i = 0; i < n; ++i)
-    if (!among || (*among)[i]) best = std::min(best, ssr[i]);
-  const double var = std::max(best / dof, 1e-24 * total / rows + 1e-300);
+    if ((!among || (*among)[i]) && ssr[i] < best) {
+      best = ssr[i];
+      at = i;
+    }
+  const double var =
+      std::max(best / dof * correlation_rows(residual(at)), 1e-24 * total / rows + 1e-300);
   for (size_t i = 0; i < n; ++i) f.tie[i] = (!among || (*among)[i]) && ssr[i] <= best + 25 * var;
   f.identity_out = !f.tie[0] && ssr[0] - best > 100 * var && ssr[0] > 4 * best;
   return f;
@@ -424,7 +459,13 @@ ChannelFit force_channels(const Context& c, const Centred& k) {
       const double t = Sgg > 0 ? std::max(0.0, (P * H).trace()) : 0.0;
       ssr.push_back(std::max(0.0, Sff - (Sgg > 0 ? t * t / Sgg : 0.0)));
     }
-    return channel_fit(ssr, dof, c.N, Sff, among);
+    // The residual F - M G P^T of P's fit, M = tr(P H) / S_gg.
+    const auto residual = [&](size_t i) -> Eigen::MatrixXd {
+      const Eigen::Matrix3d& P = signed_permutations()[i];
+      const double t = Sgg > 0 ? std::max(0.0, (P * H).trace()) : 0.0;
+      return F - (Sgg > 0 ? t / Sgg : 0.0) * G * P.transpose();
+    };
+    return channel_fit(ssr, dof, c.N, Sff, among, residual);
   };
   if (c.N < kMinRows) return {};
   ChannelFit centred;
@@ -477,16 +518,35 @@ ChannelFit moment_channels(const Context& c) {
   Eigen::MatrixXd nom = c.nom.rightCols(3).transpose();
   nom = nom.colwise() - nom.rowwise().mean();
   const Eigen::MatrixXd Yc = Y.colwise() - Y.rowwise().mean();
-  const bool signed_by_urdf = c.M > 0 && nom.norm() > 0;
-  std::vector<double> ssr;
-  std::vector<bool> sign_ok;
+  std::vector<double> ssr, agreement;
   for (const Eigen::Matrix3d& P : signed_permutations()) {
     const Eigen::MatrixXd YP = P.transpose() * Y;  // the true moments if P is right
     const Eigen::Map<const Eigen::VectorXd> y(YP.data(), 3 * n);
     ssr.push_back(std::max(0.0, y.squaredNorm() - (Q.transpose() * y).squaredNorm()));
-    sign_ok.push_back(!signed_by_urdf || ((P.transpose() * Yc).array() * nom.array()).sum() >= 0);
+    agreement.push_back(((P.transpose() * Yc).array() * nom.array()).sum());
   }
-  ChannelFit f = channel_fit(ssr, static_cast<double>(3 * n - r), n, Y.squaredNorm());
+  // P's fit residual, [n x 3] in row order.
+  const auto residual = [&](size_t i) -> Eigen::MatrixXd {
+    const Eigen::MatrixXd YP = signed_permutations()[i].transpose() * Y;
+    const Eigen::Map<const Eigen::VectorXd> y(YP.data(), 3 * n);
+    const Eigen::VectorXd e = y - Q * (Q.transpose() * y);
+    return Eigen::Map<const Eigen::MatrixXd>(e.data(), 3, n).transpose();
+  };
+  const double dof = static_cast<double>(3 * n - r);
+  ChannelFit f = channel_fit(ssr, dof, n, Y.squaredNorm(), nullptr, residual);
+  // The URDF signs the fit only where the agreement of the recorded moments'
+  // changes with the URDF's, sum (P^T m_i - mean).(m_URDF,i - mean), exceeds
+  // 10 times its noise, sigma |m_URDF - mean| (with the residual's
+  // correlation): at one pose, or poses a few degrees apart, the changes are
+  // noise and their sign no evidence.
+  size_t best = 0;
+  for (size_t i = 0; i < ssr.size(); ++i)
+    if (ssr[i] < ssr[best]) best = i;
+  const double noise =
+      std::sqrt(ssr[best] / std::max(dof, 1.0) * correlation_rows(residual(best))) * nom.norm();
+  const bool signed_by_urdf = c.M > 0 && nom.norm() > 0 && std::abs(agreement[best]) > 10 * noise;
+  std::vector<bool> sign_ok;
+  for (double a : agreement) sign_ok.push_back(!signed_by_urdf || a >= 0);
   if (signed_by_urdf) {
     bool any = false;
     for (size_t i = 0; i < ssr.size(); ++i) any |= f.tie[i] && sign_ok[i];
