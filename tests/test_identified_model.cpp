@@ -20,6 +20,7 @@
 #include "massid/io/params_file.hpp"
 #include "massid/io/read_samples.hpp"
 #include "massid/io/urdf.hpp"
+#include "massid/live/compensator.hpp"
 #include "massid/live/identified_model.hpp"
 #include "test_support.hpp"
 
@@ -340,6 +341,44 @@ TEST(PredictLog, RefusesANegatedChannelWithTheChecksMessage) {
 
 INSTANTIATE_TEST_SUITE_P(StaticAndDynamic, IdentifiedModelTest, ::testing::Bool(),
                          [](const auto& info) { return info.param ? "Dynamic" : "Static"; });
+
+}  // namespace
+}  // namespace massid
+
+namespace massid {
+namespace {
+
+// A static fit given a stream with velocity columns compensates the weight
+// only, and says so once: for a base sensor (the joints below it move) and
+// for a wrist (the joints above it move; before, the note looked only at the
+// first joint below the sensor, and a wrist with none said nothing).
+TEST(CompensatorNotes, StaticFitOnAMovingStreamSaysTheMotionIsNotCompensatedForAWristToo) {
+  const std::string ur = MASSID_SOURCE_DIR "/examples/ur_like/ur_like.urdf";
+  for (const std::string sensor : {"sensor", "wrist_3_link"}) {
+    const Model model = load_urdf(ur, sensor);
+    const BaseParameters base = find_base_parameters(model);
+    const IdentifiedModel im = IdentifiedModel::from_values(
+        model, base, Eigen::VectorXd::Zero(base.num_unknowns()), {}, {}, "params.json");
+    std::string header;
+    for (const auto* joints : {&model.joints, &model.upstream_joints})
+      for (const Joint& j : *joints) header += j.name + "," + j.name + "_vel," + j.name + "_acc,";
+    if (model.upstream_joints.empty()) header += "gx,gy,gz,";
+    header += "fx,fy,fz,mx,my,mz";
+    const Compensator c(im, header, "stdin");
+    EXPECT_NE(c.note().find("params.json is a static fit: the weight is compensated, not the "
+                            "inertial forces of the motion"),
+              std::string::npos)
+        << sensor << ": " << c.note();
+    // Without velocity columns there is nothing to say.
+    std::string still;
+    for (const auto* joints : {&model.joints, &model.upstream_joints})
+      for (const Joint& j : *joints) still += j.name + ",";
+    if (model.upstream_joints.empty()) still += "gx,gy,gz,";
+    still += "fx,fy,fz,mx,my,mz";
+    EXPECT_EQ(Compensator(im, still, "stdin").note().find("static fit"), std::string::npos)
+        << sensor;
+  }
+}
 
 }  // namespace
 }  // namespace massid

@@ -191,7 +191,11 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
           "the joints above the sensor link have no _vel,_acc columns (and there are no wx..az): "
           "the sensor frame is taken at rest");
   } else {
-    if (model.num_joints() > 0 && find(header, model.joints.front().name + "_vel") >= 0)
+    // Velocity columns of the joints below the sensor or above it (a wrist).
+    bool moving = false;
+    for (const auto* joints : {&model.joints, &model.upstream_joints})
+      for (const Joint& j : *joints) moving |= find(header, j.name + "_vel") >= 0;
+    if (moving)
       notes.push_back(fmt::format(
           "{} is a static fit: the weight is compensated, not the inertial forces of the "
           "motion (a dynamic fit compensates those)",
