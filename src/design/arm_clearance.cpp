@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 
 namespace massid {
 
@@ -25,6 +26,23 @@ ArmClearance::ArmClearance(const Model& model, const Eigen::Vector3d& root_gravi
     step_moves_.push_back(moves);
   }
   tool_body_ = body;
+  // Only the origins whose height changes count (the shoulder's turns at
+  // the height the mount gives it): compare random configurations.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Eigen::VectorXd qu(model.num_upstream_joints());
+  std::vector<double> first(model.upstream.size());
+  std::vector<bool> varies(model.upstream.size(), false);
+  for (int trial = 0; trial < 6; ++trial) {
+    for (int j = 0; j < qu.size(); ++j) qu[j] = model.upstream_joints[j].generic_position(u(rng));
+    upstream_link_poses(model, qu, poses_);
+    for (size_t k = 0; k < poses_.size(); ++k) {
+      const double h = up_.dot(poses_[k].translation());
+      if (trial == 0) first[k] = h;
+      if (std::abs(h - first[k]) > 1e-9) varies[k] = true;
+    }
+  }
+  for (size_t k = 0; k < varies.size(); ++k) step_moves_[k] = step_moves_[k] && varies[k];
   for (int l = 0; l < model.num_links(); ++l) {
     const Link& link = model.links[l];
     tool_.push_back({l, Eigen::Vector3d::Zero(), 0.0});

@@ -4,7 +4,8 @@
 //
 // Floor: the plane through the URDF root frame's origin normal to the root
 // gravity (z = 0 for gravity along -z). Checked against it: the origins of
-// the links above the sensor that move, and the tool's points (the measured
+// the links above the sensor whose height changes with the joints, and the
+// tool's points (the measured
 // links' origins, centres of mass and collision spheres, less their radius).
 //
 // Self: the arm as a chain of bodies, one per movable joint above the sensor
