@@ -147,13 +147,6 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
   // A wrist (a sensor below movable joints): the trajectory moves the arm's
   // joints too; they take --limits, --velocity-limit, --acceleration-limit.
   const bool wrist = model.num_upstream_joints() > 0;
-  if (!wrist)
-    for (const char* opt : {"--self-clearance", "--root-gravity"})
-      if (c.app->count(opt))
-        throw InputError(fmt::format(
-            "design --dynamic: {} applies to a sensor below movable joints (a wrist); sensor "
-            "link '{}' is the root of the moving joints",
-            opt, model.sensor_link()));
   if (wrist)
     for (const char* opt : {"--tilts", "--tilt-max", "--gravity"})
       if (c.app->count(opt))
@@ -354,10 +347,14 @@ int run_design(const DesignCommand& c) {
   const Model model = hold_joints(urdf, held);
   BaseParameterOptions bo;
   bo.offset = c.offset;
+  if (model.num_upstream_joints() == 0)
+    for (const char* opt : {"--self-clearance", "--root-gravity"})
+      if (c.app->count(opt))
+        throw InputError(fmt::format(
+            "design: {} applies to a sensor below movable joints (a wrist); sensor link '{}' is "
+            "the root of the moving joints",
+            opt, model.sensor_link()));
   if (c.dynamic) return run_design_dynamic(c, model, bo);
-  for (const char* opt : {"--self-clearance", "--root-gravity"})
-    if (c.app->count(opt))
-      throw InputError(fmt::format("design: {} applies with --dynamic (an arm's trajectory)", opt));
   const BaseParameters base = find_base_parameters(model, bo);
 
   DesignOptions o;
@@ -381,6 +378,9 @@ int run_design(const DesignCommand& c) {
   }
   o.min_height = parse_min_height(c);
   o.min_height_required = c.app->count("--min-height") > 0;
+  o.self_clearance = parse_distance(c, "--self-clearance", c.self_clearance, kDefaultSelfClearance);
+  if (!c.root_gravity.empty())
+    o.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");
   if (c.app->count("--level-poses")) o.level_poses = c.level_poses;
 
   if (!c.evaluate.empty()) {

@@ -227,4 +227,50 @@ TEST_F(CliWrist, TheClearancesBindAndAreRefusedWithoutAnArm) {
   expect_input_error(r, {"--tilt-max", "--root-gravity"});
 }
 
+TEST_F(CliWrist, StaticPlanPosesTheArmAndIdentifiesTheTool) {
+  Result r = run({"design", kUrWristUrdf, "--sensor", "ft_sensor", "--fixed", "finger_joint=0.02",
+                  "--poses", "12", "--offset", "--candidates", "300", "-o", path("plan.csv")});
+  ASSERT_EQ(r.code, 0) << r;
+  const massid::Model model =
+      massid::hold_joints(massid::load_urdf(kUrWristUrdf, "ft_sensor"), {{"finger_joint", 0.02}});
+  const Table t = read_table(path("plan.csv"));
+  ASSERT_EQ(t.rows.size(), 12u);
+  EXPECT_EQ(t.col("tilt_x_deg"), -1);
+  const Eigen::Vector3d gripper_com(0.004, -0.002, 0.055 + 0.02);
+  for (const massid::Joint& j : model.upstream_joints) {
+    double lo = 1e9, hi = -1e9;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+      lo = std::min(lo, t.num(i, j.name));
+      hi = std::max(hi, t.num(i, j.name));
+    }
+    const double margin = 0.1 * (j.upper - j.lower);
+    EXPECT_GE(lo, j.lower + margin - 1e-9) << j.name;
+    EXPECT_LE(hi, j.upper - margin + 1e-9) << j.name;
+  }
+  double moved = 0.0;
+  for (size_t i = 0; i < t.rows.size(); ++i) {
+    Eigen::VectorXd qu(6);
+    for (int u = 0; u < 6; ++u) qu[u] = t.num(i, model.upstream_joints[u].name);
+    const std::vector<Eigen::Isometry3d> chain = wrist_chain(model, qu);
+    // gx,gy,gz: the root gravity in the sensor frame of that arm pose.
+    const Eigen::Vector3d g =
+        chain.back().linear().transpose() * Eigen::Vector3d(0.0, 0.0, -9.80665);
+    EXPECT_NEAR(t.num(i, "gx"), g.x(), 1e-9);
+    EXPECT_NEAR(t.num(i, "gy"), g.y(), 1e-9);
+    EXPECT_NEAR(t.num(i, "gz"), g.z(), 1e-9);
+    EXPECT_GE((chain.back() * gripper_com).z(), 0.05 - 1e-9);
+    if (i > 0) moved += std::abs(t.num(i, "elbow_joint") - t.num(0, "elbow_joint"));
+  }
+  EXPECT_GT(moved, 0.1);
+  r = run({"simulate", kUrWristUrdf, path("plan.csv"), "-o", path("data.csv"), "--sensor",
+           "ft_sensor", "--fixed", "finger_joint=0.02", "--noise-force", "0.05", "--noise-moment",
+           "0.005", "--sensor-offset", "1,2,3,0.1,0.2,0.3", "--repeat", "20"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"identify", kUrWristUrdf, path("data.csv"), "--sensor", "ft_sensor", "--offset",
+           "--fixed", "finger_joint=0.02", "-o", path("params.json")});
+  ASSERT_EQ(r.code, 0) << r;
+  const massid::ParamsFile params = massid::read_params(path("params.json"));
+  EXPECT_NEAR(params.total_mass, 1.0, 0.01);
+}
+
 }  // namespace

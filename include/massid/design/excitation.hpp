@@ -59,10 +59,6 @@ FourierTrajectory random_fourier_trajectory(const std::vector<Joint>& joints, in
 // model's own. FourierTrajectory's joints are in this order.
 std::vector<Joint> trajectory_joints(const Model& model);
 
-// m: the default distance between the centre lines of two arm links that no
-// single link joins (ExcitationOptions::self_clearance).
-inline constexpr double kDefaultSelfClearance = 0.05;
-
 // The trajectory sampled at `rate` Hz over [0, duration]: t, q, qd, qdd, and
 // the given gravity (sensor frame) in every row; lines numbered from 1.
 Samples sample_trajectory(const FourierTrajectory& trajectory, double duration, double rate,
