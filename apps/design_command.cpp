@@ -136,7 +136,8 @@ std::vector<Tilt> parse_tilts(const std::string& text) {
   return tilts;
 }
 
-int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterOptions& bo_in) {
+int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterOptions& bo_in,
+                       bool move_arm) {
   if (c.output.empty()) throw InputError("design --dynamic: -o TRAJ.csv is required");
   for (const char* opt : {"--poses", "--evaluate", "--level-poses", "--no-checks", "--columns"})
     if (c.app->count(opt))
@@ -146,17 +147,10 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
           opt));
   // A wrist (a sensor below movable joints): the trajectory moves the arm's
   // joints too; they take --limits, --velocity-limit, --acceleration-limit.
-  const bool wrist = model.num_upstream_joints() > 0;
-  if (wrist)
-    for (const char* opt : {"--tilts", "--tilt-max", "--gravity"})
-      if (c.app->count(opt))
-        throw InputError(fmt::format(
-            "design --dynamic: {} does not apply to sensor link '{}' below movable joints: "
-            "gravity in the sensor frame follows from the arm's joints and --root-gravity",
-            opt, model.sensor_link()));
+  const bool wrist = move_arm;
   // The joint named `name` of the trajectory (trajectory_joints order), and its index there.
   const auto find = [&](const std::string& name, const char* option) -> std::pair<Joint*, int> {
-    const int nu = model.num_upstream_joints();
+    const int nu = wrist ? model.num_upstream_joints() : 0;
     for (int u = 0; u < nu; ++u)
       if (model.upstream_joints[u].name == name) return {&model.upstream_joints[u], u};
     const int j = model.find_joint(name);
@@ -219,7 +213,9 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
     find(joint, "--velocity-limit").first->velocity_limit =
         parse_number(value, "--velocity-limit " + joint);
   }
-  o.limits.joint_acceleration.assign(model.num_upstream_joints() + model.num_joints(), 0.0);
+  o.move_arm = wrist;
+  o.limits.joint_acceleration.assign((wrist ? model.num_upstream_joints() : 0) + model.num_joints(),
+                                     0.0);
   for (const std::string& v : c.acceleration_limits) {
     const auto [joint, value] = parse_assignment(v, "--acceleration-limit");
     o.limits.joint_acceleration[find(joint, "--acceleration-limit").second] =
@@ -347,14 +343,25 @@ int run_design(const DesignCommand& c) {
   const Model model = hold_joints(urdf, held);
   BaseParameterOptions bo;
   bo.offset = c.offset;
-  if (model.num_upstream_joints() == 0)
+  // A sensor below movable joints (a wrist): the plan moves the arm, gravity
+  // from it and --root-gravity, unless gravity in the sensor frame is given
+  // (--gravity, --tilts, --tilt-max): the arm then stays wherever it is.
+  const bool sensor_frame_gravity =
+      c.app->count("--gravity") || c.app->count("--tilts") || c.app->count("--tilt-max");
+  const bool move_arm = model.num_upstream_joints() > 0 && !sensor_frame_gravity;
+  if (!move_arm)
     for (const char* opt : {"--self-clearance", "--root-gravity"})
       if (c.app->count(opt))
-        throw InputError(fmt::format(
-            "design: {} applies to a sensor below movable joints (a wrist); sensor link '{}' is "
-            "the root of the moving joints",
-            opt, model.sensor_link()));
-  if (c.dynamic) return run_design_dynamic(c, model, bo);
+        throw InputError(
+            model.num_upstream_joints() == 0
+                ? fmt::format("design: {} applies to a sensor below movable joints (a wrist); "
+                              "sensor link '{}' is the root of the moving joints",
+                              opt, model.sensor_link())
+                : fmt::format("design: {} goes with the arm's motion above sensor link '{}', "
+                              "which --gravity, --tilts and --tilt-max hold still (gravity "
+                              "given in the sensor frame): give one or the other",
+                              opt, model.sensor_link()));
+  if (c.dynamic) return run_design_dynamic(c, model, bo, move_arm);
   const BaseParameters base = find_base_parameters(model, bo);
 
   DesignOptions o;
@@ -381,6 +388,7 @@ int run_design(const DesignCommand& c) {
   o.self_clearance = parse_distance(c, "--self-clearance", c.self_clearance, kDefaultSelfClearance);
   if (!c.root_gravity.empty())
     o.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");
+  o.move_arm = move_arm;
   if (c.app->count("--level-poses")) o.level_poses = c.level_poses;
 
   if (!c.evaluate.empty()) {

@@ -88,7 +88,7 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
   }
   for (size_t i = 0; i < all.size(); ++i)
     if (moves[i]) points_.push_back(all[i]);
-  if (model.num_upstream_joints() > 0) init_arm(o);
+  if (model.num_upstream_joints() > 0 && o.move_arm) init_arm(o);
 }
 
 bool DesignSpace::level_allowed() const { return cone_ || level_group_ >= 0; }

@@ -182,9 +182,9 @@ class Coordinates {
 // Samples over trajectory_joints(model) -> the model's: a wrist's first
 // columns become the upstream joints, whose kinematics give gravity and the
 // sensor frame's motion (resolve_upstream, as the readers do).
-Samples arm_samples(const Model& model, Samples s, const Eigen::Vector3d& root_gravity) {
+Samples arm_samples(const Model& model, Samples s, const ExcitationOptions& o) {
   const int nu = model.num_upstream_joints(), nj = model.num_joints();
-  if (nu == 0) return s;
+  if (nu == 0 || !o.move_arm) return s;
   s.q_upstream = s.q.leftCols(nu);
   s.qd_upstream = s.qd.leftCols(nu);
   s.qdd_upstream = s.qdd.leftCols(nu);
@@ -192,7 +192,7 @@ Samples arm_samples(const Model& model, Samples s, const Eigen::Vector3d& root_g
     Eigen::MatrixXd own = m->rightCols(nj);
     *m = std::move(own);
   }
-  s.root_gravity = root_gravity;
+  s.root_gravity = o.root_gravity;
   s.gravity_from_upstream = true;
   s.gravity.resize(s.size(), 3);
   s.sensor_motion.resize(0, 0);
@@ -253,11 +253,11 @@ class GridCriterion {
         gravities_(block_gravities(o)),
         min_height_(o.min_height),
         self_clearance_(o.self_clearance),
-        root_gravity_(o.root_gravity),
+        options_(o),
         R_(crit_.num_rows(), crit_.size()) {
     design_.level_gravity = o.gravity;
     design_.min_height = o.min_height;
-    if (model.num_upstream_joints() > 0) arm_.emplace(model, o.root_gravity);
+    if (model.num_upstream_joints() > 0 && o.move_arm) arm_.emplace(model, o.root_gravity);
   }
 
   // The trajectory of x scaled to the limits on the grid.
@@ -352,7 +352,7 @@ class GridCriterion {
       }
     }
     for (int i = 0; i < n * blocks; ++i) s.line.push_back(i + 1);
-    return arm_samples(model_, std::move(s), root_gravity_);
+    return arm_samples(model_, std::move(s), options_);
   }
 
   const CriterionRows& criterion() const { return crit_; }
@@ -366,7 +366,7 @@ class GridCriterion {
   Eigen::VectorXd grid_;
   std::vector<Eigen::Vector3d> gravities_;
   std::optional<double> min_height_, self_clearance_;
-  Eigen::Vector3d root_gravity_;
+  ExcitationOptions options_;
   std::optional<ArmClearance> arm_;  // a wrist
   DesignOptions design_;             // level gravity and min_height, for lowest_clearance
   Eigen::MatrixXd R_;
@@ -453,7 +453,7 @@ Samples written_samples(const Model& model, const FourierTrajectory& tr,
     }
   }
   if (blocks == 1) s.block.clear();
-  return arm_samples(model, std::move(s), o.root_gravity);
+  return arm_samples(model, std::move(s), o);
 }
 
 }  // namespace
@@ -472,12 +472,12 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
     throw InputError("design: the level gravity vector is zero",
                      {{Hint::Setting::LevelGravity, ""}});
   const int K = std::max(1, o.harmonics);
-  const bool wrist = model.num_upstream_joints() > 0;
+  const bool wrist = model.num_upstream_joints() > 0 && o.move_arm;
   if (wrist && !o.tilts.empty())
     throw InputError(
         "design in motion: a sensor below movable joints (a wrist) takes gravity from the arm's "
         "joints and the root gravity: no platform tilts");
-  const std::vector<Joint> joints = trajectory_joints(model);
+  const std::vector<Joint> joints = wrist ? trajectory_joints(model) : model.joints;
   const std::vector<JointBounds> bounds = joint_bounds(joints, o.limits);
   ExcitationSummary out;
   ExcitationOptions opts = o;
@@ -573,8 +573,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
         best.b.row(j) *= s[j];
       }
     const Miss c = crit.miss(
-        arm_samples(model, sample_trajectory(best, o.duration, o.rate, o.gravity), o.root_gravity),
-        0.0);
+        arm_samples(model, sample_trajectory(best, o.duration, o.rate, o.gravity), o), 0.0);
     if (!(c.deficit > 0.0)) break;
     if (round == 3)
       throw InputError(fmt::format("design in motion: the trajectory {} at t = {:.4g} s, after 4 "

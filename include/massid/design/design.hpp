@@ -83,6 +83,10 @@ struct DesignOptions {
   // --dynamic (excitation.hpp).
   Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};
   std::optional<double> self_clearance = kDefaultSelfClearance;
+  // false: the arm above a wrist sensor is held still wherever it is, the
+  // poses move the joints below it with gravity from level_gravity and the
+  // tilts (as for a sensor link at the root).
+  bool move_arm = true;
 };
 
 struct PlanPose {

@@ -118,6 +118,9 @@ struct ExcitationOptions {
   // not checked.
   Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};
   std::optional<double> self_clearance = kDefaultSelfClearance;
+  // false: the arm is held still, the trajectory moves the joints below the
+  // sensor with gravity from `gravity` and `tilts` (DesignOptions::move_arm).
+  bool move_arm = true;
 };
 
 // Gravity (sensor frame) of each block: the tilts applied to the level
