@@ -164,6 +164,19 @@ TEST_F(CliWrist, DesignMovesTheArmWithinMarginsAboveTheFloorAndConditionsTheTool
 
 TEST_F(CliWrist, DesignSimulateIdentifyRecoversTheToolWithinFourStd) {
   ASSERT_EQ(design_wrist("traj.csv", kWristHeld).code, 0);
+  // Noise-free, the held finger's constant column gives the wrench --fixed does.
+  for (const bool held : {true, false}) {
+    std::vector<std::string> args{
+        "simulate", kUrWristUrdf, path("traj.csv"), "-o", path(held ? "held.csv" : "read.csv"),
+        "--sensor", "ft_sensor",  "--dynamic"};
+    if (held) args.insert(args.end(), kWristHeld.begin(), kWristHeld.end());
+    ASSERT_EQ(run(args).code, 0);
+  }
+  const Table held = read_table(path("held.csv")), read = read_table(path("read.csv"));
+  ASSERT_EQ(held.rows.size(), read.rows.size());
+  for (size_t i = 0; i < held.rows.size(); i += 97)
+    for (const char* axis : {"fx", "fy", "fz", "mx", "my", "mz"})
+      ASSERT_NEAR(held.num(i, axis), read.num(i, axis), 1e-12) << axis << " row " << i;
   // The held finger: simulate and identify are told (--fixed), the column is
   // in the trajectory all the same.
   Result r = run({"simulate", kUrWristUrdf, path("traj.csv"), "-o", path("data.csv"), "--sensor",
