@@ -1,6 +1,7 @@
 #include "design_command.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <iostream>
@@ -47,7 +48,16 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
   d->add_option("--min-height", c.min_height,
                 "Every moving link origin, centre of mass and primitive collision shape at least "
                 "H m above the platform plane (through the sensor origin, normal to level "
-                "gravity); default 0.05; 'none': no constraint");
+                "gravity; with --dynamic and a sensor below movable joints: the floor, through "
+                "the URDF root's origin normal to --root-gravity); default 0.05; 'none': no "
+                "constraint");
+  d->add_option("--self-clearance", c.self_clearance,
+                "With --dynamic and a sensor below movable joints: the arm's links that no single "
+                "link joins keep their centre lines D m apart (default 0.05; 'none': not "
+                "checked)");
+  d->add_option("--root-gravity", c.root_gravity,
+                "With --dynamic and a sensor below movable joints: gravity in the URDF root "
+                "frame, gx,gy,gz (default 0,0,-9.80665)");
   d->add_option("--level-poses", c.level_poses,
                 "Poses kept level when tilts are allowed (default: a quarter of them; 0: the "
                 "optimiser chooses every tilt)")
@@ -92,15 +102,19 @@ void add_design_command(CLI::App& app, DesignCommand& c) {
 
 namespace {
 
-// --min-height H (m), or none/off: no constraint; absent: the default.
-std::optional<double> parse_min_height(const DesignCommand& c) {
-  if (!c.app->count("--min-height")) return kDefaultMinHeight;
-  if (c.min_height == "none" || c.min_height == "off") return std::nullopt;
-  const double h = parse_number(c.min_height, "--min-height");
+// OPTION H (m), or none/off: no constraint; absent: the default.
+std::optional<double> parse_distance(const DesignCommand& c, const char* option,
+                                     const std::string& text, double default_value) {
+  if (!c.app->count(option)) return default_value;
+  if (text == "none" || text == "off") return std::nullopt;
+  const double h = parse_number(text, option);
   if (!std::isfinite(h))
-    throw InputError(
-        fmt::format("--min-height: '{}' should be a height in m or 'none'", c.min_height));
+    throw InputError(fmt::format("{}: '{}' should be a distance in m or 'none'", option, text));
   return h;
+}
+
+std::optional<double> parse_min_height(const DesignCommand& c) {
+  return parse_distance(c, "--min-height", c.min_height, kDefaultMinHeight);
 }
 
 // --tilts ax_deg:ay_deg,... -> tilts (rad); empty text: none.
@@ -122,7 +136,8 @@ std::vector<Tilt> parse_tilts(const std::string& text) {
   return tilts;
 }
 
-int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterOptions& bo_in) {
+int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterOptions& bo_in,
+                       bool move_arm) {
   if (c.output.empty()) throw InputError("design --dynamic: -o TRAJ.csv is required");
   for (const char* opt : {"--poses", "--evaluate", "--level-poses", "--no-checks", "--columns"})
     if (c.app->count(opt))
@@ -130,20 +145,31 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
           "design --dynamic: {} applies to static plans only (a trajectory has no poses to count "
           "or keep level; check a trajectory by simulating and identifying it)",
           opt));
+  // A wrist (a sensor below movable joints): the trajectory moves the arm's
+  // joints too; they take --limits, --velocity-limit, --acceleration-limit.
+  const bool wrist = move_arm;
+  // The joint named `name` of the trajectory (trajectory_joints order), and its index there.
+  const auto find = [&](const std::string& name, const char* option) -> std::pair<Joint*, int> {
+    const int nu = wrist ? model.num_upstream_joints() : 0;
+    for (int u = 0; u < nu; ++u)
+      if (model.upstream_joints[u].name == name) return {&model.upstream_joints[u], u};
+    const int j = model.find_joint(name);
+    if (j < 0) throw InputError(fmt::format("{}: no movable joint '{}'", option, name));
+    return {&model.joints[j], nu + j};
+  };
   for (const std::string& l : c.limits) {  // narrow a joint's range
     const auto [joint, range] = parse_assignment(l, "--limits");
     const size_t colon = range.find(':');
-    const int j = model.find_joint(joint);
     if (colon == std::string::npos)
       throw InputError(fmt::format("--limits: '{}' should read JOINT=LO:HI", l));
-    if (j < 0) throw InputError(fmt::format("--limits: no movable joint '{}'", joint));
+    Joint& jt = *find(joint, "--limits").first;
     const double lo = parse_number(range.substr(0, colon), "--limits " + joint),
                  hi = parse_number(range.substr(colon + 1), "--limits " + joint);
     if (!(lo < hi))
       throw InputError(fmt::format("--limits {}: empty range [{}, {}]", joint, lo, hi));
-    model.joints[j].lower = model.joints[j].limited ? std::max(lo, model.joints[j].lower) : lo;
-    model.joints[j].upper = model.joints[j].limited ? std::min(hi, model.joints[j].upper) : hi;
-    model.joints[j].limited = true;
+    jt.lower = jt.limited ? std::max(lo, jt.lower) : lo;
+    jt.upper = jt.limited ? std::min(hi, jt.upper) : hi;
+    jt.limited = true;
   }
   ExcitationOptions o;
   o.harmonics = c.harmonics;
@@ -179,34 +205,48 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
   }
   o.min_height = parse_min_height(c);
   o.min_height_required = c.app->count("--min-height") > 0;
+  o.self_clearance = parse_distance(c, "--self-clearance", c.self_clearance, kDefaultSelfClearance);
+  if (!c.root_gravity.empty())
+    o.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");
   for (const std::string& v : c.velocity_limits) {
     const auto [joint, value] = parse_assignment(v, "--velocity-limit");
-    const int j = model.find_joint(joint);
-    if (j < 0) throw InputError(fmt::format("--velocity-limit: no movable joint '{}'", joint));
-    model.joints[j].velocity_limit = parse_number(value, "--velocity-limit " + joint);
+    find(joint, "--velocity-limit").first->velocity_limit =
+        parse_number(value, "--velocity-limit " + joint);
   }
-  o.limits.joint_acceleration.assign(model.num_joints(), 0.0);
+  o.move_arm = wrist;
+  o.limits.joint_acceleration.assign((wrist ? model.num_upstream_joints() : 0) + model.num_joints(),
+                                     0.0);
   for (const std::string& v : c.acceleration_limits) {
     const auto [joint, value] = parse_assignment(v, "--acceleration-limit");
-    const int j = model.find_joint(joint);
-    if (j < 0) throw InputError(fmt::format("--acceleration-limit: no movable joint '{}'", joint));
-    o.limits.joint_acceleration[j] = parse_number(value, "--acceleration-limit " + joint);
+    o.limits.joint_acceleration[find(joint, "--acceleration-limit").second] =
+        parse_number(value, "--acceleration-limit " + joint);
   }
   // The base parameters of the data the trajectory gives: gravity fixed
-  // unless the blocks' gravities differ (tilts).
+  // unless the blocks' gravities differ (tilts) or the arm turns the sensor.
   const std::vector<Eigen::Vector3d> gravities = block_gravities(o);
   BaseParameterOptions bo = bo_in;
   bo.layout = ParameterLayout::full();
-  bo.fixed_gravity = true;
+  bo.fixed_gravity = !wrist;
   for (const Eigen::Vector3d& g : gravities)
     bo.fixed_gravity = bo.fixed_gravity && (g - gravities[0]).norm() <= 1e-6 * g.norm();
   bo.sensor_gravity = gravities[0];
+  bo.sensor_moving = wrist;
   const BaseParameters base = find_base_parameters(model, bo);
   const ExcitationSummary s = design_excitation(model, base, o);
   if (!s.identifiable) throw IdentifiabilityError(s.identifiability_message);
   write_trajectory(c.output, model, s.samples);
 
   const bool cond = o.criterion == Criterion::Cond;
+  if (wrist) {
+    std::vector<std::string> names;
+    for (const Joint& j : model.upstream_joints) names.push_back(j.name);
+    std::cout << fmt::format(
+        "sensor link '{}' below movable joints: the trajectory moves the arm ({}){}; gravity "
+        "from them and the root gravity {:g},{:g},{:g}\n",
+        model.sensor_link(), fmt::join(names, ", "),
+        model.num_joints() > 0 ? " and the joints below the sensor" : "", o.root_gravity.x(),
+        o.root_gravity.y(), o.root_gravity.z());
+  }
   std::cout << fmt::format(
       "exciting trajectory for {} (sensor link '{}'): {} harmonics, period {:.6g} s, {:.6g} s at "
       "{:.6g} Hz{}{}; criterion {} optimised over the Fourier coefficients in {} evaluations on a "
@@ -227,7 +267,20 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
       s.at_rest_at_end ? " and at the end of each block"
                        : " only (the duration is not a whole number of periods: the end is not "
                          "at rest)");
-  if (s.min_height_relaxed)
+  if (wrist) {
+    std::cout << (o.min_height ? fmt::format("clearance: the arm's moving link origins and the "
+                                             "tool at least {:g} m above the floor (the plane "
+                                             "through the URDF root's origin normal to the root "
+                                             "gravity); lowest {:.3g} m ({})",
+                                             *o.min_height, s.lowest_clearance, s.lowest_link)
+                               : std::string("clearance above the floor: not constrained "
+                                             "(--min-height none)"));
+    std::cout << (o.self_clearance
+                      ? fmt::format("; the arm's links {:g} m apart (centre lines of links no "
+                                    "single link joins); least {:.3g} m ({})\n",
+                                    *o.self_clearance, s.lowest_self_clearance, s.self_pair)
+                      : std::string("; self-clearance not checked (--self-clearance none)\n"));
+  } else if (s.min_height_relaxed)
     std::cout << fmt::format(
         "clearance: not constrained (no pose keeps every moving point {:g} m above the platform "
         "plane: the default --min-height is dropped; give one to insist)\n",
@@ -251,9 +304,18 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
         "within the same limits: median {:.6g} ({} seeds, +{:.4g}); over the written samples "
         "{:.6g}\n",
         s.grid_figure, s.random_median, s.random_count, s.grid_figure - s.random_median, s.log_det);
+  if (s.tool_parameters > 0)
+    std::cout << fmt::format(
+        "condition number of the tool's {} parameters{} (the links below the sensor as one rigid "
+        "body, their joints at the trajectory's centre): {:.4g}\n",
+        s.tool_parameters - (base.offset ? 6 : 0), base.offset ? " and the offsets" : "",
+        s.tool_condition_number);
   std::cout << fmt::format(
-      "condition number (all rows, columns scaled, noise-weighted): {:.4g}\n"
+      "condition number{} (all rows, columns scaled, noise-weighted): {:.4g}\n"
       "predicted std at {} N / {} N m noise, {} dynamic base parameters{}:\n",
+      !wrist                  ? ""
+      : s.tool_parameters > 0 ? " of all the identified parameters"
+                              : " of the tool's parameters",
       s.condition_number, o.noise_force, o.noise_moment, base.num_mass(),
       base.offset ? " and the offsets" : "");
   for (int i = 0; i < base.num_unknowns(); ++i) {
@@ -281,7 +343,25 @@ int run_design(const DesignCommand& c) {
   const Model model = hold_joints(urdf, held);
   BaseParameterOptions bo;
   bo.offset = c.offset;
-  if (c.dynamic) return run_design_dynamic(c, model, bo);
+  // A sensor below movable joints (a wrist): the plan moves the arm, gravity
+  // from it and --root-gravity, unless gravity in the sensor frame is given
+  // (--gravity, --tilts, --tilt-max): the arm then stays wherever it is.
+  const bool sensor_frame_gravity =
+      c.app->count("--gravity") || c.app->count("--tilts") || c.app->count("--tilt-max");
+  const bool move_arm = model.num_upstream_joints() > 0 && !sensor_frame_gravity;
+  if (!move_arm)
+    for (const char* opt : {"--self-clearance", "--root-gravity"})
+      if (c.app->count(opt))
+        throw InputError(
+            model.num_upstream_joints() == 0
+                ? fmt::format("design: {} applies to a sensor below movable joints (a wrist); "
+                              "sensor link '{}' is the root of the moving joints",
+                              opt, model.sensor_link())
+                : fmt::format("design: {} goes with the arm's motion above sensor link '{}', "
+                              "which --gravity, --tilts and --tilt-max hold still (gravity "
+                              "given in the sensor frame): give one or the other",
+                              opt, model.sensor_link()));
+  if (c.dynamic) return run_design_dynamic(c, model, bo, move_arm);
   const BaseParameters base = find_base_parameters(model, bo);
 
   DesignOptions o;
@@ -305,6 +385,10 @@ int run_design(const DesignCommand& c) {
   }
   o.min_height = parse_min_height(c);
   o.min_height_required = c.app->count("--min-height") > 0;
+  o.self_clearance = parse_distance(c, "--self-clearance", c.self_clearance, kDefaultSelfClearance);
+  if (!c.root_gravity.empty())
+    o.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");
+  o.move_arm = move_arm;
   if (c.app->count("--level-poses")) o.level_poses = c.level_poses;
 
   if (!c.evaluate.empty()) {

@@ -11,7 +11,9 @@ struct DesignCommand {
   CLI::App* app = nullptr;
   std::string urdf, sensor, output, evaluate, tilts, gravity, criterion = "cond";
   std::vector<std::string> fixed, limits;
-  std::string min_height;  // a number (m) or "none"
+  std::string min_height;      // a number (m) or "none"
+  std::string self_clearance;  // --dynamic, a wrist: a number (m) or "none"
+  std::string root_gravity;    // a wrist: --root-gravity gx,gy,gz (URDF root frame)
   int poses = 0, candidates = 0, tilt_groups = 4, level_poses = -1;
   double tilt_max_deg = 0.0, noise_force = 0.05, noise_moment = 0.005;
   bool offset = false;

@@ -10,6 +10,7 @@
 #include "massid/io/csv.hpp"
 #include "massid/io/read_samples.hpp"
 #include "massid/io/urdf.hpp"
+#include "options.hpp"
 
 namespace massid::cli {
 
@@ -17,7 +18,7 @@ namespace {
 
 int run_simulate(const SimulateCommand& c, const std::string& plan_path, const std::string& out,
                  const SimulateOptions& opts, const MotionFlags& motion, bool checks) {
-  const Model model = load_urdf(c.urdf, c.sensor);
+  const Model model = hold_joints(load_urdf(c.urdf, c.sensor), parse_held(c.fixed));
   if (!(model.nominal_total_mass() > 0))
     throw InputError(fmt::format(
         "{}: no measured link has a mass (no <inertial> below sensor link '{}'): the simulated "
@@ -82,6 +83,9 @@ void add_simulate_command(CLI::App& app, SimulateCommand& c) {
   simulate->add_option("--offset", c.old_offset,
                        "Deprecated spelling of --sensor-offset fx,fy,fz,mx,my,mz");
   simulate->add_option("--seed", c.sim.seed, "Noise seed");
+  simulate->add_option("--fixed", c.fixed,
+                       "Joint held still: JOINT=VALUE (rad or m; its column, if any, is not "
+                       "read); repeatable");
   simulate
       ->add_option("--repeat", c.sim.repeat,
                    "Samples per plan row, each with its own noise (a log taken while the "

@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "command_support.hpp"
 #include "massid/core/simulate.hpp"
@@ -17,6 +18,7 @@ struct SimulateCommand {
   SimulateOptions sim;
   MotionFlags motion;
   std::vector<std::string> columns;  // --columns ROLE=NAME,...
+  std::vector<std::string> fixed;    // --fixed JOINT=VALUE: held still, its column not read
   bool no_checks = false;
 };
 

@@ -62,6 +62,10 @@ Plan run_design(const py::object& robot, int poses, std::optional<std::string> s
   o.level_gravity = Eigen::Map<const Eigen::Vector3d>(level_gravity.data());
   o.seed = seed;
   o.candidates = candidates;
+  // A sensor below movable joints: the arm held still with level_gravity in
+  // the sensor frame, as before (the arm's poses: the CLI's design, not yet
+  // this door's plan columns).
+  o.move_arm = false;
   py::gil_scoped_release release;
   out.summary = design(out.model, out.base, o);
   return out;

@@ -158,6 +158,25 @@ SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen:
   return out;
 }
 
+void upstream_link_poses(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,
+                         std::vector<Eigen::Isometry3d>& out) {
+  detail::check_size("upstream_link_poses", "qu", qu.size(), model.num_upstream_joints(),
+                     "the joints above the sensor");
+  out.resize(model.upstream.size());
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (size_t k = 0; k < model.upstream.size(); ++k) {
+    const ChainStep& step = model.upstream[k];
+    const int j = step.joint_index;
+    const JointPose jp = joint_pose(step.type, step.origin, step.axis,
+                                    j >= 0 ? step.joint_scale * qu[j] + step.joint_offset : 0.0);
+    Eigen::Isometry3d child = Eigen::Isometry3d::Identity();
+    child.linear() = jp.R;
+    child.translation() = jp.t;
+    T = T * child;
+    out[k] = T;
+  }
+}
+
 void upstream_sensor_frame(const Model& model, const double* qu, const double* qdu,
                            const double* qddu, const Eigen::Vector3d& root_gravity, double* gravity,
                            double* sensor_motion) {

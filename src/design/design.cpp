@@ -232,11 +232,11 @@ void figures(const Model& model, const BaseParameters& base, const Samples& plan
 void clearance_figures(const Model& model, DesignSpace& space, DesignSummary& out) {
   out.lowest_clearance = kInfinity;
   for (const PlanPose& p : out.plan) {
-    int link = -1;
-    const double h = space.clearance(p.q, &link);
+    std::string what;
+    const double h = space.clearance(p, &what);
     if (h < out.lowest_clearance) {
       out.lowest_clearance = h;
-      out.lowest_link = link >= 0 ? model.links[link].name : "";
+      out.lowest_link = what;
     }
   }
   out.links_with_meshes = 0;
@@ -331,6 +331,8 @@ DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, cons
     PlanPose pose;
     pose.q = plan.q.row(i).transpose();
     pose.gravity = plan.gravity.row(i).transpose();
+    if (plan.q_upstream.cols() > 0 && model.num_upstream_joints() > 0)
+      pose.q_upstream = plan.q_upstream.row(i).transpose();
     out.plan.push_back(pose);
   }
   // Random poses for the expected error: the file's largest tilt unless given.

@@ -39,8 +39,9 @@ void CriterionRows::rows(const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen
 void CriterionRows::rows(const Eigen::Ref<const Eigen::VectorXd>& q,
                          const Eigen::Ref<const Eigen::VectorXd>& qd,
                          const Eigen::Ref<const Eigen::VectorXd>& qdd,
-                         const Eigen::Vector3d& gravity, Eigen::Ref<Eigen::MatrixXd> out) {
-  base_regressor(model_, base_, reg_, q, qd, qdd, gravity, FrameMotion{});
+                         const Eigen::Vector3d& gravity, const FrameMotion& sensor,
+                         Eigen::Ref<Eigen::MatrixXd> out) {
+  base_regressor(model_, base_, reg_, q, qd, qdd, gravity, sensor);
   weigh(out);
 }
 

@@ -38,10 +38,10 @@ class CriterionRows {
   // The weighted rows [num_rows x size] of a static pose ...
   void rows(const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Vector3d& gravity,
             Eigen::Ref<Eigen::MatrixXd> out);
-  // ... and of a sample in motion (the sensor frame at rest).
+  // ... and of a sample in motion (`sensor`: the sensor frame's own motion).
   void rows(const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& qd,
             const Eigen::Ref<const Eigen::VectorXd>& qdd, const Eigen::Vector3d& gravity,
-            Eigen::Ref<Eigen::MatrixXd> out);
+            const FrameMotion& sensor, Eigen::Ref<Eigen::MatrixXd> out);
 
   // The criterion of an information matrix [size x size] (see above).
   double value(const Eigen::MatrixXd& info) const;

@@ -18,7 +18,9 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
     throw InputError("design: the level gravity vector is zero",
                      {{Hint::Setting::LevelGravity, ""}});
   for (const auto& [name, range] : o.limits)
-    if (model.find_joint(name) < 0)
+    if (model.find_joint(name) < 0 &&
+        std::none_of(model.upstream_joints.begin(), model.upstream_joints.end(),
+                     [&](const Joint& j) { return j.name == name; }))
       throw InputError(
           fmt::format("design: joint range for '{}', which is not a movable joint below the "
                       "sensor link",
@@ -86,6 +88,7 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
   }
   for (size_t i = 0; i < all.size(); ++i)
     if (moves[i]) points_.push_back(all[i]);
+  if (model.num_upstream_joints() > 0 && o.move_arm) init_arm(o);
 }
 
 bool DesignSpace::level_allowed() const { return cone_ || level_group_ >= 0; }
@@ -112,7 +115,7 @@ double DesignSpace::clearance(const Eigen::VectorXd& q, int* link) {
 }
 
 void DesignSpace::relax_min_height_if_infeasible(bool required) {
-  if (!min_height_ || required || points_.empty()) return;
+  if (!min_height_ || required || points_.empty() || arm_) return;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   Eigen::VectorXd q(model_.num_joints());
@@ -124,8 +127,13 @@ void DesignSpace::relax_min_height_if_infeasible(bool required) {
   relaxed_ = true;
 }
 
-bool DesignSpace::high_enough(const Eigen::VectorXd& q) {
-  return !min_height_ || clearance(q) >= *min_height_;
+bool DesignSpace::high_enough(const PlanPose& pose) {
+  if (arm_) {
+    const ArmClearanceValue v = arm_->at(pose.q_upstream, pose.q);
+    return (!min_height_ || v.height >= *min_height_) &&
+           (!self_clearance_ || v.self >= *self_clearance_);
+  }
+  return !min_height_ || clearance(pose.q) >= *min_height_;
 }
 
 namespace {
@@ -163,7 +171,11 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
   pose.q.resize(model_.num_joints());
   for (int attempt = 0; attempt < 10000; ++attempt) {
     for (const Free& f : free_) pose.q[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
-    if (!high_enough(pose.q)) continue;
+    if (arm_) {
+      pose.q_upstream.resize(model_.num_upstream_joints());
+      for (const Free& f : arm_free_) pose.q_upstream[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
+    }
+    if (!high_enough(pose)) continue;
     pose.level = level;
     if (level) {
       pose.tilt = Tilt{};
@@ -178,6 +190,7 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
       pose.tilt = tilts_[pose.group];
     }
     pose.gravity = tilted_gravity(level_, pose.tilt);
+    arm_pose(pose);
     return pose;
   }
   throw InputError(
@@ -191,6 +204,8 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
 Eigen::VectorXd DesignSpace::coordinates(const PlanPose& pose) const {
   Eigen::VectorXd x(dimension());
   for (size_t i = 0; i < free_.size(); ++i) x[i] = pose.q[free_[i].joint];
+  for (size_t i = 0; i < arm_free_.size(); ++i)
+    x[free_.size() + i] = pose.q_upstream[arm_free_[i].joint];
   if (own_tilt()) x.tail<2>() << pose.tilt.x, pose.tilt.y;
   return x;
 }
@@ -204,16 +219,77 @@ bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPo
   out.tilt = own_tilt() && !like.level ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]})
                                        : like.tilt;
   out.gravity = tilted_gravity(level_, out.tilt);
-  return high_enough(out.q);
+  if (arm_) {
+    out.q_upstream.resize(model_.num_upstream_joints());
+    for (size_t i = 0; i < arm_free_.size(); ++i)
+      out.q_upstream[arm_free_[i].joint] =
+          std::clamp(x[free_.size() + i], arm_free_[i].lo, arm_free_[i].hi);
+    arm_pose(out);
+  }
+  return high_enough(out);
 }
 
 Eigen::VectorXd DesignSpace::steps() const {
   Eigen::VectorXd s(dimension());
   for (size_t i = 0; i < free_.size(); ++i) s[i] = 0.25 * (free_[i].hi - free_[i].lo);
+  for (size_t i = 0; i < arm_free_.size(); ++i)
+    s[free_.size() + i] = 0.25 * (arm_free_[i].hi - arm_free_[i].lo);
   if (own_tilt()) s.tail<2>().setConstant(0.5 * tilt_max_);
   return s;
 }
 
 Tilt DesignSpace::set_tilt(int k, Tilt t) { return tilts_[k] = clamp_to_cone(t); }
+
+double DesignSpace::clearance(const PlanPose& pose, std::string* what) {
+  if (arm_) {
+    const ArmClearanceValue v = arm_->at(pose.q_upstream, pose.q);
+    if (what) *what = v.low_link;
+    return v.height;
+  }
+  int link = -1;
+  const double h = clearance(pose.q, &link);
+  if (what) *what = link >= 0 ? model_.links[link].name : "";
+  return h;
+}
+
+// A wrist: the poses move the arm's joints within their limits less 10 % of
+// the range at each end (as design --dynamic), narrowed by `limits`; gravity
+// in the sensor frame follows from them and the root gravity; the clearances
+// are the arm's (arm_clearance.hpp).
+void DesignSpace::init_arm(const DesignOptions& o) {
+  if (o.tilt_max || !o.tilts.empty())
+    throw InputError(
+        fmt::format("design: sensor link '{}' is below movable joints (a wrist): gravity in its "
+                    "frame follows from the arm's joints and --root-gravity, not platform tilts",
+                    model_.sensor_link()));
+  constexpr double kArmMargin = 0.1;
+  for (int j = 0; j < model_.num_upstream_joints(); ++j) {
+    const Joint& joint = model_.upstream_joints[j];
+    double lo = joint.generic_position(0.0), hi = joint.generic_position(1.0);
+    if (joint.limited) {
+      const double margin = kArmMargin * (joint.upper - joint.lower);
+      lo = joint.lower + margin, hi = joint.upper - margin;
+    }
+    if (auto l = o.limits.find(joint.name); l != o.limits.end()) {
+      lo = std::max(lo, l->second.first);
+      hi = std::min(hi, l->second.second);
+      if (!(hi > lo))
+        throw InputError(fmt::format("design: the range {}:{} of joint '{}' is empty within its "
+                                     "limits less 10 %",
+                                     l->second.first, l->second.second, joint.name),
+                         {{Hint::Setting::Limits, joint.name + "=LO:HI"}});
+    }
+    arm_free_.push_back({j, lo, hi});
+  }
+  root_gravity_ = o.root_gravity;
+  self_clearance_ = o.self_clearance;
+  arm_.emplace(model_, o.root_gravity);
+}
+
+void DesignSpace::arm_pose(PlanPose& pose) const {
+  if (!arm_) return;
+  upstream_sensor_frame(model_, pose.q_upstream.data(), nullptr, nullptr, root_gravity_,
+                        pose.gravity.data(), nullptr);
+}
 
 }  // namespace massid

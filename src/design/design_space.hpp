@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "design/arm_clearance.hpp"
 #include "massid/core/kinematics.hpp"
 #include "massid/core/model.hpp"
 #include "massid/design/design.hpp"
@@ -27,6 +28,8 @@ class DesignSpace {
   // The lowest clearance of the checked points above the platform plane at q
   // (m; +inf when nothing moves), and which link it belongs to.
   double clearance(const Eigen::VectorXd& q, int* link = nullptr);
+  // The same for a pose, naming what is lowest (a wrist: above the floor).
+  double clearance(const PlanPose& pose, std::string* what);
   // The default minimum height is dropped when no random pose satisfies it
   // (a sensor link below the arm's mount, say); `required`: the user asked
   // for it, keep it (sample() then fails with its message).
@@ -34,7 +37,9 @@ class DesignSpace {
   bool min_height_relaxed() const { return relaxed_; }
   // Continuous coordinates of a pose: free joints, then its own tilt x, y
   // when every pose may have its own tilt (a cone without tilt groups).
-  int dimension() const { return static_cast<int>(free_.size()) + (own_tilt() ? 2 : 0); }
+  int dimension() const {
+    return static_cast<int>(free_.size() + arm_free_.size()) + (own_tilt() ? 2 : 0);
+  }
   bool own_tilt() const { return cone_ && groups_ == 0; }
   Eigen::VectorXd coordinates(const PlanPose& pose) const;
   // The pose at coordinates x (clamped to the limits and the cone), keeping
@@ -54,7 +59,10 @@ class DesignSpace {
   double tilt_max() const { return tilt_max_; }
 
  private:
-  bool high_enough(const Eigen::VectorXd& q);
+  bool high_enough(const PlanPose& pose);
+  // A wrist: the arm's joints, their gravity and its clearances (design_space.cpp's end).
+  void init_arm(const DesignOptions& o);
+  void arm_pose(PlanPose& pose) const;
   Tilt clamp_to_cone(Tilt t) const;
 
   const Model& model_;
@@ -64,6 +72,10 @@ class DesignSpace {
     double lo, hi;
   };
   std::vector<Free> free_;
+  std::vector<Free> arm_free_;  // a wrist: the joints above the sensor (upstream index)
+  std::optional<ArmClearance> arm_;
+  Eigen::Vector3d root_gravity_ = Eigen::Vector3d::Zero();
+  std::optional<double> self_clearance_;
   bool cone_ = false;
   double tilt_max_ = 0.0;
   int groups_ = 0;           // tilt groups within the cone; 0: a tilt per pose

@@ -28,9 +28,21 @@ void FourierTrajectory::evaluate(double t, Eigen::Ref<Eigen::VectorXd> q,
   }
 }
 
+std::vector<Joint> trajectory_joints(const Model& model) {
+  std::vector<Joint> out = model.upstream_joints;
+  out.insert(out.end(), model.joints.begin(), model.joints.end());
+  return out;
+}
+
 FourierTrajectory random_fourier_trajectory(const Model& model, int harmonics, double period,
                                             std::uint64_t seed, const ExcitationLimits& limits) {
-  const int nj = model.num_joints(), K = std::max(1, harmonics);
+  return random_fourier_trajectory(model.joints, harmonics, period, seed, limits);
+}
+
+FourierTrajectory random_fourier_trajectory(const std::vector<Joint>& joints, int harmonics,
+                                            double period, std::uint64_t seed,
+                                            const ExcitationLimits& limits) {
+  const int nj = static_cast<int>(joints.size()), K = std::max(1, harmonics);
   FourierTrajectory tr;
   tr.period = period;
   tr.q0.resize(nj);
@@ -39,7 +51,7 @@ FourierTrajectory random_fourier_trajectory(const Model& model, int harmonics, d
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal;
   for (int j = 0; j < nj; ++j) {
-    const Joint& joint = model.joints[j];
+    const Joint& joint = joints[j];
     tr.q0[j] = joint.limited ? 0.5 * (joint.lower + joint.upper) : 0.0;
     for (int k = 0; k < K; ++k) {
       tr.a(j, k) = normal(rng) / (k + 1);
@@ -66,7 +78,7 @@ FourierTrajectory random_fourier_trajectory(const Model& model, int harmonics, d
     acc = acc.cwiseMax(qdd.cwiseAbs());
   }
   for (int j = 0; j < nj; ++j) {
-    const Joint& joint = model.joints[j];
+    const Joint& joint = joints[j];
     const double amplitude =
         joint.limited ? 0.5 * (joint.upper - joint.lower) * (1.0 - 2.0 * limits.position_margin)
                       : limits.unlimited_amplitude;
@@ -111,19 +123,35 @@ Samples sample_trajectory(const FourierTrajectory& tr, double duration, double r
 }
 
 void write_trajectory(const std::string& path, const Model& model, const Samples& s) {
+  const bool wrist = s.q_upstream.cols() > 0;
+  std::vector<std::string> names;
+  for (const Joint& j : trajectory_joints(model))
+    if (wrist || j.link >= 0) names.push_back(j.name);
+  for (const auto& held : model.held) names.push_back(held.first);
   std::vector<std::string> header{"t"};
-  for (const Joint& j : model.joints) header.push_back(j.name);
-  for (const Joint& j : model.joints) header.push_back(j.name + "_vel");
-  for (const Joint& j : model.joints) header.push_back(j.name + "_acc");
-  for (const char* g : {"gx", "gy", "gz"}) header.push_back(g);
+  for (const char* suffix : {"", "_vel", "_acc"})
+    for (const std::string& n : names) header.push_back(n + suffix);
+  if (!wrist)
+    for (const char* g : {"gx", "gy", "gz"}) header.push_back(g);
   const bool blocks = s.block.size() == static_cast<size_t>(s.size());
   if (blocks) header.push_back("block");
   std::vector<std::vector<std::string>> rows(s.size());
   for (int i = 0; i < s.size(); ++i) {
     auto& r = rows[i];
     r.push_back(format_number(s.time[i]));
-    for (const Eigen::MatrixXd* m : {&s.q, &s.qd, &s.qdd, &s.gravity})
-      for (Eigen::Index c = 0; c < m->cols(); ++c) r.push_back(format_number((*m)(i, c)));
+    const auto put = [&](const Eigen::MatrixXd& upstream, const Eigen::MatrixXd& own,
+                         bool position) {
+      if (wrist)
+        for (Eigen::Index c = 0; c < upstream.cols(); ++c)
+          r.push_back(format_number(upstream(i, c)));
+      for (Eigen::Index c = 0; c < own.cols(); ++c) r.push_back(format_number(own(i, c)));
+      for (const auto& held : model.held) r.push_back(format_number(position ? held.second : 0.0));
+    };
+    put(s.q_upstream, s.q, true);
+    put(s.qd_upstream, s.qd, false);
+    put(s.qdd_upstream, s.qdd, false);
+    if (!wrist)
+      for (Eigen::Index c = 0; c < 3; ++c) r.push_back(format_number(s.gravity(i, c)));
     if (blocks) r.push_back(std::to_string(s.block[i]));
   }
   write_csv(path, header, rows);

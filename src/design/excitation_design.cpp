@@ -11,12 +11,14 @@
 #include <numbers>
 
 #include "core/median.hpp"
+#include "design/arm_clearance.hpp"
 #include "design/design_criterion.hpp"
 #include "design/design_space.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/design/excitation.hpp"
 #include "massid/identify/estimation.hpp"
 #include "massid/identify/identifiability.hpp"
+#include "massid/io/read_samples.hpp"
 
 namespace massid {
 namespace {
@@ -35,10 +37,11 @@ struct JointBounds {
   double lo = 0.0, hi = 0.0, amplitude = 0.0, velocity = 0.0, acceleration = 0.0;
 };
 
-std::vector<JointBounds> joint_bounds(const Model& model, const ExcitationLimits& limits) {
+std::vector<JointBounds> joint_bounds(const std::vector<Joint>& joints,
+                                      const ExcitationLimits& limits) {
   std::vector<JointBounds> out;
-  for (int j = 0; j < model.num_joints(); ++j) {
-    const Joint& joint = model.joints[j];
+  for (size_t j = 0; j < joints.size(); ++j) {
+    const Joint& joint = joints[j];
     JointBounds b;
     b.limited = joint.limited;
     const double margin = limits.position_margin * (joint.upper - joint.lower);
@@ -46,10 +49,9 @@ std::vector<JointBounds> joint_bounds(const Model& model, const ExcitationLimits
     b.hi = joint.upper - margin;
     b.amplitude = limits.unlimited_amplitude;
     b.velocity = joint.velocity_limit > 0 ? joint.velocity_limit : limits.default_velocity;
-    b.acceleration =
-        j < static_cast<int>(limits.joint_acceleration.size()) && limits.joint_acceleration[j] > 0
-            ? limits.joint_acceleration[j]
-            : limits.acceleration;
+    b.acceleration = j < limits.joint_acceleration.size() && limits.joint_acceleration[j] > 0
+                         ? limits.joint_acceleration[j]
+                         : limits.acceleration;
     out.push_back(b);
   }
   return out;
@@ -177,6 +179,68 @@ class Coordinates {
   double period_;
 };
 
+// Samples over trajectory_joints(model) -> the model's: a wrist's first
+// columns become the upstream joints, whose kinematics give gravity and the
+// sensor frame's motion (resolve_upstream, as the readers do).
+Samples arm_samples(const Model& model, Samples s, const ExcitationOptions& o) {
+  const int nu = model.num_upstream_joints(), nj = model.num_joints();
+  if (nu == 0 || !o.move_arm) return s;
+  s.q_upstream = s.q.leftCols(nu);
+  s.qd_upstream = s.qd.leftCols(nu);
+  s.qdd_upstream = s.qdd.leftCols(nu);
+  for (Eigen::MatrixXd* m : {&s.q, &s.qd, &s.qdd}) {
+    Eigen::MatrixXd own = m->rightCols(nj);
+    *m = std::move(own);
+  }
+  s.root_gravity = o.root_gravity;
+  s.gravity_from_upstream = true;
+  s.gravity.resize(s.size(), 3);
+  s.sensor_motion.resize(0, 0);
+  resolve_upstream(model, s);
+  return s;
+}
+
+// The information matrix of the rows of s (every block); R: a workspace
+// [num_rows x size].
+Eigen::MatrixXd information_of(CriterionRows& crit, const Samples& s, Eigen::MatrixXd& R) {
+  Eigen::MatrixXd info = Eigen::MatrixXd::Zero(crit.size(), crit.size());
+  for (int i = 0; i < s.size(); ++i) {
+    crit.rows(s.q.row(i).transpose(), s.qd.row(i).transpose(), s.qdd.row(i).transpose(),
+              s.gravity.row(i).transpose(), sensor_motion(s, i), R);
+    info.selfadjointView<Eigen::Lower>().rankUpdate(R.transpose());
+  }
+  return info.selfadjointView<Eigen::Lower>();
+}
+
+// A wrist's tool alone: the measured links as one rigid body, their joints
+// held at the trajectory's centre; the condition number of its parameters
+// (and the offsets) over the samples, and how many.
+std::pair<double, int> tool_condition(const Model& model, const BaseParameters& base,
+                                      const FourierTrajectory& tr, Samples s,
+                                      const ExcitationOptions& o) {
+  std::vector<std::pair<std::string, double>> held;
+  for (int j = 0; j < model.num_joints(); ++j)
+    held.emplace_back(model.joints[j].name, tr.q0[model.num_upstream_joints() + j]);
+  const Model rigid = hold_joints(model, held);
+  BaseParameterOptions bo;
+  bo.layout = ParameterLayout::full();
+  bo.sensor_moving = true;
+  bo.offset = base.offset;
+  const BaseParameters tool = find_base_parameters(rigid, bo);
+  for (Eigen::MatrixXd* m : {&s.q, &s.qd, &s.qdd}) m->resize(s.size(), 0);
+  CriterionRows crit(rigid, tool, Criterion::Cond, o.noise_force, o.noise_moment);
+  Eigen::MatrixXd R(crit.num_rows(), crit.size());
+  return {crit.figure(crit.value(information_of(crit, s, R))), tool.num_unknowns()};
+}
+
+// Where a trajectory misses its clearances the most: by how much (m; <= 0:
+// it keeps them), at which row, and what.
+struct Miss {
+  double deficit = -kNoLimit;
+  int row = -1;
+  std::string what;
+};
+
 // The criterion of a trajectory on the grid, for every block's gravity.
 class GridCriterion {
  public:
@@ -188,9 +252,12 @@ class GridCriterion {
         grid_(grid),
         gravities_(block_gravities(o)),
         min_height_(o.min_height),
+        self_clearance_(o.self_clearance),
+        options_(o),
         R_(crit_.num_rows(), crit_.size()) {
     design_.level_gravity = o.gravity;
     design_.min_height = o.min_height;
+    if (model.num_upstream_joints() > 0 && o.move_arm) arm_.emplace(model, o.root_gravity);
   }
 
   // The trajectory of x scaled to the limits on the grid.
@@ -209,26 +276,60 @@ class GridCriterion {
   double score(const FourierTrajectory& tr, double margin = 0.0) {
     ++evaluations_;
     const Samples s = sample(tr);
-    if (min_height_) {
-      const double h = lowest_clearance(model_, design_, s).height;
-      if (h < *min_height_ + margin) return kInfeasible + 1e3 * (*min_height_ + margin - h);
-    }
+    if (const double d = miss(s, margin).deficit; d > 0.0) return kInfeasible + 1e3 * d;
     // cond: the log of the eigenvalue ratio; d-opt: -log det as it is.
     const double v = crit_.value(information(s));
     if (!std::isfinite(v)) return kInfeasible / 2;
     return crit_.criterion() == Criterion::DOpt ? v : std::log(v);
   }
 
-  // The information matrix of the given rows (every block).
-  Eigen::MatrixXd information(const Samples& s) {
-    Eigen::MatrixXd info = Eigen::MatrixXd::Zero(crit_.size(), crit_.size());
-    for (int i = 0; i < s.size(); ++i) {
-      crit_.rows(s.q.row(i).transpose(), s.qd.row(i).transpose(), s.qdd.row(i).transpose(),
-                 s.gravity.row(i).transpose(), R_);
-      info.selfadjointView<Eigen::Lower>().rankUpdate(R_.transpose());
+  // The largest miss of the clearances over the rows of s, `margin` more
+  // each: the height above the platform plane, or for a wrist above the floor
+  // and the arm's self-clearance (arm_clearance.hpp).
+  Miss miss(const Samples& s, double margin) {
+    Miss out;
+    if (!arm_) {
+      if (!min_height_) return out;
+      const Clearance c = lowest_clearance(model_, design_, s);
+      return {*min_height_ + margin - c.height, c.row,
+              fmt::format("takes link '{}' to {:.3g} m above the platform plane, below the "
+                          "clearance of {} m",
+                          c.link, c.height, *min_height_)};
     }
-    return info.selfadjointView<Eigen::Lower>();
+    int worst_row = -1;
+    ArmClearanceValue worst;
+    bool low = false;
+    for (int i = 0; i < s.size(); ++i) {
+      const ArmClearanceValue v = arm_->at(s.q_upstream.row(i).transpose(), s.q.row(i).transpose());
+      if (min_height_ && *min_height_ + margin - v.height > out.deficit)
+        out.deficit = *min_height_ + margin - v.height, worst_row = i, worst = v, low = true;
+      if (self_clearance_ && *self_clearance_ + margin - v.self > out.deficit)
+        out.deficit = *self_clearance_ + margin - v.self, worst_row = i, worst = v, low = false;
+    }
+    out.row = worst_row;
+    if (worst_row >= 0)
+      out.what = low ? fmt::format("takes {} to {:.3g} m above the floor, below --min-height {} m",
+                                   worst.low_link, worst.height, *min_height_)
+                     : fmt::format(
+                           "brings {} within {:.3g} m of each other, below "
+                           "--self-clearance {} m",
+                           worst.self_pair, worst.self, *self_clearance_);
+    return out;
   }
+
+  // A wrist's lowest point above the floor and least self-clearance over s.
+  ArmClearanceValue arm_clearance(const Samples& s) {
+    ArmClearanceValue out{kNoLimit, "", kNoLimit, ""};
+    for (int i = 0; arm_ && i < s.size(); ++i) {
+      const ArmClearanceValue v = arm_->at(s.q_upstream.row(i).transpose(), s.q.row(i).transpose());
+      if (v.height < out.height) out.height = v.height, out.low_link = v.low_link;
+      if (v.self < out.self) out.self = v.self, out.self_pair = v.self_pair;
+    }
+    return out;
+  }
+
+  // The information matrix of the given rows (every block).
+  Eigen::MatrixXd information(const Samples& s) { return information_of(crit_, s, R_); }
 
   // The grid's samples of every block.
   Samples sample(const FourierTrajectory& tr) const {
@@ -251,7 +352,7 @@ class GridCriterion {
       }
     }
     for (int i = 0; i < n * blocks; ++i) s.line.push_back(i + 1);
-    return s;
+    return arm_samples(model_, std::move(s), options_);
   }
 
   const CriterionRows& criterion() const { return crit_; }
@@ -264,8 +365,10 @@ class GridCriterion {
   const std::vector<JointBounds>& bounds_;
   Eigen::VectorXd grid_;
   std::vector<Eigen::Vector3d> gravities_;
-  std::optional<double> min_height_;
-  DesignOptions design_;  // level gravity and min_height, for lowest_clearance
+  std::optional<double> min_height_, self_clearance_;
+  ExcitationOptions options_;
+  std::optional<ArmClearance> arm_;  // a wrist
+  DesignOptions design_;             // level gravity and min_height, for lowest_clearance
   Eigen::MatrixXd R_;
   int evaluations_ = 0;
 };
@@ -324,7 +427,8 @@ double figure(const CriterionRows& crit, double score) {
 // The trajectory sampled at the written rate, every block one after the
 // other: t continues (a block starts one sample period after the previous
 // ends), `block` numbers them from 0.
-Samples written_samples(const FourierTrajectory& tr, const ExcitationOptions& o) {
+Samples written_samples(const Model& model, const FourierTrajectory& tr,
+                        const ExcitationOptions& o) {
   const std::vector<Eigen::Vector3d> gravities = block_gravities(o);
   Samples one = sample_trajectory(tr, o.duration, o.rate, gravities[0]);
   const int n = one.size(), blocks = static_cast<int>(gravities.size());
@@ -349,7 +453,7 @@ Samples written_samples(const FourierTrajectory& tr, const ExcitationOptions& o)
     }
   }
   if (blocks == 1) s.block.clear();
-  return s;
+  return arm_samples(model, std::move(s), o);
 }
 
 }  // namespace
@@ -368,10 +472,16 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
     throw InputError("design: the level gravity vector is zero",
                      {{Hint::Setting::LevelGravity, ""}});
   const int K = std::max(1, o.harmonics);
-  const std::vector<JointBounds> bounds = joint_bounds(model, o.limits);
+  const bool wrist = model.num_upstream_joints() > 0 && o.move_arm;
+  if (wrist && !o.tilts.empty())
+    throw InputError(
+        "design in motion: a sensor below movable joints (a wrist) takes gravity from the arm's "
+        "joints and the root gravity: no platform tilts");
+  const std::vector<Joint> joints = wrist ? trajectory_joints(model) : model.joints;
+  const std::vector<JointBounds> bounds = joint_bounds(joints, o.limits);
   ExcitationSummary out;
   ExcitationOptions opts = o;
-  if (o.min_height) {  // the default height is dropped when no pose at all satisfies it
+  if (o.min_height && !wrist) {  // the default height is dropped when no pose at all satisfies it
     DesignOptions d;
     d.level_gravity = o.gravity;
     d.min_height = o.min_height;
@@ -405,7 +515,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   std::vector<double> baseline;
   for (int c = 0; c < randoms; ++c) {
     const FourierTrajectory tr =
-        random_fourier_trajectory(model, K, o.period, o.seed + 7919u * c, o.limits);
+        random_fourier_trajectory(joints, K, o.period, o.seed + 7919u * c, o.limits);
     const Eigen::VectorXd xc = coords.of(tr);
     const FourierTrajectory scaled = crit.scaled(coords, xc);
     if (c < o.random_baseline) {
@@ -438,13 +548,19 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   for (int round = 0;; ++round) {
     pattern_search(coords, crit, x, fx, round == 0 ? o.evaluations : o.evaluations / 4, margin);
     if (fx >= kInfeasible)
-      throw InputError(fmt::format("design in motion: no trajectory found keeps every moving link "
-                                   "origin, centre of mass "
-                                   "and collision sphere {} m above the platform plane (the "
+      throw InputError(fmt::format("design in motion: no trajectory found keeps {} (the "
                                    "clearance; the best misses by "
                                    "{:.3g} m): lower the clearance, narrow the joints' ranges, or "
                                    "turn the clearance off",
-                                   *opts.min_height, (fx - kInfeasible) / 1e3),
+                                   wrist ? fmt::format("the arm's moving points {} m above the "
+                                                       "floor and its links {} m apart",
+                                                       opts.min_height.value_or(0.0),
+                                                       opts.self_clearance.value_or(0.0))
+                                         : fmt::format("every moving link origin, centre of "
+                                                       "mass and collision sphere {} m above the "
+                                                       "platform plane",
+                                                       opts.min_height.value_or(0.0)),
+                                   (fx - kInfeasible) / 1e3),
                        {{Hint::Setting::MinHeight, "lower"},
                         {Hint::Setting::Limits, ""},
                         {Hint::Setting::MinHeight, "none"}});
@@ -456,26 +572,23 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
         best.a.row(j) *= s[j];
         best.b.row(j) *= s[j];
       }
-    if (!opts.min_height) break;
-    const Clearance c = lowest_clearance(model, crit.clearance_options(),
-                                         sample_trajectory(best, o.duration, o.rate, o.gravity));
-    if (c.height >= *opts.min_height) break;
+    const Miss c = crit.miss(
+        arm_samples(model, sample_trajectory(best, o.duration, o.rate, o.gravity), o), 0.0);
+    if (!(c.deficit > 0.0)) break;
     if (round == 3)
-      throw InputError(fmt::format("design in motion: the trajectory takes link '{}' to {:.3g} m "
-                                   "above the platform plane "
-                                   "at t = {:.4g} s, below the clearance of {} m, after 4 searches "
-                                   "with growing margins: "
-                                   "lower the clearance or narrow the joints' ranges",
-                                   c.link, c.height, c.row / o.rate, *opts.min_height),
+      throw InputError(fmt::format("design in motion: the trajectory {} at t = {:.4g} s, after 4 "
+                                   "searches with growing margins: lower the clearance or narrow "
+                                   "the joints' ranges",
+                                   c.what, c.row / o.rate),
                        {{Hint::Setting::MinHeight, "lower"}, {Hint::Setting::Limits, ""}});
-    margin += *opts.min_height - c.height + 1e-3;
+    margin += c.deficit + 1e-3;
     fx = crit.score(crit.scaled(coords, x), margin);
   }
   out.trajectory = best;
   out.evaluations = crit.evaluations();
   out.grid_figure =
       crit.criterion().figure(crit.criterion().value(crit.information(crit.sample(best))));
-  const Samples written = written_samples(best, o);
+  const Samples written = written_samples(model, best, o);
 
   // Figures of the written samples: every row, noise-weighted.
   const Eigen::MatrixXd info = crit.information(written);
@@ -483,7 +596,13 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   out.condition_number = cond.figure(cond.value(info));
   const CriterionRows dopt(model, base, Criterion::DOpt, o.noise_force, o.noise_moment);
   out.log_det = dopt.figure(dopt.value(info));
-  {
+  if (wrist) {
+    const ArmClearanceValue c = crit.arm_clearance(written);
+    out.lowest_clearance = c.height;
+    out.lowest_link = c.low_link;
+    out.lowest_self_clearance = c.self;
+    out.self_pair = c.self_pair;
+  } else {
     const Clearance c = lowest_clearance(model, crit.clearance_options(), written);
     out.lowest_clearance = c.height;
     out.lowest_link = c.link;
@@ -499,6 +618,9 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
     Eigen::LDLT<Eigen::MatrixXd> ldlt(info);
     out.predicted_std = ldlt.solve(Eigen::MatrixXd::Identity(p, p)).diagonal().cwiseSqrt();
   }
+  if (wrist && model.num_joints() > 0)
+    std::tie(out.tool_condition_number, out.tool_parameters) =
+        tool_condition(model, base, best, written, o);
   out.samples = written;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -210,6 +210,12 @@ std::string design_report(const Model& model, const BaseParameters& base, const 
                 "mass only)",
                 s.links_with_meshes, s.links_with_meshes == 1 ? " has" : "s have")
           : "";
+  // A wrist: the arm's poses are kept above the floor (design.hpp).
+  const std::string plane = model.num_upstream_joints() > 0
+                                ? "the floor (through the URDF root's origin, normal to the root "
+                                  "gravity; the arm's links kept apart by the self-clearance)"
+                                : "the platform plane (through the sensor origin, normal to level "
+                                  "gravity)";
   if (s.min_height_relaxed && evaluated.empty())
     out += fmt::format(
         "clearance: not applied: no pose keeps every moving point {:.3g} m above the platform "
@@ -218,10 +224,9 @@ std::string design_report(const Model& model, const BaseParameters& base, const 
   else if (o.min_height && evaluated.empty())
     out += fmt::format(
         "clearance: every moving link origin, centre of mass and primitive collision shape at "
-        "least {:.3g} m above the platform plane (through the sensor origin, normal to level "
-        "gravity){}; lowest {:.3g} m ('{}'); {} sets it, {} turns it off\n",
-        *o.min_height, meshes, s.lowest_clearance, s.lowest_link, spell({Setting::MinHeight, ""}),
-        no_clearance);
+        "least {:.3g} m above {}{}; lowest {:.3g} m ('{}'); {} sets it, {} turns it off\n",
+        *o.min_height, plane, meshes, s.lowest_clearance, s.lowest_link,
+        spell({Setting::MinHeight, ""}), no_clearance);
   else if (evaluated.empty())
     out += fmt::format(
         "clearance: not constrained ({}): poses may put links below the platform plane\n",

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <vector>
 
 #include "massid/core/model.hpp"
@@ -67,6 +68,13 @@ struct SensorPose {
 SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,
                                const Eigen::Ref<const Eigen::VectorXd>& qdu,
                                const Eigen::Ref<const Eigen::VectorXd>& qddu);
+
+// The pose in the URDF root frame of the child link of every step of the
+// chain above the sensor link (Model::upstream, root first: the last is the
+// sensor frame) at the upstream joints' positions qu [num_upstream_joints].
+// out is resized to Model::upstream's size.
+void upstream_link_poses(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,
+                         std::vector<Eigen::Isometry3d>& out);
 
 // Gravity in the sensor frame for `root_gravity` in the URDF root frame, when
 // the chain above the sensor link (Model::upstream) has no movable joint: its

@@ -43,6 +43,9 @@ enum class Criterion { Cond, DOpt };
 std::vector<Tilt> cone_tilts(const Eigen::Vector3d& level, double tilt_max, int count);
 
 inline constexpr double kDefaultMinHeight = 0.05;  // m
+// m: the default distance between the centre lines of two arm links that no
+// single link joins (a wrist: DesignOptions, ExcitationOptions::self_clearance).
+inline constexpr double kDefaultSelfClearance = 0.05;
 
 struct DesignOptions {
   int poses = 30;
@@ -71,14 +74,28 @@ struct DesignOptions {
   double noise_moment = 0.005;  // N m
   std::uint64_t seed = 1;
   int candidates = 0;  // random feasible candidate poses; 0: automatic
+  // A wrist (a sensor link below movable joints, Model::upstream_joints): the
+  // poses move the arm's joints too (within their limits less 10 % of the
+  // range at each end, `limits` narrowing them as the others), gravity in the
+  // sensor frame follows from them and `root_gravity` (URDF root frame; no
+  // tilts, level_gravity unused), min_height is the height above the floor
+  // and self_clearance the arm's distance from itself, as for design
+  // --dynamic (excitation.hpp).
+  Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};
+  std::optional<double> self_clearance = kDefaultSelfClearance;
+  // false: the arm above a wrist sensor is held still wherever it is, the
+  // poses move the joints below it with gravity from level_gravity and the
+  // tilts (as for a sensor link at the root).
+  bool move_arm = true;
 };
 
 struct PlanPose {
   Eigen::VectorXd q;  // [num_joints]
   Tilt tilt;
-  int group = -1;           // index of a shared tilt (listed or tilt group), -1: its own
-  bool level = false;       // one of the poses kept level (DesignOptions::level_poses)
-  Eigen::Vector3d gravity;  // sensor frame
+  int group = -1;              // index of a shared tilt (listed or tilt group), -1: its own
+  bool level = false;          // one of the poses kept level (DesignOptions::level_poses)
+  Eigen::Vector3d gravity;     // sensor frame
+  Eigen::VectorXd q_upstream;  // a wrist: the arm's joints [num_upstream_joints]; else empty
 };
 
 struct DesignSummary {

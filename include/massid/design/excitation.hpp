@@ -45,10 +45,19 @@ struct ExcitationLimits {
 };
 
 // Random coefficients (Gaussian, falling as 1/k), made to start at rest,
-// scaled to the limits: the baseline exciting trajectory.
+// scaled to the limits: the baseline exciting trajectory, over the model's
+// joints or the given ones.
 FourierTrajectory random_fourier_trajectory(const Model& model, int harmonics, double period,
                                             std::uint64_t seed,
                                             const ExcitationLimits& limits = {});
+FourierTrajectory random_fourier_trajectory(const std::vector<Joint>& joints, int harmonics,
+                                            double period, std::uint64_t seed,
+                                            const ExcitationLimits& limits = {});
+
+// The joints an exciting trajectory moves: those above the sensor link
+// (Model::upstream_joints, a wrist sensor: they move the tool), then the
+// model's own. FourierTrajectory's joints are in this order.
+std::vector<Joint> trajectory_joints(const Model& model);
 
 // The trajectory sampled at `rate` Hz over [0, duration]: t, q, qd, qdd, and
 // the given gravity (sensor frame) in every row; lines numbered from 1.
@@ -98,6 +107,20 @@ struct ExcitationOptions {
   // mount, say), go on without it (ExcitationSummary::min_height_relaxed);
   // true (the CLI's explicit --min-height): InputError.
   bool min_height_required = false;
+  // A wrist (a sensor link below movable joints, Model::upstream_joints): the
+  // trajectory moves the arm's joints too (trajectory_joints); gravity and the
+  // sensor frame's motion follow from them and `root_gravity` (URDF root
+  // frame; `gravity` and `tilts` do not apply). min_height is then the height
+  // above the floor, the plane through the root origin normal to root_gravity,
+  // of the arm's moving link origins and the tool's points, and
+  // self_clearance the least distance between the centre lines of two arm
+  // links that no single link joins (src/design/arm_clearance.hpp); nullopt:
+  // not checked.
+  Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};
+  std::optional<double> self_clearance = kDefaultSelfClearance;
+  // false: the arm is held still, the trajectory moves the joints below the
+  // sensor with gravity from `gravity` and `tilts` (DesignOptions::move_arm).
+  bool move_arm = true;
 };
 
 // Gravity (sensor frame) of each block: the tilts applied to the level
@@ -123,6 +146,14 @@ struct ExcitationSummary {
   Eigen::VectorXd predicted_std;    // [num_unknowns] at the noise, the written samples
   bool identifiable = false;
   std::string identifiability_message;
+  // A wrist: the arm's least self-clearance over the written samples (m) and
+  // the two links; the condition number (as condition_number) of the tool
+  // alone, the measured links as one rigid body at the trajectory's centre
+  // (tool_parameters of them: 10, and the offsets), 0 when that is the model.
+  double lowest_self_clearance = 0.0;
+  std::string self_pair;
+  double tool_condition_number = 0.0;
+  int tool_parameters = 0;
 };
 
 // InputError: min_height that no trajectory satisfies (naming --min-height),
@@ -130,8 +161,10 @@ struct ExcitationSummary {
 ExcitationSummary design_excitation(const Model& model, const BaseParameters& base,
                                     const ExcitationOptions& options);
 
-// Writes a trajectory CSV: t, the joint columns, JOINT_vel, JOINT_acc, gx,gy,gz,
-// and block when the samples have blocks.
+// Writes a trajectory CSV: t, the joint columns (those above the sensor link
+// first, the held ones at their positions), JOINT_vel, JOINT_acc (0 for a
+// held joint), gx,gy,gz (not for a wrist: gravity then follows from the
+// upstream joints), and block when the samples have blocks.
 void write_trajectory(const std::string& path, const Model& model, const Samples& trajectory);
 
 }  // namespace massid
