@@ -280,6 +280,20 @@ TEST_F(CliWrist, StaticPlanPosesTheArmAndIdentifiesTheTool) {
     if (i > 0) moved += std::abs(t.num(i, "elbow_joint") - t.num(0, "elbow_joint"));
   }
   EXPECT_GT(moved, 0.1);
+  // --evaluate of the plan reads the arm's columns and gives its figures.
+  const Result e = run({"design", kUrWristUrdf, "--sensor", "ft_sensor", "--fixed",
+                        "finger_joint=0.02", "--offset", "--evaluate", path("plan.csv")});
+  ASSERT_EQ(e.code, 0) << e;
+  EXPECT_NEAR(wrist_printed(e.out, "condition number (eq. 36"),
+              wrist_printed(r.out, "condition number (eq. 36"), 1e-3)
+      << e.out << r.out;
+  // The order's travel counts the arm's joints; no platform tilts.
+  double travel = 0.0;
+  for (size_t i = 1; i < t.rows.size(); ++i)
+    for (const massid::Joint& j : model.upstream_joints)
+      travel += std::abs(t.num(i, j.name) - t.num(i - 1, j.name));
+  EXPECT_NE(r.out.find("order: 0 tilt changes"), std::string::npos) << r.out;
+  EXPECT_NEAR(wrist_after(r.out, "joint travel "), travel, 0.005 * travel) << r.out;
   r = run({"simulate", kUrWristUrdf, path("plan.csv"), "-o", path("data.csv"), "--sensor",
            "ft_sensor", "--fixed", "finger_joint=0.02", "--noise-force", "0.05", "--noise-moment",
            "0.005", "--sensor-offset", "1,2,3,0.1,0.2,0.3", "--repeat", "20"});

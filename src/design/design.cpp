@@ -326,17 +326,19 @@ Clearance lowest_clearance(const Model& model, const DesignOptions& options,
 DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, const Samples& plan,
                             const DesignOptions& o) {
   DesignOptions opts = o;
+  // A wrist's plan with the arm's columns: random arm poses for the expected
+  // error (no tilts); without them the arm is held (gravity from the file).
+  opts.move_arm = opts.move_arm && model.num_upstream_joints() > 0 && plan.q_upstream.cols() > 0;
   DesignSummary out;
   for (int i = 0; i < plan.size(); ++i) {
     PlanPose pose;
     pose.q = plan.q.row(i).transpose();
     pose.gravity = plan.gravity.row(i).transpose();
-    if (plan.q_upstream.cols() > 0 && model.num_upstream_joints() > 0)
-      pose.q_upstream = plan.q_upstream.row(i).transpose();
+    if (opts.move_arm) pose.q_upstream = plan.q_upstream.row(i).transpose();
     out.plan.push_back(pose);
   }
   // Random poses for the expected error: the file's largest tilt unless given.
-  if (!opts.tilt_max && opts.tilts.empty()) {
+  if (!opts.move_arm && !opts.tilt_max && opts.tilts.empty()) {
     double largest = 0.0;
     for (const PlanPose& p : out.plan)
       largest = std::max(largest, std::atan2(p.gravity.cross(opts.level_gravity).norm(),

@@ -10,7 +10,18 @@ double gravity_angle(const PlanPose& a, const PlanPose& b) {
   return std::atan2(a.gravity.cross(b.gravity).norm(), a.gravity.dot(b.gravity));
 }
 
-double joint_distance(const PlanPose& a, const PlanPose& b) { return (a.q - b.q).cwiseAbs().sum(); }
+// The joints' travel, the arm's above a wrist sensor included.
+double joint_distance(const PlanPose& a, const PlanPose& b) {
+  const double arm = a.q_upstream.size() == b.q_upstream.size() && a.q_upstream.size() > 0
+                         ? (a.q_upstream - b.q_upstream).cwiseAbs().sum()
+                         : 0.0;
+  return (a.q - b.q).cwiseAbs().sum() + arm;
+}
+
+// A wrist: the arm turns gravity in the sensor frame, no platform tilts.
+bool moves_arm(const std::vector<PlanPose>& poses) {
+  return !poses.empty() && poses.front().q_upstream.size() > 0;
+}
 
 // Open path through `poses` from the one nearest to `from`: nearest neighbour,
 // then 2-opt on the given distance.
@@ -49,6 +60,10 @@ void order_path(std::vector<PlanPose>& poses, const PlanPose* from, Distance d) 
 }  // namespace
 
 std::vector<PlanPose> order_plan(std::vector<PlanPose> poses) {
+  if (moves_arm(poses)) {  // one path of short joint travel
+    order_path(poses, nullptr, joint_distance);
+    return poses;
+  }
   // Groups of poses with the same gravity direction (the same tilt).
   std::vector<std::vector<PlanPose>> groups;
   for (PlanPose& p : poses) {
@@ -87,8 +102,9 @@ std::vector<PlanPose> order_plan(std::vector<PlanPose> poses) {
 
 PlanTravel plan_travel(const std::vector<PlanPose>& poses) {
   PlanTravel t;
+  const bool arm = moves_arm(poses);
   for (size_t i = 1; i < poses.size(); ++i) {
-    if (gravity_angle(poses[i - 1], poses[i]) > 1e-9) ++t.tilt_changes;
+    if (!arm && gravity_angle(poses[i - 1], poses[i]) > 1e-9) ++t.tilt_changes;
     t.joint_travel += joint_distance(poses[i - 1], poses[i]);
   }
   return t;

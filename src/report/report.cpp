@@ -234,8 +234,9 @@ std::string design_report(const Model& model, const BaseParameters& base, const 
   else if (std::isfinite(s.lowest_clearance))
     out += fmt::format(
         "clearance: the lowest moving link origin, centre of mass or primitive collision shape "
-        "is {:.3g} m {} the platform plane ('{}'){}\n",
-        std::abs(s.lowest_clearance), s.lowest_clearance < 0 ? "below" : "above", s.lowest_link,
+        "is {:.3g} m {} {} ('{}'){}\n",
+        std::abs(s.lowest_clearance), s.lowest_clearance < 0 ? "below" : "above", plane,
+        s.lowest_link,
         o.min_height && !s.min_height_relaxed && s.lowest_clearance < *o.min_height
             ? fmt::format(", closer than {} m",
                           spell({Setting::MinHeight, fmt::format("{:.3g}", *o.min_height)}))

@@ -105,8 +105,8 @@ struct DesignSummary {
   bool identifiable = false;      // full rank over every unknown
   Eigen::VectorXd predicted_std;  // [num_unknowns] at the given noise
   Wrench expected_error;          // RMS predicted-wrench error per axis over random feasible poses
-  int tilt_changes = 0;           // distinct consecutive tilts - 1
-  double joint_travel = 0.0;      // sum of |dq| along the order (rad or m)
+  int tilt_changes = 0;           // distinct consecutive tilts - 1 (0 for a wrist: no tilts)
+  double joint_travel = 0.0;      // sum of |dq| along the order (rad or m; a wrist: the arm too)
   double seconds = 0.0;           // optimisation time
   std::string identifiability_message;  // when !identifiable
   int level_poses = 0;                  // poses kept level (DesignOptions::level_poses)
