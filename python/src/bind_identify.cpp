@@ -75,7 +75,14 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   if (root_gravity) request.root_gravity = root_gravity_of(root_gravity);
   request.columns = column_names_of(columns);
   request.validate(spelling());
-  Model model = model_of(robot, sensor, fixed);  // a URDF path or a Model
+  // A URDF path or a Model, the joints below the sensor that the data lack held (with a note).
+  std::optional<Warning> held;
+  Model model = is_path(data)
+                    ? hold_unlogged_file_joints(model_of(robot, sensor, fixed), path_of(data),
+                                                request.sample_options(), &held)
+                    : hold_unlogged_joints(model_of(robot, sensor, fixed), columns_of(data).names,
+                                           "data", request.sample_options(), &held);
+  if (held) warn_note(with_hints(held->message, held->hints));
   std::vector<Warning> notes;
   Identification out;
   if (is_path(data)) {
