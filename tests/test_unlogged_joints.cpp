@@ -107,8 +107,12 @@ TEST(UnloggedJoints, AHandsFingersAreHeldWithOneNoteAndFitAsIfHeldByHand) {
               params_json(by_hand->model, by_hand->base, &by_hand->summary));
   }
   const Identification& by_hand = by_hand_streamed;
-  // And right: the mass below the sensor is the tool's and the hand's, as the URDF says.
+  // The total mass of 38 links, said in words rather than as 38 terms on one line.
   ASSERT_GE(by_hand.base.total_mass, 0);
+  EXPECT_EQ(by_hand.base.params[by_hand.base.total_mass].expression,
+            fmt::format("m(all {} links below wrist_3_link, itself included)", hand.num_links()));
+  EXPECT_EQ(hand.num_links(), 38);
+  // And right: the mass below the sensor is the tool's and the hand's, as the URDF says.
   EXPECT_NEAR(by_hand.summary.value[by_hand.base.total_mass], hand.nominal_total_mass(),
               4 * by_hand.summary.stddev[by_hand.base.total_mass]);
 }

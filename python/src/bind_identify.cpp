@@ -336,6 +336,25 @@ void bind_identify(py::module_& m) {
           "a continuous static log: its rest windows as (first, last) rows of the log, samples, "
           "rows, moving rows and what moved, rows trimmed where the wrench had not settled and the "
           "longest such cut at a window's start (s); None when every row is a sample")
+      .def_property_readonly(
+          "quasi_static",
+          [sum](const I& i) -> py::object {
+            const RestWindows& w = sum(i).rest;
+            if (!w.quasi_static) return py::none();
+            py::dict d;
+            d["rows"] = w.rows;
+            d["windowed_samples"] = w.windowed_samples;
+            d["max_speed"] = w.max_speed;
+            d["inertial_force"] = w.inertial_force;
+            d["inertial_moment"] = w.inertial_moment;
+            d["noise_force"] = w.noise_force;
+            d["noise_moment"] = w.noise_moment;
+            return d;
+          },
+          "a continuous static log too slow for its motion to show: every row was a sample, "
+          "with the numbers that justify it (the joints' largest speed, the largest inertial "
+          "force and moment from the URDF's inertials, the force and moment noise, the rows the "
+          "rest windows would have kept); None otherwise")
       .def_property_readonly("drift",
                              [sum](const I& i) -> py::object {
                                switch (sum(i).drift) {
