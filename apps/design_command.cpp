@@ -340,7 +340,21 @@ int run_design(const DesignCommand& c) {
         !(value >= urdf.joints[j].lower && value <= urdf.joints[j].upper))
       throw InputError(fmt::format("--fixed {}={}: outside the URDF limits [{}, {}]", name, value,
                                    urdf.joints[j].lower, urdf.joints[j].upper));
-  const Model model = hold_joints(urdf, held);
+  Model model = hold_joints(urdf, held);
+  // A plan to evaluate without columns for some joints below the sensor: they are held, with a
+  // note.
+  std::optional<CsvTable> evaluated;
+  SampleOptions read;
+  read.columns = parse_columns(c.columns);
+  read.sensor_motion = false;  // static poses: a partial wx..az is ignored (with a note)
+  if (!c.evaluate.empty()) {
+    evaluated = read_csv(c.evaluate);
+    std::optional<Warning> note;
+    model = hold_unlogged_joints(std::move(model), evaluated->header,
+                                 fmt::format("{}:{}", evaluated->source, evaluated->header_line),
+                                 read, &note);
+    if (note) std::cerr << "massid: note: " << with_hints(note->message, note->hints) << "\n";
+  }
   BaseParameterOptions bo;
   bo.offset = c.offset;
   // A sensor below movable joints (a wrist): the plan moves the arm, gravity
@@ -392,10 +406,7 @@ int run_design(const DesignCommand& c) {
   if (c.app->count("--level-poses")) o.level_poses = c.level_poses;
 
   if (!c.evaluate.empty()) {
-    const CsvTable table = read_csv(c.evaluate);
-    SampleOptions read;
-    read.columns = parse_columns(c.columns);
-    read.sensor_motion = false;  // static poses: a partial wx..az is ignored (with a note)
+    const CsvTable& table = *evaluated;
     print_column_note(column_note(model, table.header,
                                   fmt::format("{}:{}", table.source, table.header_line),
                                   WrenchColumns::Optional, read));

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <optional>
 
 #include "hints.hpp"
 #include "io/atomic_file.hpp"
@@ -13,6 +14,7 @@
 #include "massid/identify/setup_checks.hpp"
 #include "massid/identify/urdf_inertials.hpp"
 #include "massid/io/params_file.hpp"
+#include "massid/io/read_samples.hpp"
 #include "massid/report/report.hpp"
 #include "options.hpp"
 #include "python_report.hpp"
@@ -97,7 +99,11 @@ int run_identify(const IdentifyCommand& c) {
   const IdentifyRequest request = c.request();
   request.validate(spelling());                 // every rule, before any work
   if (!c.report.empty()) check_report_tools();  // before any work
-  Model model = request.load_model(c.urdf);
+  // Joints below the sensor that the log lacks (a hand's fingers) are held still, with a note.
+  std::optional<Warning> held;
+  Model model = hold_unlogged_file_joints(request.load_model(c.urdf), c.data,
+                                          request.sample_options(), &held);
+  if (held) std::cerr << "massid: note: " << with_hints(held->message, held->hints) << "\n";
   // Which columns are read under other names, which are ignored (before any finding on them).
   print_column_note(file_column_note(model, c.data, request.sample_options()));
   // Before any work: wrong signs, units, frames or columns (the first 20 000

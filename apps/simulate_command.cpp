@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <optional>
 
+#include "hints.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/model.hpp"
 #include "massid/core/samples.hpp"
@@ -18,16 +20,21 @@ namespace {
 
 int run_simulate(const SimulateCommand& c, const std::string& plan_path, const std::string& out,
                  const SimulateOptions& opts, const MotionFlags& motion, bool checks) {
-  const Model model = hold_joints(load_urdf(c.urdf, c.sensor), parse_held(c.fixed));
+  const CsvTable table = read_csv(plan_path);
+  SampleOptions read = motion.data().samples;
+  read.columns = parse_columns(c.columns);
+  read.sensor_motion = opts.dynamic;  // at rest, a partial wx..az is ignored (with a note)
+  // Joints below the sensor that the plan lacks (a hand's fingers): held still, with a note.
+  std::optional<Warning> held;
+  const Model model = hold_unlogged_joints(
+      hold_joints(load_urdf(c.urdf, c.sensor), parse_held(c.fixed)), table.header,
+      fmt::format("{}:{}", table.source, table.header_line), read, &held);
+  if (held) std::cerr << "massid: note: " << with_hints(held->message, held->hints) << "\n";
   if (!(model.nominal_total_mass() > 0))
     throw InputError(fmt::format(
         "{}: no measured link has a mass (no <inertial> below sensor link '{}'): the simulated "
         "wrench would be zero; add the links' <inertial> elements (mass, origin) to the URDF",
         c.urdf, model.sensor_link()));
-  const CsvTable table = read_csv(plan_path);
-  SampleOptions read = motion.data().samples;
-  read.columns = parse_columns(c.columns);
-  read.sensor_motion = opts.dynamic;  // at rest, a partial wx..az is ignored (with a note)
   print_column_note(column_note(model, table.header,
                                 fmt::format("{}:{}", table.source, table.header_line),
                                 WrenchColumns::Optional, read));

@@ -166,8 +166,11 @@ TEST_P(MotionPredictorTest, BatchEqualsSingleCalls) {
 }
 
 // The two-lane path (SSE2, NEON) gives the same bits as the four-lane (AVX2)
-// one, which the CPU runs when it has it: no path contracts to fused multiply-adds.
+// one: no path contracts to fused multiply-adds. Only where the CPU has AVX2
+// (elsewhere both predictors would take the two-lane path: the comparison
+// would be of a path with itself), and each predictor's plan is asserted.
 TEST_P(MotionPredictorTest, TwoLanesGiveTheSameBitsAsFour) {
+  if (!detail::cpu_has_avx2()) GTEST_SKIP() << "no AVX2 (an x86-64 without it, or another CPU)";
   const MotionCase& c = GetParam();
   const Model model = load_urdf(c.example.urdf);
   const BaseParameters base = motion_base(model, c.offset, c.moving, false);
@@ -175,13 +178,48 @@ TEST_P(MotionPredictorTest, TwoLanesGiveTheSameBitsAsFour) {
   std::normal_distribution<double> n;
   Eigen::VectorXd values(base.num_unknowns());
   for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
-  const MotionPredictor four = compile_motion_predictor(model, base, values);
+  const MotionPredictor four =
+      detail::with_four_lanes(compile_motion_predictor(model, base, values), true);
   const MotionPredictor two = detail::with_four_lanes(four, false);
+  ASSERT_TRUE(four.plan->four_lanes);
+  ASSERT_FALSE(two.plan->four_lanes);
   MotionPredictorData data2(two), data4(four);
   for (int k = 0; k < 50; ++k) {
     const Motion m = random_motion(model, rng, c.moving);
     const Wrench w2 = predict(two, data2, m), w4 = predict(four, data4, m);
     EXPECT_EQ(w2, w4) << "sample " << k;
+  }
+}
+
+// The checked overload (Eigen vectors, their sizes checked) gives the raw
+// overload's bits for the same numbers, taken from inside larger vectors (a
+// wrong array or offset passed on would show).
+TEST_P(MotionPredictorTest, CheckedOverloadGivesTheRawOverloadsBits) {
+  const MotionCase& c = GetParam();
+  const Model model = load_urdf(c.example.urdf);
+  const BaseParameters base = motion_base(model, c.offset, c.moving, false);
+  std::mt19937_64 rng(23);
+  std::normal_distribution<double> n;
+  Eigen::VectorXd values(base.num_unknowns());
+  for (int i = 0; i < values.size(); ++i) values[i] = n(rng);
+  const MotionPredictor pred = compile_motion_predictor(model, base, values);
+  MotionPredictorData data(pred);
+  const Eigen::Index nj = model.num_joints();
+  for (int k = 0; k < 30; ++k) {
+    const Motion m = random_motion(model, rng, c.moving);
+    if (nj > 0) {
+      ASSERT_GT(m.qd.norm() * m.qdd.norm(), 0.0);  // non-zero numbers
+    }
+    // q, qd, qdd side by side in one vector, between other numbers.
+    Eigen::VectorXd all = Eigen::VectorXd::Constant(3 * nj + 2, 7.0);
+    all.segment(1, nj) = m.q;
+    all.segment(1 + nj, nj) = m.qd;
+    all.segment(1 + 2 * nj, nj) = m.qdd;
+    const Wrench raw = predict(pred, data, m);
+    const Wrench checked = predict_motion(pred, data, all.segment(1, nj), all.segment(1 + nj, nj),
+                                          all.segment(1 + 2 * nj, nj), m.g, m.sensor);
+    EXPECT_EQ(checked, raw) << "sample " << k;
+    ASSERT_GT(raw.norm(), 0.0);
   }
 }
 

@@ -5,6 +5,7 @@
 // windows are the rests the timeline was built with; the fit on them matches
 // the URDF's base parameters within 4 std, while every row (the transitions)
 // biases it far beyond; plan-like logs are left alone.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,10 +18,12 @@
 #include "identify/identify_file.hpp"
 #include "massid/core/simulate.hpp"
 #include "massid/identify/estimation.hpp"
+#include "massid/identify/identify_request.hpp"
 #include "massid/identify/rest_windows.hpp"
 #include "massid/io/csv.hpp"
 #include "massid/io/read_samples.hpp"
 #include "massid/io/urdf.hpp"
+#include "massid/report/report.hpp"
 #include "test_support.hpp"
 
 namespace massid {
@@ -368,6 +371,150 @@ TEST(RestWindows, SettlingAfterEachMoveIsTrimmedAsTheDataShow) {
   std::printf("untrimmed worst %.2f std; trimmed %d rows (longest %.3f s), worst %.2f std\n",
               test::worst_normalised_error(model, base, biased), w.trimmed, w.longest_settling,
               test::worst_normalised_error(model, base, fit));
+}
+
+// Issue 29: a wrist sensor on an arm that moves slowly and without pause
+// (`slow`: every joint a sine of at most 0.1 rad/s, no rest at all), or
+// that holds poses with fast moves between them (quintic moves of about 1
+// rad in 0.8 s). The wrench is the dynamic simulation's (the motion's own
+// forces included) with noise of 0.1 N and 0.01 N m; the static log keeps
+// the arm's positions, t and the wrench.
+Samples quasi_static_wrist_log(const Model& wrist, bool slow) {
+  const int nu = wrist.num_upstream_joints();
+  const double rate = 100.0;
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Eigen::MatrixXd q, qd, qdd;
+  if (slow) {
+    const int n = 6000;  // 60 s
+    q.resize(n, nu), qd.resize(n, nu), qdd.resize(n, nu);
+    for (int j = 0; j < nu; ++j) {
+      const double w = 0.11 + 0.04 * j, amplitude = 0.1 / w, phase = 3 * unit(rng),
+                   centre = 0.8 * unit(rng);
+      for (int i = 0; i < n; ++i) {
+        const double t = i / rate;
+        q(i, j) = centre + amplitude * std::sin(w * t + phase);
+        qd(i, j) = amplitude * w * std::cos(w * t + phase);
+        qdd(i, j) = -amplitude * w * w * std::sin(w * t + phase);
+      }
+    }
+  } else {
+    const int poses = 12, hold = 200, move = 80;
+    const int n = poses * hold + (poses - 1) * move;
+    q.resize(n, nu), qd.setZero(n, nu), qdd.setZero(n, nu);
+    Eigen::VectorXd qa(nu);
+    for (int j = 0; j < nu; ++j) qa[j] = 1.2 * unit(rng);
+    int row = 0;
+    for (int p = 0; p < poses; ++p) {
+      for (int r = 0; r < hold; ++r, ++row) q.row(row) = qa.transpose();
+      if (p + 1 == poses) break;
+      Eigen::VectorXd dq(nu);
+      for (int j = 0; j < nu; ++j) dq[j] = unit(rng);
+      const double T = move / rate;
+      for (int r = 0; r < move; ++r, ++row) {
+        const double u = (r + 1.0) / move;
+        q.row(row) = (qa + u * u * u * (10 - 15 * u + 6 * u * u) * dq).transpose();
+        qd.row(row) = (30 * u * u * (1 - u) * (1 - u) / T * dq).transpose();
+        qdd.row(row) = (60 * u * (1 - u) * (1 - 2 * u) / (T * T) * dq).transpose();
+      }
+      qa += dq;
+    }
+  }
+  const int n = static_cast<int>(q.rows());
+  Samples s;
+  s.q.resize(n, 0);
+  s.q_upstream = q;
+  s.qd_upstream = qd;
+  s.qdd_upstream = qdd;
+  s.gravity.resize(n, 3);
+  s.gravity_from_upstream = true;
+  resolve_upstream(wrist, s);  // gravity and the sensor frame's motion from the arm
+  SimulateOptions so;
+  so.dynamic = true;
+  so.noise_force = 0.1;
+  so.noise_moment = 0.01;
+  so.seed = 29;
+  s.wrench = simulate_wrenches(wrist, s, so);
+  // The static log: positions, t and the wrench (gravity from the arm's joints).
+  s.qd_upstream.resize(0, 0);
+  s.qdd_upstream.resize(0, 0);
+  s.sensor_motion.resize(0, 0);
+  s.time.resize(n);
+  s.line.resize(n);
+  for (int i = 0; i < n; ++i) {
+    s.time[i] = i / rate;
+    s.line[i] = i + 2;
+  }
+  return s;
+}
+
+TEST(RestWindows, ASlowContinuousLogIsQuasiStaticAndEveryRowIsASample) {
+  const Model wrist = load_urdf(test::kUrLikeUrdf, "wrist_3_link");
+  const Samples log = quasi_static_wrist_log(wrist, true);
+  double fastest = 0.0;
+  for (int i = 1; i < log.size(); ++i)
+    fastest = std::max(fastest,
+                       (log.q_upstream.row(i) - log.q_upstream.row(i - 1)).cwiseAbs().maxCoeff() /
+                           (log.time[i] - log.time[i - 1]));
+  ASSERT_LE(fastest, 0.1);
+  ASSERT_GT(fastest, 0.09);
+  // The windows alone find the slow motion (the gravity turns) and would cut the log.
+  const RestWindows windows = find_rest_windows(log);
+  ASSERT_TRUE(windows.continuous);
+  ASSERT_LT(windows.samples, log.size() / 2);
+  // With the model: quasi-static, every row, the numbers that justify it.
+  const RestWindows w = find_rest_windows(wrist, log);
+  EXPECT_TRUE(w.quasi_static);
+  EXPECT_FALSE(w.continuous);
+  EXPECT_EQ(w.samples, log.size());
+  EXPECT_EQ(w.windowed_samples, windows.samples);
+  EXPECT_NEAR(w.max_speed, fastest, 0.01);
+  EXPECT_NEAR(w.noise_force, 0.1, 0.02);
+  EXPECT_NEAR(w.noise_moment, 0.01, 0.002);
+  EXPECT_GT(w.inertial_force, 0.0);
+  EXPECT_LT(w.inertial_force, 0.25 * w.noise_force);
+  EXPECT_LT(w.inertial_moment, 0.25 * w.noise_moment);
+
+  // identify's default (rest auto) uses every row and agrees with rest off.
+  IdentifyRequest r;
+  r.offset = true;
+  const Identification auto_rest = identify(wrist, r, IdentifySource::data(log));
+  r.rest = "off";
+  const Identification off = identify(wrist, r, IdentifySource::data(log));
+  EXPECT_EQ(auto_rest.summary.samples, log.size());
+  EXPECT_TRUE(auto_rest.summary.rest.quasi_static);
+  const int m = auto_rest.base.total_mass;
+  ASSERT_GE(m, 0);
+  for (int i = 0; i < off.summary.value.size(); ++i)
+    EXPECT_LE(std::abs(auto_rest.summary.value[i] - off.summary.value[i]), off.summary.stddev[i])
+        << i;
+  EXPECT_NEAR(auto_rest.summary.value[m], wrist.nominal_total_mass(),
+              4 * auto_rest.summary.stddev[m]);
+  EXPECT_LT(test::worst_normalised_error(wrist, auto_rest.base, auto_rest.summary), 4.0);
+  const std::string report = identify_report(wrist, auto_rest.base, auto_rest.summary, "log");
+  EXPECT_NE(report.find(fmt::format("quasi-static throughout: the joints move at most {:.3g} rad/s",
+                                    w.max_speed)),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find(fmt::format("all {} rows used", log.size())), std::string::npos) << report;
+}
+
+TEST(RestWindows, FastMovesBetweenHoldsStillUseTheWindows) {
+  const Model wrist = load_urdf(test::kUrLikeUrdf, "wrist_3_link");
+  const Samples log = quasi_static_wrist_log(wrist, false);
+  const RestWindows w = find_rest_windows(wrist, log);
+  ASSERT_TRUE(w.continuous);
+  EXPECT_FALSE(w.quasi_static);
+  EXPECT_TRUE(w.inertia_checked);
+  EXPECT_GT(w.inertial_force, 0.25 * w.noise_force);
+  EXPECT_EQ(static_cast<int>(w.windows.size()), 12);
+  EXPECT_EQ(w.samples, find_rest_windows(log).samples);  // the windows as without the model
+  IdentifyRequest r;
+  r.offset = true;
+  const Identification id = identify(wrist, r, IdentifySource::data(log));
+  EXPECT_EQ(id.summary.samples, w.samples);
+  EXPECT_FALSE(id.summary.rest.quasi_static);
+  EXPECT_LT(test::worst_normalised_error(wrist, id.base, id.summary), 4.0);
 }
 
 }  // namespace

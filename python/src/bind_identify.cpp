@@ -75,7 +75,14 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   if (root_gravity) request.root_gravity = root_gravity_of(root_gravity);
   request.columns = column_names_of(columns);
   request.validate(spelling());
-  Model model = model_of(robot, sensor, fixed);  // a URDF path or a Model
+  // A URDF path or a Model, the joints below the sensor that the data lack held (with a note).
+  std::optional<Warning> held;
+  Model model = is_path(data)
+                    ? hold_unlogged_file_joints(model_of(robot, sensor, fixed), path_of(data),
+                                                request.sample_options(), &held)
+                    : hold_unlogged_joints(model_of(robot, sensor, fixed), columns_of(data).names,
+                                           "data", request.sample_options(), &held);
+  if (held) warn_note(with_hints(held->message, held->hints));
   std::vector<Warning> notes;
   Identification out;
   if (is_path(data)) {
@@ -329,6 +336,25 @@ void bind_identify(py::module_& m) {
           "a continuous static log: its rest windows as (first, last) rows of the log, samples, "
           "rows, moving rows and what moved, rows trimmed where the wrench had not settled and the "
           "longest such cut at a window's start (s); None when every row is a sample")
+      .def_property_readonly(
+          "quasi_static",
+          [sum](const I& i) -> py::object {
+            const RestWindows& w = sum(i).rest;
+            if (!w.quasi_static) return py::none();
+            py::dict d;
+            d["rows"] = w.rows;
+            d["windowed_samples"] = w.windowed_samples;
+            d["max_speed"] = w.max_speed;
+            d["inertial_force"] = w.inertial_force;
+            d["inertial_moment"] = w.inertial_moment;
+            d["noise_force"] = w.noise_force;
+            d["noise_moment"] = w.noise_moment;
+            return d;
+          },
+          "a continuous static log too slow for its motion to show: every row was a sample, "
+          "with the numbers that justify it (the joints' largest speed, the largest inertial "
+          "force and moment from the URDF's inertials, the force and moment noise, the rows the "
+          "rest windows would have kept); None otherwise")
       .def_property_readonly("drift",
                              [sum](const I& i) -> py::object {
                                switch (sum(i).drift) {

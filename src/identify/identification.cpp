@@ -81,7 +81,15 @@ record_json rest_json(const RestWindows& w) {
           {"moving", w.moving},
           {"criterion", w.criterion},
           {"trimmed", w.trimmed},
-          {"longest_settling", w.longest_settling}};
+          {"longest_settling", w.longest_settling},
+          {"quasi_static", w.quasi_static},
+          {"inertia_checked", w.inertia_checked},
+          {"max_speed", w.max_speed},
+          {"inertial_force", w.inertial_force},
+          {"inertial_moment", w.inertial_moment},
+          {"noise_force", w.noise_force},
+          {"noise_moment", w.noise_moment},
+          {"windowed_samples", w.windowed_samples}};
 }
 
 // The settings by name, in the order of Hint::Setting (a record names them:
@@ -146,6 +154,15 @@ RestWindows rest_of(const record_json& j) {
   w.criterion = j.at("criterion");
   w.trimmed = j.value("trimmed", 0);  // absent in records written before the settling check
   w.longest_settling = j.value("longest_settling", 0.0);
+  // Absent in records written before the quasi-static check.
+  w.quasi_static = j.value("quasi_static", false);
+  w.inertia_checked = j.value("inertia_checked", false);
+  w.max_speed = j.value("max_speed", 0.0);
+  w.inertial_force = j.value("inertial_force", 0.0);
+  w.inertial_moment = j.value("inertial_moment", 0.0);
+  w.noise_force = j.value("noise_force", 0.0);
+  w.noise_moment = j.value("noise_moment", 0.0);
+  w.windowed_samples = j.value("windowed_samples", 0);
   return w;
 }
 

@@ -46,7 +46,7 @@ IdentifySummary identify_file(const Model& model, const BaseParameters& base,
                               Samples* samples, const SampleOptions& read) {
   const auto in_memory = [&] {
     Samples all = read_samples(model, read_csv(path), WrenchColumns::Required, read);
-    const RestWindows windows = find_rest_windows(all, options.rest);
+    const RestWindows windows = find_rest_windows(model, all, options.rest);
     Samples s = windows.continuous ? rest_samples(all, windows) : std::move(all);
     IdentifySummary summary = identify(model, base, s, options);
     summary.rest = windows;

@@ -162,7 +162,7 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
     out.base = find_base_parameters(out.model, bo);
     if (in_memory) {  // as identify_file: only the rest windows of a continuous log
       Samples all = std::move(*source.samples);
-      const RestWindows windows = find_rest_windows(all, options.rest);
+      const RestWindows windows = find_rest_windows(out.model, all, options.rest);
       out.samples = windows.continuous ? rest_samples(all, windows) : std::move(all);
       out.summary = identify(out.model, out.base, out.samples, options);
       out.summary.rest = windows;

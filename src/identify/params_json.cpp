@@ -88,6 +88,14 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
                            {"criterion", s->rest.criterion},
                            {"trimmed", s->rest.trimmed},
                            {"longest_settling", s->rest.longest_settling}};
+    if (s->rest.quasi_static)
+      j["quasi_static"] = {{"rows", s->rest.rows},
+                           {"windowed_samples", s->rest.windowed_samples},
+                           {"max_speed", s->rest.max_speed},
+                           {"inertial_force", s->rest.inertial_force},
+                           {"inertial_moment", s->rest.inertial_moment},
+                           {"noise_force", s->rest.noise_force},
+                           {"noise_moment", s->rest.noise_moment}};
     if (base.total_mass >= 0) j["total_mass"] = s->value[base.total_mass];
   }
   if (base.motion()) {

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "core/median.hpp"
+#include "massid/core/kinematics.hpp"
+#include "massid/core/parameters.hpp"
+#include "massid/core/regressor.hpp"
 
 namespace massid {
 
@@ -215,6 +219,115 @@ RestWindows find_rest_windows(const Samples& s, const RestWindowOptions& o) {
   if (o.trim && s.has_wrench())
     trim_settling(s.wrench, std::max(2, static_cast<int>(std::lround(0.02 / dt))), shortest, out,
                   dt);
+  return out;
+}
+
+namespace {
+
+// The noise of a wrench channel: 1.4826 median |x[i+1] - 2 x[i] + x[i-1]| / sqrt(6).
+double second_difference_noise(const Eigen::Ref<const Eigen::VectorXd>& x) {
+  std::vector<double> d;
+  for (Eigen::Index i = 1; i + 1 < x.size(); ++i)
+    d.push_back(std::abs(x[i + 1] - 2 * x[i] + x[i - 1]));
+  return 1.4826 * median(std::move(d)) / std::sqrt(6.0);
+}
+
+// Central differences over k rows of the positions: velocity and acceleration at row i.
+void differences(const Eigen::MatrixXd& q, const Eigen::VectorXd& t, int i, int k,
+                 Eigen::VectorXd& qd, Eigen::VectorXd& qdd) {
+  const double h1 = t[i] - t[i - k], h2 = t[i + k] - t[i];
+  for (Eigen::Index j = 0; j < q.cols(); ++j) {
+    const double d1 = (q(i, j) - q(i - k, j)) / h1, d2 = (q(i + k, j) - q(i, j)) / h2;
+    qd[j] = 0.5 * (d1 + d2);
+    qdd[j] = (d2 - d1) / (0.5 * (h1 + h2));
+  }
+}
+
+// The quasi-static check of a continuous log (rest_windows.hpp).
+void check_quasi_static(const Model& model, const Samples& s, const RestWindowOptions& o,
+                        RestWindows& out) {
+  const int n = s.size();
+  const bool upstream = s.q_upstream.cols() == model.num_upstream_joints() &&
+                        model.num_upstream_joints() > 0 && !s.has_sensor_motion();
+  // Gravity that turns with nothing in the model to move it: a platform's motion, unknown.
+  if (s.gravity_from_force || !s.has_wrench() || s.q.cols() != model.num_joints()) return;
+  if (out.criterion.find("gravity") != std::string::npos && !upstream && !s.has_sensor_motion())
+    return;
+  double dt = 0.0;
+  {
+    std::vector<double> steps(static_cast<std::size_t>(n - 1));
+    for (int i = 0; i + 1 < n; ++i) steps[i] = s.time[i + 1] - s.time[i];
+    dt = median(std::move(steps));
+  }
+  const int k = std::max(1, static_cast<int>(std::lround(o.lag / dt)));
+  if (n < 2 * k + 3) return;
+  double noise_f = std::numeric_limits<double>::infinity(), noise_m = noise_f;
+  for (int c = 0; c < 3; ++c) {
+    noise_f = std::min(noise_f, second_difference_noise(s.wrench.col(c)));
+    noise_m = std::min(noise_m, second_difference_noise(s.wrench.col(3 + c)));
+  }
+  out.inertia_checked = true;
+  out.noise_force = noise_f;
+  out.noise_moment = noise_m;
+  const Eigen::VectorXd pi = ParameterLayout::full().nominal(model);
+  KinematicsData data(model);
+  Eigen::MatrixXd Y(6, pi.size());
+  const int nj = model.num_joints(), nu = model.num_upstream_joints();
+  Eigen::VectorXd q(nj), qd(nj), qdd(nj), qu(nu), qdu(nu), qddu(nu);
+  Eigen::Matrix<double, 9, 1> motion;
+  bool slow = true;
+  for (int i = k; i + k < n; ++i) {
+    differences(s.q, s.time, i, k, qd, qdd);
+    q = s.q.row(i).transpose();
+    double speed = qd.size() ? qd.cwiseAbs().maxCoeff() : 0.0;
+    FrameMotion sensor;
+    if (upstream) {
+      differences(s.q_upstream, s.time, i, k, qdu, qddu);
+      qu = s.q_upstream.row(i).transpose();
+      speed = std::max(speed, nu ? qdu.cwiseAbs().maxCoeff() : 0.0);
+      upstream_sensor_frame(model, qu.data(), qdu.data(), qddu.data(), s.root_gravity, nullptr,
+                            motion.data());
+      sensor.omega = motion.head<3>();
+      sensor.omega_dot = motion.segment<3>(3);
+      sensor.accel = motion.tail<3>();
+    } else if (s.has_sensor_motion()) {  // the sensor frame's motion as the log gives it
+      sensor.omega = s.sensor_motion.row(i).segment<3>(0).transpose();
+      sensor.omega_dot = s.sensor_motion.row(i).segment<3>(3).transpose();
+      sensor.accel = s.sensor_motion.row(i).segment<3>(6).transpose();
+    }
+    forward_kinematics(model, data, q, qd, qdd, Eigen::Vector3d::Zero(), sensor);
+    motion_regressor(model, data, Y);
+    const Eigen::Matrix<double, 6, 1> w = Y * pi;
+    out.max_speed = std::max(out.max_speed, speed);
+    out.inertial_force = std::max(out.inertial_force, w.head<3>().norm());
+    out.inertial_moment = std::max(out.inertial_moment, w.tail<3>().norm());
+    if (out.inertial_force > o.quasi_static * noise_f ||
+        out.inertial_moment > o.quasi_static * noise_m) {
+      slow = false;
+      break;  // a fast move: the windows stand (the numbers so far say why)
+    }
+  }
+  if (!slow) return;
+  const RestWindows windows = out;
+  out = every_row(n);
+  out.quasi_static = true;
+  out.inertia_checked = true;
+  out.criterion = windows.criterion;
+  out.moving = windows.moving;
+  out.max_speed = windows.max_speed;
+  out.inertial_force = windows.inertial_force;
+  out.inertial_moment = windows.inertial_moment;
+  out.noise_force = windows.noise_force;
+  out.noise_moment = windows.noise_moment;
+  out.windowed_samples = windows.samples;
+}
+
+}  // namespace
+
+RestWindows find_rest_windows(const Model& model, const Samples& samples,
+                              const RestWindowOptions& options) {
+  RestWindows out = find_rest_windows(samples, options);
+  if (out.continuous && options.quasi_static > 0) check_quasi_static(model, samples, options, out);
   return out;
 }
 

@@ -142,6 +142,27 @@ ColumnGroup position_columns(const std::vector<Joint>& joints,
   return out;
 }
 
+std::vector<std::pair<std::string, double>> unlogged_joints(const Model& model,
+                                                            const std::vector<std::string>& header,
+                                                            const ColumnNames& names) {
+  const auto bound_elsewhere = [&](const std::string& name) {  // the column read as another role
+    return std::any_of(names.bind.begin(), names.bind.end(),
+                       [&](const auto& b) { return b.second == name && b.first != name; });
+  };
+  const auto has = [&](const std::string& role) {
+    const bool bound = std::any_of(names.bind.begin(), names.bind.end(),
+                                   [&](const auto& b) { return b.first == role; });
+    return bound || (find(header, role) >= 0 && !bound_elsewhere(role));
+  };
+  std::vector<std::pair<std::string, double>> out;
+  for (const Joint& j : model.joints) {
+    if (has(j.name) || (j.type == JointType::Revolute && has(j.name + "_deg"))) continue;
+    const double reference = j.limited ? std::clamp(0.0, j.lower, j.upper) : 0.0;
+    out.emplace_back(j.name, reference);
+  }
+  return out;
+}
+
 ColumnMap map_columns(const Model& model, const std::vector<std::string>& header,
                       const std::string& where, WrenchColumns wrench, const ColumnNames& names,
                       bool sensor_motion) {
@@ -317,6 +338,7 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
   std::vector<std::string> ignored = ignored_why;
   for (size_t c = 0; c < header.size(); ++c)
     if (!read[c] && roles[c] == header[c]) ignored.push_back(header[c]);
+  m.unread.assign(ignored.begin() + static_cast<std::ptrdiff_t>(ignored_why.size()), ignored.end());
   const bool no_wrench = m.wrench.empty() && !ignored.empty();
   m.roles = roles;
   if (renamed.empty() && ignored_why.empty() && !no_wrench) return m;

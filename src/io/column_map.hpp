@@ -30,6 +30,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "massid/core/model.hpp"
@@ -69,6 +70,8 @@ struct ColumnMap {
   // [columns] the role each column is read as (its own name unless bound or
   // spelled otherwise; "" for a column a binding displaced or a group ignored).
   std::vector<std::string> roles;
+  // Columns not read, under their own names (a misspelled joint among them).
+  std::vector<std::string> unread;
 };
 
 // Binds `header` (the column names) to `model`, with the roles that
@@ -81,6 +84,14 @@ struct ColumnMap {
 ColumnMap map_columns(const Model& model, const std::vector<std::string>& header,
                       const std::string& where, WrenchColumns wrench, const ColumnNames& names = {},
                       bool sensor_motion = true);
+
+// The joints of model.joints (below the sensor link) that `header` has no
+// position column for (JOINT, JOINT_deg, or a role `names` binds), each at
+// its reference position: 0, or the limit nearest to 0 when 0 is outside the
+// limits. Model::joints order.
+std::vector<std::pair<std::string, double>> unlogged_joints(const Model& model,
+                                                            const std::vector<std::string>& header,
+                                                            const ColumnNames& names);
 
 // The wrench role (0..5: fx fy fz mx my mz) a recorder's spelling of a column
 // name stands for, or -1 (the canonical names themselves: -1). The one table

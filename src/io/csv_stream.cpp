@@ -66,15 +66,7 @@ int line_number(std::string_view text, size_t pos) {
   return 1 + static_cast<int>(std::count(text.begin(), text.begin() + pos, '\n'));
 }
 
-namespace {
-
-// bind_columns, and with require_rows false bind_header.
-SampleColumns bind(const Model& model, std::string_view text, const std::string& source,
-                   const SampleOptions& options, bool motion, bool require_rows) {
-  SampleColumns c;
-  c.source = source;
-  c.g0 = options.g0;
-  c.root_gravity = options.root_gravity;
+void read_header(std::string_view text, const std::string& source, SampleColumns& c) {
   size_t pos = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // UTF-8 BOM
   int line_no = 0;
   std::vector<std::string> fields;
@@ -93,6 +85,19 @@ SampleColumns bind(const Model& model, std::string_view text, const std::string&
     break;
   }
   if (c.header.empty()) throw InputError(fmt::format("{}:1:1: empty file, no header row", source));
+}
+
+namespace {
+
+// bind_columns, and with require_rows false bind_header.
+SampleColumns bind(const Model& model, std::string_view text, const std::string& source,
+                   const SampleOptions& options, bool motion, bool require_rows) {
+  SampleColumns c;
+  c.source = source;
+  c.g0 = options.g0;
+  c.root_gravity = options.root_gravity;
+  read_header(text, source, c);
+  std::string_view line;
   // read_csv's check: at least one data row. (Rows are checked in full later;
   // a malformed row is reported when it is reached.)
   bool any = !require_rows;

@@ -86,6 +86,11 @@ struct SampleColumns {
   int gravity_value() const { return gravity; }
 };
 
+// The header alone: c.header, c.header_line and c.data_begin (the first line
+// neither blank nor a comment; a UTF-8 BOM skipped). InputError for an empty
+// file or a bad header.
+void read_header(std::string_view text, const std::string& source, SampleColumns& c);
+
 // Reads the header and binds it with map_columns (column_map.hpp; InputError
 // as read_csv/read_samples with WrenchColumns::Required, incl. "header but no
 // data rows"), with options.columns: every optional group is checked (the

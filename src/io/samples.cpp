@@ -8,6 +8,7 @@
 #include "core/argument_checks.hpp"
 #include "io/column_map.hpp"
 #include "io/csv_stream.hpp"
+#include "io/edit_distance.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/kinematics.hpp"
 #include "massid/io/csv.hpp"
@@ -189,6 +190,68 @@ std::string file_column_note(const Model& model, const std::string& path,
                              const SampleOptions& options) {
   const detail::MappedFile file(path);
   return detail::bind_header(model, file.text(), path, options, options.sensor_motion).note;
+}
+
+Model hold_unlogged_joints(Model model, const std::vector<std::string>& header,
+                           const std::string& where, const SampleOptions& options,
+                           std::optional<Warning>* note) {
+  if (note) note->reset();
+  const auto unlogged = detail::unlogged_joints(model, header, options.columns);
+  if (unlogged.empty()) return model;
+  model = hold_joints(std::move(model), unlogged);
+  if (!note) return model;
+  // Columns not read that look like a joint's: "joint" in the name, or
+  // within a few edits of a held joint's name (a suffix _deg/_vel/_acc aside).
+  std::vector<std::string> lookalikes;
+  const auto lower = [](std::string s) {
+    for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return s;
+  };
+  for (const std::string& name :
+       detail::map_columns(model, header, where, WrenchColumns::Optional, options.columns, false)
+           .unread) {
+    std::string stem = name;
+    for (const char* suffix : {"_deg", "_vel", "_acc"})
+      if (stem.size() > 4 && stem.ends_with(suffix)) stem.resize(stem.size() - 4);
+    const bool close = std::any_of(unlogged.begin(), unlogged.end(), [&](const auto& held) {
+      return detail::edit_distance(stem, held.first) <= std::max<size_t>(2, held.first.size() / 8);
+    });
+    if (close || lower(name).find("joint") != std::string::npos) lookalikes.push_back(name);
+  }
+  std::string names, positions;
+  constexpr size_t kShown = 8;
+  for (size_t i = 0; i < std::min(unlogged.size(), kShown); ++i)
+    names += fmt::format("{}{}", i ? ", " : "", unlogged[i].first);
+  if (unlogged.size() > kShown) names += fmt::format(" and {} more", unlogged.size() - kShown);
+  const bool all_zero = std::all_of(unlogged.begin(), unlogged.end(),
+                                    [](const auto& held) { return held.second == 0.0; });
+  std::string message = fmt::format(
+      "{}: {} joint{} below the sensor link '{}' {} no column and {} held still at {} ({}): "
+      "everything below the sensor is one rigid body while they do not move; to hold them "
+      "elsewhere, or to leave them free, give their positions or their columns",
+      where, unlogged.size(), unlogged.size() == 1 ? "" : "s", model.sensor_link(),
+      unlogged.size() == 1 ? "has" : "have", unlogged.size() == 1 ? "is" : "are",
+      all_zero ? "0" : "the URDF's reference position (0, or the limit nearest to 0)", names);
+  if (!lookalikes.empty()) {
+    std::string list;
+    for (size_t i = 0; i < lookalikes.size(); ++i) list += (i ? ", " : "") + lookalikes[i];
+    message += fmt::format(
+        "; columns not read that look like joints: {} (a misspelled joint "
+        "name? bind it to its joint)",
+        list);
+  }
+  *note = Warning{std::move(message),
+                  {{Hint::Setting::HoldJoints, ""}, {Hint::Setting::Columns, "JOINT=NAME"}}};
+  return model;
+}
+
+Model hold_unlogged_file_joints(Model model, const std::string& path, const SampleOptions& options,
+                                std::optional<Warning>* note) {
+  const detail::MappedFile file(path);
+  detail::SampleColumns c;
+  detail::read_header(file.text(), path, c);
+  return hold_unlogged_joints(std::move(model), c.header, fmt::format("{}:{}", path, c.header_line),
+                              options, note);
 }
 
 Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table) {

@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/edit_distance.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/model.hpp"
 #include "massid/io/urdf.hpp"
@@ -282,26 +283,10 @@ Joint make_joint(const urdf::JointConstSharedPtr& j, JointType type, int link,
   return joint;
 }
 
-// Levenshtein distance, for suggesting names.
-size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1 : 0)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 // "'a', 'b' or 'c'": the (at most five) names closest to `name`.
 std::string closest_names(const std::string& name, std::vector<std::string> names) {
   std::stable_sort(names.begin(), names.end(), [&](const std::string& x, const std::string& y) {
-    return edit_distance(name, x) < edit_distance(name, y);
+    return detail::edit_distance(name, x) < detail::edit_distance(name, y);
   });
   if (names.size() > 5) names.resize(5);
   std::string out;

@@ -107,6 +107,14 @@ std::string identify_report(const Model& model, const BaseParameters& base,
         "settled, at most {:.3g} s after a stop)\n",
         s.rest.windows.size(), s.rest.samples, s.rest.rows, s.rest.moving, s.rest.criterion,
         s.rest.trimmed, s.rest.longest_settling);
+  if (s.rest.quasi_static)
+    out += fmt::format(
+        "a continuous log, quasi-static throughout: the joints move at most {:.3g} rad/s, and the "
+        "largest inertial wrench that gives ({:.2g} N, {:.2g} N m with the URDF's inertials) is "
+        "below a quarter of the wrench noise ({:.2g} N, {:.2g} N m): all {} rows used (the rest "
+        "windows would keep {})\n",
+        s.rest.max_speed, s.rest.inertial_force, s.rest.inertial_moment, s.rest.noise_force,
+        s.rest.noise_moment, s.rest.rows, s.rest.windowed_samples);
   const int uw = base.motion() ? 6 : 5;  // "kg m^2"
   out += fmt::format("  {:<10} {:>14} {:>12} {:<{}} {}\n", "name", "value", "std", "unit", uw,
                      "expression");

@@ -88,7 +88,11 @@ struct BaseParameters {
 
 BaseParameters find_base_parameters(const Model& model, const BaseParameterOptions& options = {});
 
-// Readable form of sum coef * standard parameter, round-off cleaned.
+// Readable form of sum coef * standard parameter, round-off cleaned. One
+// parameter summed over every link of a model of more than
+// kAllLinksShortened links (a hand's total mass) reads
+// "m(all N links below SENSOR, itself included)".
+inline constexpr int kAllLinksShortened = 10;
 std::string format_expression(const Model& model, const std::vector<Term>& terms);
 
 }  // namespace massid

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "massid/core/model.hpp"
 #include "massid/core/samples.hpp"
 
 namespace massid {
@@ -32,6 +33,10 @@ struct RestWindowOptions {
   bool trim = true;
   double min_duration = 0.1;  // s: shorter windows are dropped
   double max_step = 0.1;      // s: a log sampled slower is a set of poses, not a continuous log
+  // With the model (find_rest_windows(model, ...)): a continuous log whose
+  // largest inertial force and moment stay below this share of the wrench's
+  // noise throughout is quasi-static: every row is a sample. 0: never.
+  double quasi_static = 0.25;
 };
 
 struct RestWindow {
@@ -47,6 +52,19 @@ struct RestWindows {
   std::string criterion;            // what showed the motion: "joints", "gravity", "wrench"
   int trimmed = 0;                  // rows the settling check cut from the windows
   double longest_settling = 0.0;    // s: the longest cut at a window's start
+  // A continuous log found quasi-static (find_rest_windows with the model):
+  // every row is a sample (continuous false, one window), and the numbers
+  // that justify it. Also filled, quasi_static false, when the check ran and
+  // found the motion too fast.
+  bool quasi_static = false;
+  bool inertia_checked = false;  // the check ran (the numbers below are set)
+  double max_speed = 0.0;  // the joints' largest speed (above and below the sensor), rad/s or m/s
+  double inertial_force =
+      0.0;  // N: the largest inertial force the motion produces (URDF inertials)
+  double inertial_moment = 0.0;  // N m: the same for the moment
+  double noise_force = 0.0;      // N: the force noise (the smallest of fx, fy, fz)
+  double noise_moment = 0.0;     // N m: the moment noise (the smallest of mx, my, mz)
+  int windowed_samples = 0;      // rows the rest windows would have kept
 };
 
 // The rest windows of `samples` (rows in time order; needs time for Auto).
@@ -74,6 +92,21 @@ struct RestWindows {
 // its end that are; `trimmed` counts the rows cut, and windows left shorter
 // than min_duration are dropped.
 RestWindows find_rest_windows(const Samples& samples, const RestWindowOptions& options = {});
+
+// The same, and for a continuous log the check whether it is quasi-static:
+// joints so slow throughout that the inertial wrench is far below the noise.
+// The joints' velocities and accelerations (above the sensor link too) are
+// central differences over `lag` of the positions and t; the inertial wrench
+// at each row is the motion regressor's at them with gravity zero
+// (regressor.hpp) times the URDF's inertials; the noise per channel is
+// 1.4826 median|second difference| / sqrt(6) of the wrench (a slow trend
+// cancels). When the largest inertial force and moment stay within
+// options.quasi_static of the smallest force and moment noise, every row is a
+// sample (quasi_static). Not for a log whose gravity turns without joints to
+// explain it (a tilting platform's motion is not in the model) or comes from
+// the force.
+RestWindows find_rest_windows(const Model& model, const Samples& samples,
+                              const RestWindowOptions& options = {});
 
 // The samples inside the windows (all of them when !windows.continuous).
 Samples rest_samples(const Samples& samples, const RestWindows& windows);

@@ -3,10 +3,12 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "massid/core/errors.hpp"
 #include "massid/core/model.hpp"
 #include "massid/core/samples.hpp"
 #include "massid/io/csv.hpp"
@@ -97,6 +99,26 @@ std::string file_column_note(const Model& model, const std::string& path,
 // with these options.
 std::vector<std::string> column_roles(const Model& model, const std::vector<std::string>& header,
                                       const SampleOptions& options);
+
+// The joints below the sensor link that a log has no column for (not under
+// its name, as JOINT_deg, nor bound by options.columns), held still at their
+// URDF reference position: 0, or the limit nearest to 0 when 0 is outside the
+// limits (hold_joints; Model::held records them, so a params file does too).
+// For a fit, everything below the sensor is one rigid body while they do not
+// move, so a hand's unlogged finger joints need no column. Joints the log has
+// stay free; a joint above the sensor link without its column is read_samples'
+// error as before. `note` (when not null): set when any joint was held, saying
+// how many, which, how to set them otherwise (the hints: hold them at other
+// values, or give their columns) and the columns not read that look like
+// joint columns (a misspelled joint would otherwise be held silently); unset
+// when none was held. `header` as read_samples takes it; `where` starts the
+// note.
+Model hold_unlogged_joints(Model model, const std::vector<std::string>& header,
+                           const std::string& where, const SampleOptions& options,
+                           std::optional<Warning>* note = nullptr);
+// The same for a data file's header (read alone).
+Model hold_unlogged_file_joints(Model model, const std::string& path, const SampleOptions& options,
+                                std::optional<Warning>* note = nullptr);
 
 // [N x num_joints] joint columns (named as the joint, or JOINT_deg in degrees).
 Eigen::MatrixXd read_joint_columns(const Model& model, const CsvTable& table);
