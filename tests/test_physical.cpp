@@ -52,6 +52,7 @@ void expect_consistent(const Model& model, const Eigen::VectorXd& pi) {
   for (int l = 0; l < model.num_links(); ++l) {
     SCOPED_TRACE(model.links[l].name);
     const Body b = body_of(pi, l);
+    if (pi.segment<10>(10 * l).isZero(0.0)) continue;  // a massless frame (PhysicalLink::unseen)
     EXPECT_GT(b.m, 0.0);
     Eigen::Matrix4d J = Eigen::Matrix4d::Zero();
     J.topLeftCorner<3, 3>() = 0.5 * b.I.trace() * Eigen::Matrix3d::Identity() - b.I;
@@ -124,11 +125,17 @@ TEST(Physical, WellExcitedLogIsReproducedWithinItsStdByConsistentBodies) {
   for (int l = 0; l < f.model.num_links(); ++l) {
     const Body b = body_of(p.standard, l);
     EXPECT_NEAR(p.links[l].mass, b.m, 1e-12 * b.m);
-    EXPECT_LT((p.links[l].com - b.h / b.m).norm(), 1e-12);
+    if (b.m > 0) {
+      EXPECT_LT((p.links[l].com - b.h / b.m).norm(), 1e-12);
+    }
   }
-  // The sensor link has no <inertial>: its prior is the tiny body.
+  // The sensor link has no <inertial>: its prior is the tiny body, which the
+  // data leave alone: a massless frame, all ten zero.
   EXPECT_TRUE(p.links[0].prior_body);
+  EXPECT_TRUE(p.links[0].unseen);
+  EXPECT_TRUE(p.standard.head<10>().isZero(0.0));
   EXPECT_FALSE(p.links[1].prior_body);
+  EXPECT_FALSE(p.links[1].unseen);
 }
 
 // Directions the data cannot see keep the URDF's values: on a level platform

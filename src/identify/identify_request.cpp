@@ -112,7 +112,10 @@ IdentifyOptions IdentifyRequest::options() const {
     o.delay_auto = true;
   else if (!delay.empty())
     o.delay = seconds(delay);
-  if (physical) o.physical = PhysicalOptions{};
+  if (physical) {
+    o.physical = PhysicalOptions{};
+    if (physical_iterations > 0) o.physical->max_iterations = physical_iterations;
+  }
   return o;
 }
 
