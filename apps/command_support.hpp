@@ -40,6 +40,7 @@ struct MotionFlags {
   std::string root_gravity;               // --root-gravity gx,gy,gz
   std::string gravity_model = "varying";  // model --dynamic: --gravity-model level|varying
   bool sensor_moving = false;             // model --dynamic --moving-sensor
+  bool sensor_at_rest = false;            // model --dynamic --sensor-at-rest
   // The same options for `python -m massid.report predict`.
   std::vector<std::string> report_args() const {
     std::vector<std::string> a;

@@ -21,6 +21,9 @@
 
 namespace massid::cli {
 
+// The physical fit did not converge (docs/cli.md's exit codes).
+constexpr int kExitNotConverged = 4;
+
 void add_identify_command(CLI::App& app, IdentifyCommand& c) {
   c.app = app.add_subcommand("identify", "Estimate the base parameters from a data CSV");
   CLI::App* i = c.app;
@@ -57,6 +60,12 @@ void add_identify_command(CLI::App& app, IdentifyCommand& c) {
   i->add_option("--urdf-out", c.urdf_out,
                 "Also write the URDF with the identified inertials (implies --physical; "
                 "everything but the measured links' <inertial> elements kept byte for byte)");
+  i->add_option("--physical-iterations", c.physical_iterations,
+                "The physical fit's solver limit (default 500; implies --physical)")
+      ->check(CLI::PositiveNumber);
+  i->add_flag("--accept-unconverged", c.accept_unconverged,
+              "Write --urdf-out and exit 0 even when the physical fit did not converge (with a "
+              "warning; without: exit 4 and no URDF)");
   i->add_option("--report", c.report,
                 "Also write an HTML report (plots; needs Python with matplotlib)");
   i->add_flag("--dynamic", c.dynamic,
@@ -83,7 +92,8 @@ IdentifyRequest IdentifyCommand::request() const {
   if (app->count("--cutoff")) r.cutoff = cutoff;
   r.checks = !no_checks;
   r.robust = robust;
-  r.physical = physical || !urdf_out.empty();
+  r.physical = physical || !urdf_out.empty() || physical_iterations > 0;
+  r.physical_iterations = physical_iterations;
   if (app->count("--sigma-force")) r.sigma_force = sigma_force;
   if (app->count("--sigma-moment")) r.sigma_moment = sigma_moment;
   if (!root_gravity.empty())
@@ -132,7 +142,19 @@ int run_identify(const IdentifyCommand& c) {
   std::cout << identify_report(ident.model, ident.base, summary, c.data);
   if (ident.physical) std::cout << physical_report(ident.base, *ident.physical, spell);
   std::cout << "wrote " << c.output << "\n";
-  if (!c.urdf_out.empty()) {
+  // A physical fit that did not converge: said, and no URDF from it unless accepted.
+  const bool unconverged = ident.physical && !ident.physical->converged;
+  if (unconverged)
+    std::cerr << fmt::format(
+        "massid: warning: the physical fit did not converge ({} iterations: {}): its bodies are "
+        "written under \"physical\" with \"converged\": false{}; raise the limit with "
+        "--physical-iterations N{}\n",
+        ident.physical->iterations, ident.physical->message,
+        c.urdf_out.empty()     ? ""
+        : c.accept_unconverged ? fmt::format(", and to {} (--accept-unconverged)", c.urdf_out)
+                               : fmt::format(", {} is not written", c.urdf_out),
+        c.accept_unconverged ? "" : ", or accept them with --accept-unconverged (exit 0)");
+  if (!c.urdf_out.empty() && (!unconverged || c.accept_unconverged)) {
     const bool rest = ident.physical->static_layout;
     write_file_atomically(
         c.urdf_out,
@@ -147,8 +169,12 @@ int run_identify(const IdentifyCommand& c) {
         c.urdf_out, c.urdf,
         rest ? "masses and centres of mass" : "masses, centres of mass, inertias");
   }
-  if (!c.report.empty()) return run_identify_report(ident, c.report);
-  return 0;
+  const int code = unconverged && !c.accept_unconverged ? kExitNotConverged : 0;
+  if (!c.report.empty()) {
+    const int report = run_identify_report(ident, c.report);
+    return report != 0 ? report : code;
+  }
+  return code;
 }
 
 }  // namespace massid::cli

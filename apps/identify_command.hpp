@@ -18,7 +18,9 @@ struct IdentifyCommand {
   std::vector<std::string> fixed;    // --fixed JOINT=VALUE
   std::vector<std::string> columns;  // --columns ROLE=NAME,...
   double cutoff = 0.0, sigma_force = 0.0, sigma_moment = 0.0;
+  int physical_iterations = 0;  // --physical-iterations (0: the solver's default)
   bool offset = false, dynamic = false, robust = false, physical = false, no_checks = false;
+  bool accept_unconverged = false;
 
   // The options as a request (not yet validated).
   IdentifyRequest request() const;

@@ -1,6 +1,7 @@
 #include "model_command.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <iostream>
 
@@ -20,10 +21,32 @@ namespace {
 int run_model(const ModelCommand& c, bool offset, bool as_json, const MotionFlags& motion) {
   const Model model = hold_joints(load_urdf(c.urdf, c.sensor), parse_held(c.fixed));
   BaseParameterOptions opts;
+  std::string assumption;  // the sensor frame's motion, said (text output)
   if (motion.dynamic) {
     opts.layout = ParameterLayout::full();
     opts.fixed_gravity = motion.gravity_model == "level";
-    opts.sensor_moving = motion.sensor_moving;
+    // Below movable joints the sensor frame moves with them, as identify in
+    // motion counts (their motion excites the measured bodies), unless told it rests.
+    const bool below = model.num_upstream_joints() > 0;
+    if (motion.sensor_moving && motion.sensor_at_rest)
+      throw InputError("--moving-sensor and --sensor-at-rest contradict each other: give one");
+    opts.sensor_moving = motion.sensor_moving || (below && !motion.sensor_at_rest);
+    if (below) {
+      std::vector<std::string> names;
+      for (const Joint& j : model.upstream_joints) names.push_back(j.name);
+      const std::string joints = fmt::format("{}", fmt::join(names, ", "));
+      assumption =
+          motion.sensor_at_rest
+              ? fmt::format(
+                    "assumed: the sensor frame at rest (--sensor-at-rest): the joints above "
+                    "sensor link '{}' ({}) held still, only the joints below it move\n",
+                    model.sensor_link(), joints)
+              : fmt::format(
+                    "assumed: the sensor frame moving with the joints above sensor link '{}' "
+                    "({}), as identify counts a log with their columns; --sensor-at-rest for "
+                    "those joints held still\n",
+                    model.sensor_link(), joints);
+    }
     // The root frame's gravity as the sensor frame sees it.
     if (opts.fixed_gravity)
       opts.sensor_gravity = fixed_sensor_gravity(model, motion.data().samples.root_gravity);
@@ -36,7 +59,9 @@ int run_model(const ModelCommand& c, bool offset, bool as_json, const MotionFlag
         "'{}'): the base parameters are the URDF's structure only; simulate cannot make data "
         "from it, and identify judges units by the robot's size alone\n",
         c.urdf, model.sensor_link());
-  std::cout << (as_json ? params_json(model, base, nullptr) : model_report(model, base));
+  if (as_json && !assumption.empty()) std::cerr << "massid: note: " << assumption;
+  std::cout << (as_json ? params_json(model, base, nullptr)
+                        : assumption + model_report(model, base));
   return 0;
 }
 
@@ -61,7 +86,11 @@ void add_model_command(CLI::App& app, ModelCommand& c) {
                    "Deprecated spelling of --gravity-model (level|varying)")
       ->check(CLI::IsMember({"level", "varying"}));
   model->add_flag("--moving-sensor", c.motion.sensor_moving,
-                  "With --dynamic: the sensor frame itself moves (platform, upstream joints)");
+                  "With --dynamic: the sensor frame itself moves (platform, upstream joints; the "
+                  "default for a sensor below movable joints)");
+  model->add_flag("--sensor-at-rest", c.motion.sensor_at_rest,
+                  "With --dynamic and a sensor below movable joints: count with those joints "
+                  "held still (the sensor frame at rest)");
 }
 
 int run_model(ModelCommand c) {

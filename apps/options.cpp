@@ -66,10 +66,11 @@ std::vector<std::pair<std::string, double>> parse_held(const std::vector<std::st
 }
 
 void add_columns_option(CLI::App* sub, std::vector<std::string>& items) {
-  sub->add_option("--columns", items,
-                  "Read columns of other names as roles: ROLE=NAME,... (e.g. mx=tx,my=ty,mz=tz; "
-                  "roles fx..mz, gx..gz, t, block, wx..az, dwx..dwz, tilt_x_deg, tilt_y_deg, "
-                  "JOINT, JOINT_deg, JOINT_vel, JOINT_acc); repeatable")
+  sub->add_option(
+         "--columns", items,
+         "Read columns of other names as roles: ROLE=NAME,... (e.g. mx=tx,my=ty,mz=tz; "
+         "roles fx..mz, gx..gz, t, block, wx..az, dwx..dwz, tilt_x_deg, tilt_y_deg, "
+         "JOINT, JOINT_deg, JOINT_vel, JOINT_acc, JOINT_deg_vel, JOINT_deg_acc); repeatable")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }

@@ -781,9 +781,10 @@ TEST_F(Cli, SimulateRepeatHoldsEachPoseForNSamples) {
 
 TEST_F(Cli, GravityFromForceIsAnnounced) {
   Table t = read_table(puma_data());
-  for (const char* g : {"gz", "gy", "gx"}) {
+  // No gx,gy,gz, nor the plan's tilt columns (they would give gravity).
+  for (const char* g : {"gz", "gy", "gx", "tilt_x_deg", "tilt_y_deg"}) {
     const int c = t.col(g);
-    ASSERT_GE(c, 0);
+    if (c < 0) continue;
     t.header.erase(t.header.begin() + c);
     for (auto& row : t.rows) row.erase(row.begin() + c);
   }

@@ -5,11 +5,18 @@
 // checked against the URDF (total mass, the base parameters' true values
 // from `model --dynamic`'s terms evaluated on the URDF's inertials) and
 // against the simulated wrench, not against massid's own output.
+#include <fmt/format.h>
+
 #include <Eigen/Core>
+#include <Eigen/SVD>
+#include <cmath>
+#include <random>
 
 #include "cli_support.hpp"
+#include "massid/core/kinematics.hpp"
 #include "massid/core/model.hpp"
 #include "massid/core/parameters.hpp"
+#include "massid/core/regressor.hpp"
 #include "massid/io/urdf.hpp"
 
 namespace massid_cli_test {
@@ -141,10 +148,78 @@ TEST_F(CliMotion, ToolOnAWristSensorFromTheArmJoints) {
   const json params = json::parse(read_file(path("tool.json")));
   EXPECT_EQ(params["base_parameters"].size(), 10u);  // all ten of the tool
   EXPECT_EQ(params["motion"]["sensor_moving"], true);
+  // The joints whose columns the fit used: the arm's, above the sensor link.
+  const std::vector<std::string> arm{"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                                     "wrist_1_joint",      "wrist_2_joint",       "wrist_3_joint"};
+  EXPECT_EQ(params["joints"].get<std::vector<std::string>>(), arm);
+  EXPECT_EQ(params["upstream_joints"].get<std::vector<std::string>>(), arm);
   const massid::Model wrist = massid::load_urdf(kUrUrdf, "wrist_3_link");
   for (const auto& q : params["base_parameters"])
     EXPECT_NEAR(q["value"].get<double>(), true_value(wrist, q), 4 * q["std"].get<double>())
         << q["name"] << " = " << q["expression"];
+}
+
+// A log in degrees throughout (JOINT_deg, JOINT_deg_vel, JOINT_deg_acc) is
+// read as the same log in radians: the same fit. A _vel column scaled 2x (a
+// driver's unit) is refused by joint-derivatives, naming the column and the
+// scale; --no-checks lets it through.
+TEST_F(CliMotion, DegreesThroughoutAndAScaledVelocityColumn) {
+  const std::string log = simulate(trajectory("traj.csv", 11, 6.0, 250.0), "log.csv",
+                                   {"--noise-force", "0.05", "--noise-moment", "0.005"});
+  const Table rad = read_table(log);
+  const massid::Model model = massid::load_urdf(kUrUrdf);
+  Table deg = rad;
+  for (const massid::Joint& j : model.joints)
+    for (const std::string suffix : {"", "_vel", "_acc"}) {
+      const int c = deg.col(j.name + suffix);
+      ASSERT_GE(c, 0) << j.name << suffix;
+      deg.header[c] = j.name + "_deg" + suffix;
+      for (auto& row : deg.rows) row[c] = fmt::format("{:.17g}", std::stod(row[c]) * 180.0 / M_PI);
+    }
+  write_file(path("deg.csv"), to_csv(deg));
+  Result r = run({"identify", kUrUrdf, log, "--dynamic", "-o", path("rad.json")});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"identify", kUrUrdf, path("deg.csv"), "--dynamic", "-o", path("deg.json")});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_EQ(r.out.find("derived from t"), std::string::npos) << r;  // the columns were read
+  const json a = json::parse(read_file(path("rad.json")));
+  const json b = json::parse(read_file(path("deg.json")));
+  ASSERT_EQ(a["base_parameters"].size(), b["base_parameters"].size());
+  for (size_t i = 0; i < a["base_parameters"].size(); ++i) {
+    const double va = a["base_parameters"][i]["value"].get<double>();
+    const double sa = a["base_parameters"][i]["std"].get<double>();
+    EXPECT_NEAR(b["base_parameters"][i]["value"].get<double>(), va, 1e-6 * (std::abs(va) + sa))
+        << a["base_parameters"][i]["name"];
+  }
+
+  // shoulder_lift_joint_vel twice the derivative of shoulder_lift_joint.
+  Table twice = rad;
+  const int v = twice.col("shoulder_lift_joint_vel");
+  for (auto& row : twice.rows) row[v] = fmt::format("{:.17g}", 2 * std::stod(row[v]));
+  write_file(path("twice.csv"), to_csv(twice));
+  r = run({"identify", kUrUrdf, path("twice.csv"), "--dynamic", "-o", path("twice.json")});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_NE(r.err.find("column 'shoulder_lift_joint_vel' is 2 times the derivative of column "
+                       "'shoulder_lift_joint'"),
+            std::string::npos)
+      << r;
+  EXPECT_FALSE(fs::exists(path("twice.json")));
+  r = run({"identify", kUrUrdf, path("twice.csv"), "--dynamic", "--no-checks", "-o",
+           path("twice.json")});
+  EXPECT_EQ(r.code, 0) << r;
+  // The degrees log with its velocities declared as rad/s: 57.3, and the fix.
+  Table undeclared = deg;
+  for (std::string& h : undeclared.header)
+    if (h.size() > 8 && h.compare(h.size() - 8, 8, "_deg_vel") == 0)
+      h = h.substr(0, h.size() - 8) + "_vel";
+  write_file(path("undeclared.csv"), to_csv(undeclared));
+  r = run({"identify", kUrUrdf, path("undeclared.csv"), "--dynamic", "-o", path("u.json")});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_NE(r.err.find("'elbow_joint_vel' is 57.3 times the derivative of column "
+                       "'elbow_joint_deg'"),
+            std::string::npos)
+      << r;
+  EXPECT_NE(r.err.find("declare it as 'elbow_joint_deg_vel'"), std::string::npos) << r;
 }
 
 TEST_F(CliMotion, MotionLogErrorsNameTheFileAndLine) {
@@ -178,6 +253,119 @@ TEST_F(CliMotion, ModelDynamicPrintsTheCounts) {
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("base parameters: 44"), std::string::npos) << r;
   EXPECT_NE(r.out.find("kg m^2"), std::string::npos) << r;
+}
+
+// The rank of the motion regressor stacked over random samples of a sensor
+// below movable joints, computed here: the joints above the sensor link at
+// random positions, moving (random velocities and accelerations: the sensor
+// frame's motion and gravity from them) or held still (gravity still turned
+// by their positions); the joints below at random. Columns scaled to unit
+// norm, rank = singular values above 1e-9 of the largest.
+int wrist_regressor_rank(const massid::Model& m, bool upstream_moves) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const int cols = massid::ParameterLayout::full().size(m), S = 400;
+  const int nu = m.num_upstream_joints(), nj = m.num_joints();
+  massid::KinematicsData kin(m);
+  Eigen::MatrixXd Ys(6 * S, cols), Y(6, cols);
+  for (int s = 0; s < S; ++s) {
+    Eigen::VectorXd qu(nu), qdu = Eigen::VectorXd::Zero(nu), qddu = Eigen::VectorXd::Zero(nu);
+    for (int j = 0; j < nu; ++j) {
+      qu[j] = -3.0 + 6.0 * u(rng);
+      if (upstream_moves) {
+        qdu[j] = n(rng);
+        qddu[j] = 3.0 * n(rng);
+      }
+    }
+    Eigen::VectorXd q(nj), qd(nj), qdd(nj);
+    for (int j = 0; j < nj; ++j) {
+      q[j] = m.joints[j].generic_position(u(rng));
+      qd[j] = n(rng);
+      qdd[j] = 3.0 * n(rng);
+    }
+    const massid::SensorPose pose = massid::upstream_kinematics(m, qu, qdu, qddu);
+    const Eigen::Vector3d g = pose.rotation.transpose() * Eigen::Vector3d(0, 0, -9.80665);
+    massid::forward_kinematics(m, kin, q, qd, qdd, g, pose.motion);
+    massid::motion_regressor(m, kin, Y);
+    Ys.middleRows(6 * s, 6) = Y;
+  }
+  double largest = 0;
+  for (int c = 0; c < cols; ++c) largest = std::max(largest, Ys.col(c).norm());
+  Eigen::MatrixXd Z(Ys.rows(), 0);
+  for (int c = 0; c < cols; ++c)
+    if (Ys.col(c).norm() > 1e-10 * largest) {
+      Z.conservativeResize(Eigen::NoChange, Z.cols() + 1);
+      Z.col(Z.cols() - 1) = Ys.col(c) / Ys.col(c).norm();
+    }
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(Z).singularValues();
+  return static_cast<int>((sv.array() > 1e-9 * sv[0]).count());
+}
+
+// A UR5 (as published) with a sensor `ft_sensor` on tool0 and a Robotiq 2F-85 on it.
+std::string ur5_with_gripper(const std::string& dir) {
+  const auto body = [](const std::string& text) {
+    const size_t open = text.find('>', text.find("<robot"));
+    return text.substr(open + 1, text.rfind("</robot>") - open - 1);
+  };
+  const std::string robots = kSource + "/tests/data/robots/";
+  const std::string text =
+      "<?xml version=\"1.0\"?>\n<robot name=\"ur5_gripper\">\n" +
+      body(read_file(robots + "ur5_robot.urdf")) + body(read_file(robots + "robotiq_2f_85.urdf")) +
+      "  <link name=\"ft_sensor\"/>\n"
+      "  <joint name=\"tool0_to_sensor\" type=\"fixed\"><parent link=\"tool0\"/>"
+      "<child link=\"ft_sensor\"/><origin xyz=\"0 0 0.02\" rpy=\"0 0 0\"/></joint>\n"
+      "  <joint name=\"sensor_to_gripper\" type=\"fixed\"><parent link=\"ft_sensor\"/>"
+      "<child link=\"robotiq_85_base_link\"/><origin xyz=\"0 0 0.02\" rpy=\"0 0 0\"/></joint>\n"
+      "</robot>\n";
+  const std::string path = dir + "/ur5_gripper.urdf";
+  write_file(path, text);
+  return path;
+}
+
+// model --dynamic for a sensor below movable joints counts as identify does
+// (the sensor frame moving with them) and says so; --sensor-at-rest counts
+// with them held still and says so. Both counts are the rank computed here.
+TEST_F(CliMotion, ModelCountsAWristSensorAsIdentifyDoes) {
+  const std::string ur5 = ur5_with_gripper(path("."));
+  struct Case {
+    std::string urdf, sensor;
+    std::vector<std::string> extra;
+  };
+  for (const Case& c :
+       {Case{ur5, "ft_sensor", {}}, Case{ur5, "ft_sensor", {"--fixed", "finger_joint=0.3"}},
+        Case{kUrUrdf, "wrist_2_link", {}}}) {
+    SCOPED_TRACE(c.sensor + (c.extra.empty() ? "" : " held"));
+    massid::Model m = massid::load_urdf(c.urdf, c.sensor);
+    if (!c.extra.empty()) m = massid::hold_joints(m, {{"finger_joint", 0.3}});
+    ASSERT_GT(m.num_upstream_joints(), 0);
+    for (const bool at_rest : {false, true}) {
+      std::vector<std::string> args{"model", c.urdf, "--dynamic", "--sensor", c.sensor};
+      args.insert(args.end(), c.extra.begin(), c.extra.end());
+      if (at_rest) args.push_back("--sensor-at-rest");
+      Result r = run(args);
+      ASSERT_EQ(r.code, 0) << r;
+      EXPECT_NE(r.out.find(at_rest ? "assumed: the sensor frame at rest (--sensor-at-rest)"
+                                   : "assumed: the sensor frame moving with the joints above "
+                                     "sensor link '" +
+                                         c.sensor + "'"),
+                std::string::npos)
+          << r;
+      args.push_back("--json");
+      r = run(args);
+      ASSERT_EQ(r.code, 0) << r;
+      const int count = static_cast<int>(json::parse(r.out)["base_parameters"].size());
+      EXPECT_EQ(count, wrist_regressor_rank(m, !at_rest)) << (at_rest ? "at rest" : "moving");
+    }
+  }
+  // The rigid tool (the gripper held): all ten of it, as identify finds.
+  const Result r = run({"model", ur5, "--dynamic", "--sensor", "ft_sensor", "--fixed",
+                        "finger_joint=0.3", "--json"});
+  EXPECT_EQ(json::parse(r.out)["base_parameters"].size(), 10u) << r;
+  EXPECT_EQ(run({"model", ur5, "--dynamic", "--sensor", "ft_sensor", "--sensor-at-rest",
+                 "--moving-sensor"})
+                .code,
+            2);
 }
 
 TEST_F(CliMotion, OldSpellingsStillWorkAndWarn) {

@@ -23,6 +23,10 @@ void expect_consistent_links(const json& links, size_t count) {
     EXPECT_EQ(p.size(), 10u);
     for (const char* k : kKinds) ASSERT_TRUE(p.contains(k)) << k;
     const double m = p["m"];
+    if (m == 0.0) {  // a massless frame (massless_links): all ten zero
+      for (const char* k : kKinds) EXPECT_EQ(p[k].get<double>(), 0.0) << k;
+      continue;
+    }
     EXPECT_GT(m, 0.0);
     Eigen::Matrix3d I;
     I << p["ixx"], p["ixy"], p["ixz"], p["ixy"], p["iyy"], p["iyz"], p["ixz"], p["iyz"], p["izz"];
@@ -100,7 +104,8 @@ TEST_F(CliPhysical, DynamicIdentifyPrintsTheTableAndPredictUsesIt) {
   EXPECT_NE(r.out.find("forearm_link"), std::string::npos) << r;
   EXPECT_NE(r.out.find("worst base-parameter mismatch"), std::string::npos) << r;
   EXPECT_NE(r.out.find("within std"), std::string::npos) << r;
-  EXPECT_NE(r.out.find("tiny prior body"), std::string::npos) << r;  // the sensor link
+  EXPECT_NE(r.out.find("no mass in the URDF, fixed to a neighbour: massless"), std::string::npos)
+      << r;  // the sensor link
   const json p = json::parse(read_file(path("params.json")));
   ASSERT_TRUE(p.contains("physical")) << p.dump(1);
   expect_consistent_links(p["physical"]["links"], 10);
@@ -236,6 +241,90 @@ TEST_F(CliUrdfOut, DynamicIdentifiedUrdfReproducesThePhysicalPrediction) {
   const Result bad = run({"identify", kUrUrdf, path("log.csv"), "--dynamic", "-o", path("p2.json"),
                           "--urdf-out", path("no/such/dir/x.urdf")});
   EXPECT_EQ(bad.code, 2) << bad;
+}
+
+// The text of <link name="NAME"> .. its end in a URDF ("" when absent).
+std::string physical_link_text(const std::string& urdf, const std::string& name) {
+  const size_t at = urdf.find("<link name=\"" + name + "\"");
+  if (at == std::string::npos) return "";
+  const size_t self = urdf.find("/>", at), open = urdf.find('>', at);
+  if (self != std::string::npos && self + 1 == open) return urdf.substr(at, self + 2 - at);
+  return urdf.substr(at, urdf.find("</link>", at) + 7 - at);
+}
+
+// The UR5 as published: root `world` without <inertial>, the massless frames
+// ee_link, base and tool0 (mass 0). Identified at rest, the identified URDF
+// leaves them as they were (no 2 g bodies, no root inertial), the physical
+// section says they are massless (all ten 0), and the file still reproduces
+// predict --physical.
+TEST_F(CliUrdfOut, MasslessFramesStayMasslessAndTheRootGetsNoInertial) {
+  const std::string ur5 = kSource + "/tests/data/robots/ur5_robot.urdf";
+  ASSERT_EQ(run({"design", ur5, "-o", path("plan.csv"), "--poses", "60", "--tilt-max", "25",
+                 "--seed", "1"})
+                .code,
+            0);
+  ASSERT_EQ(run({"simulate", ur5, path("plan.csv"), "-o", path("data.csv"), "--noise-force", "0.05",
+                 "--noise-moment", "0.005", "--seed", "1"})
+                .code,
+            0);
+  const Result r = run({"identify", ur5, path("data.csv"), "-o", path("params.json"), "--urdf-out",
+                        path("ur5_identified.urdf")});
+  ASSERT_EQ(r.code, 0) << r;
+  const std::string in = read_file(ur5), out = read_file(path("ur5_identified.urdf"));
+  EXPECT_EQ(physical_link_text(out, "world"), "<link name=\"world\"/>");
+  for (const char* frame : {"ee_link", "tool0", "base"}) {
+    EXPECT_NE(physical_link_text(out, frame), "") << frame;
+    EXPECT_EQ(physical_link_text(out, frame), physical_link_text(in, frame)) << frame;
+  }
+  EXPECT_NE(physical_link_text(out, "wrist_3_link").find("identified by massid"),
+            std::string::npos);
+  const json params = json::parse(read_file(path("params.json")));
+  const json& massless = params["physical"]["massless_links"];
+  for (const char* frame : {"ee_link", "tool0", "base", "world"}) {
+    EXPECT_NE(std::find(massless.begin(), massless.end(), frame), massless.end()) << frame;
+    for (const auto& [kind, v] : params["physical"]["links"][frame].items())
+      EXPECT_EQ(v.get<double>(), 0.0) << frame << " " << kind;
+  }
+  EXPECT_EQ(params["physical"]["consistent"], true);
+  ASSERT_EQ(
+      run({"simulate", path("ur5_identified.urdf"), path("plan.csv"), "-o", path("sim.csv")}).code,
+      0);
+  ASSERT_EQ(run({"predict", ur5, path("params.json"), path("data.csv"), "-o", path("pred.csv"),
+                 "--physical"})
+                .code,
+            0);
+  expect_same_wrench(path("sim.csv"), path("pred.csv"));
+}
+
+// A physical fit stopped before it converged (--physical-iterations 1): a
+// warning, the params file with "converged": false, no URDF and exit 4;
+// --accept-unconverged writes the URDF, warns and exits 0.
+TEST_F(CliUrdfOut, UnconvergedPhysicalFitWarnsAndExits4) {
+  ASSERT_EQ(run({"simulate", kPumaUrdf, kPumaPlan, "-o", path("data.csv"), "--noise-force", "0.05",
+                 "--noise-moment", "0.005", "--seed", "1"})
+                .code,
+            0);
+  Result r = run({"identify", kPumaUrdf, path("data.csv"), "-o", path("params.json"), "--urdf-out",
+                  path("x.urdf"), "--physical-iterations", "1"});
+  EXPECT_EQ(r.code, 4) << r;
+  EXPECT_NE(r.err.find("massid: warning: the physical fit did not converge (1 iterations"),
+            std::string::npos)
+      << r;
+  EXPECT_NE(r.err.find("is not written"), std::string::npos) << r;
+  EXPECT_NE(r.err.find("--accept-unconverged"), std::string::npos) << r;
+  EXPECT_FALSE(fs::exists(path("x.urdf")));
+  const json params = json::parse(read_file(path("params.json")));
+  EXPECT_EQ(params["physical"]["solver"]["converged"], false);
+  EXPECT_EQ(params["physical"]["solver"]["iterations"], 1);
+  r = run({"identify", kPumaUrdf, path("data.csv"), "-o", path("params2.json"), "--urdf-out",
+           path("x.urdf"), "--physical-iterations", "1", "--accept-unconverged"});
+  EXPECT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.err.find("did not converge"), std::string::npos) << r;
+  EXPECT_TRUE(fs::exists(path("x.urdf")));
+  // The default limit converges: no warning.
+  r = run({"identify", kPumaUrdf, path("data.csv"), "-o", path("params3.json"), "--physical"});
+  EXPECT_EQ(r.code, 0) << r;
+  EXPECT_EQ(r.err.find("did not converge"), std::string::npos) << r;
 }
 
 }  // namespace

@@ -91,6 +91,7 @@ TEST_F(PumaDesign, LevelPosesKeepANegatedFzVisibleAndWhatTheyCost) {
     o.tilt_max = 25 * kDeg;
     o.tilt_groups = 4;
     o.level_poses = c.level;
+    o.position_margin = 0.0;  // the joints' whole range: what the level poses cost, alone
     const DesignSummary d = design(model, base, o);
     Samples s = as_samples(d.plan);
     const double paper = test::paper_condition_number(s);

@@ -578,5 +578,118 @@ TEST(SetupChecks, HeadOfABigFileIsReadInPiecesWithTheFilesLines) {
   std::remove(path.c_str());
 }
 
+// joint-derivatives: a PUMA log in motion (q = sum of sines, with its exact
+// derivatives) passes; its _vel scaled 2x, its _acc in deg/s^2 read as rad/s^2
+// or negated are refused, naming the column, the scale and the fix. The same
+// log as a file in degrees throughout (JOINT_deg, JOINT_deg_vel,
+// JOINT_deg_acc) is read as radians by the streamed reader and by read_samples.
+Samples derivatives_motion(const Model& model) {
+  Samples s;
+  const int n = 2000, nj = model.num_joints();
+  s.q.resize(n, nj);
+  s.qd.resize(n, nj);
+  s.qdd.resize(n, nj);
+  s.gravity = Eigen::MatrixXd::Zero(n, 3);
+  s.gravity.col(2).setConstant(-9.80665);
+  s.time.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const double t = 0.004 * i;
+    s.time[i] = t;
+    s.line.push_back(i + 2);
+    for (int j = 0; j < nj; ++j) {
+      const double w = 1.3 + 0.4 * j, a = 0.6;
+      s.q(i, j) = 0.2 + a * std::sin(w * t + j);
+      s.qd(i, j) = a * w * std::cos(w * t + j);
+      s.qdd(i, j) = -a * w * w * std::sin(w * t + j);
+    }
+  }
+  s.source = "motion.csv";
+  return s;
+}
+
+// The first finding with `code` (several joints may have one), or none.
+std::optional<SetupFinding> derivatives_first(const std::vector<SetupFinding>& f,
+                                              const std::string& code = "joint-derivatives") {
+  for (const auto& x : f)
+    if (x.code == code) return x;
+  return std::nullopt;
+}
+
+TEST(SetupChecks, JointDerivativesOfAnotherScaleAreAnError) {
+  const Model model = load_urdf(example("puma260").urdf);
+  const Samples clean = derivatives_motion(model);
+  EXPECT_FALSE(derivatives_first(check_setup(model, clean, {})));
+  Samples twice = clean;
+  twice.qd.col(1) *= 2;
+  auto f = derivatives_first(check_setup(model, twice, {}));
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->severity, Severity::Error);
+  EXPECT_TRUE(contains(f, "column 'joint2_vel' is 2 times the derivative of column 'joint2'"))
+      << f->message;
+  Samples half = clean;
+  half.qd.col(0) *= 0.5;
+  f = derivatives_first(check_setup(model, half, {}));
+  ASSERT_TRUE(f);
+  EXPECT_TRUE(contains(f, "'joint1_vel' is 0.5 times")) << f->message;
+  Samples degrees = clean;
+  degrees.qdd.col(2) /= kDeg;
+  f = derivatives_first(check_setup(model, degrees, {}));
+  ASSERT_TRUE(f);
+  EXPECT_TRUE(contains(f, "'joint3_acc' is 57.3 times the derivative of column 'joint3_vel'"))
+      << f->message;
+  EXPECT_TRUE(contains(f, "declare it as 'joint3_deg_acc'")) << f->message;
+  Samples negated = clean;
+  negated.qd.col(2) *= -1;
+  f = derivatives_first(check_setup(model, negated, {}));
+  ASSERT_TRUE(f);
+  EXPECT_TRUE(contains(f, "negate it")) << f->message;
+  // Noise on the positions (0.001 rad) leaves the clean log clean.
+  Samples noisy = clean;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 1e-3);
+  for (int i = 0; i < noisy.size(); ++i)
+    for (int j = 0; j < noisy.q.cols(); ++j) noisy.q(i, j) += noise(rng);
+  EXPECT_FALSE(derivatives_first(check_setup(model, noisy, {})));
+
+  // The file in degrees throughout, with a wrench; then its _vel in deg/s undeclared.
+  const std::string path = temp_path("derivatives_deg.csv");
+  const auto write = [&](const char* vel) {
+    std::ofstream out(path);
+    out << "t";
+    for (const Joint& j : model.joints)
+      out << fmt::format(",{0}_deg,{0}{1},{0}_deg_acc", j.name, vel);
+    out << ",gx,gy,gz,fx,fy,fz,mx,my,mz\n";
+    for (int i = 0; i < clean.size(); ++i) {
+      out << fmt::format("{:.17g}", clean.time[i]);
+      for (int j = 0; j < model.num_joints(); ++j)
+        out << fmt::format(",{:.17g},{:.17g},{:.17g}", clean.q(i, j) / kDeg, clean.qd(i, j) / kDeg,
+                           clean.qdd(i, j) / kDeg);
+      out << ",0,0,-9.80665,0,0,-30,0,0,0\n";
+    }
+  };
+  write("_deg_vel");
+  std::vector<std::string> header;
+  const Samples head = read_samples_head(model, path, 100000, &header, {}, true);
+  const Samples whole = read_samples(model, read_csv(path), WrenchColumns::Required);
+  for (const Samples* s : {&head, &whole}) {
+    ASSERT_EQ(s->qd.cols(), model.num_joints());
+    EXPECT_LT((s->q - clean.q).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT((s->qd - clean.qd).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT((s->qdd - clean.qdd).cwiseAbs().maxCoeff(), 1e-12);
+  }
+  SetupCheckOptions motion;
+  motion.motion = true;
+  auto all = check_setup_file(model, path, motion);
+  EXPECT_FALSE(derivatives_first(all)) << describe(all);
+  write("_vel");
+  all = check_setup_file(model, path, motion);
+  f = derivatives_first(all);
+  ASSERT_TRUE(f) << describe(all);
+  EXPECT_TRUE(contains(f, "'joint1_vel' is 57.3 times the derivative of column 'joint1_deg'"))
+      << f->message;
+  EXPECT_TRUE(contains(f, "declare it as 'joint1_deg_vel'")) << f->message;
+  std::remove(path.c_str());
+}
+
 }  // namespace
 }  // namespace massid

@@ -47,7 +47,9 @@ PhysicalLink physical_link(const std::string& name, const Eigen::Ref<const Eigen
   const Eigen::Matrix4d J = pseudo_inertia(p);
   out.min_eigenvalue =
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(J, Eigen::EigenvaluesOnly).eigenvalues()[0];
-  out.consistent = out.mass > 0.0 && out.min_eigenvalue >= -1e-12 * std::abs(J.trace());
+  // A body, or no body at all (a massless frame: all ten zero, it adds nothing).
+  out.consistent =
+      (out.mass > 0.0 && out.min_eigenvalue >= -1e-12 * std::abs(J.trace())) || p.isZero(0.0);
   return out;
 }
 

@@ -29,15 +29,23 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
   for (int j = 0; j < model.num_joints(); ++j) {
     const Joint& joint = model.joints[j];
     double lo = joint.generic_position(0.0), hi = joint.generic_position(1.0);
-    if (joint.limited) lo = joint.lower, hi = joint.upper;
+    if (joint.limited) {
+      const double margin = o.position_margin * (joint.upper - joint.lower);
+      lo = joint.lower + margin;
+      hi = joint.upper - margin;
+    }
     if (auto l = o.limits.find(joint.name); l != o.limits.end()) {
       lo = std::max(lo, l->second.first);
       hi = std::min(hi, l->second.second);
       if (!(hi > lo))
         throw InputError(
             fmt::format("design: the range {}:{} of joint '{}' is empty within the URDF limits "
-                        "[{}, {}]",
-                        l->second.first, l->second.second, joint.name, joint.lower, joint.upper),
+                        "[{}, {}] less the margin of {:g} % of the range at each end ([{:.6g}, "
+                        "{:.6g}])",
+                        l->second.first, l->second.second, joint.name, joint.lower, joint.upper,
+                        100 * o.position_margin,
+                        joint.lower + o.position_margin * (joint.upper - joint.lower),
+                        joint.upper - o.position_margin * (joint.upper - joint.lower)),
             {{Hint::Setting::Limits,
               fmt::format("{}={}:{}", joint.name, l->second.first, l->second.second)}});
     }

@@ -283,6 +283,7 @@ PhysicalSummary physical_of(const record_json& j, const Model& model) {
   for (int l = 0; l < model.num_links(); ++l) {
     p.links.push_back(physical_link(model.links[l].name, p.standard.segment<10>(10 * l)));
     p.links.back().prior_body = prior[l];
+    p.links.back().unseen = prior[l] && p.standard.segment<10>(10 * l).isZero(0.0);
   }
   return p;
 }

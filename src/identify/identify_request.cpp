@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -59,6 +60,19 @@ std::optional<double> seconds(const std::string& text) {
   return v;
 }
 
+// Whether a data file has every joint's velocity column (JOINT_vel or
+// JOINT_deg_vel), the sign of a log in motion.
+bool has_velocity_columns(const Model& model, const std::string& path) {
+  if (model.num_joints() == 0) return false;
+  std::vector<std::string> roles;
+  read_samples_head(model, path, 1, &roles);
+  for (const Joint& j : model.joints)
+    if (std::find(roles.begin(), roles.end(), j.name + "_vel") == roles.end() &&
+        std::find(roles.begin(), roles.end(), j.name + "_deg_vel") == roles.end())
+      return false;
+  return true;
+}
+
 }  // namespace
 
 void IdentifyRequest::validate(const SettingSpelling& spelling) const {
@@ -112,7 +126,10 @@ IdentifyOptions IdentifyRequest::options() const {
     o.delay_auto = true;
   else if (!delay.empty())
     o.delay = seconds(delay);
-  if (physical) o.physical = PhysicalOptions{};
+  if (physical) {
+    o.physical = PhysicalOptions{};
+    if (physical_iterations > 0) o.physical->max_iterations = physical_iterations;
+  }
   return o;
 }
 
@@ -135,6 +152,7 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
   const MotionDataOptions motion = request.motion_options();
   const bool with_offset = request.with_offset();
   const bool in_memory = source.samples.has_value();
+  const bool velocity_in_memory = in_memory && source.samples->qd.cols() > 0;
   Identification out;
   out.model = std::move(model);
   Samples* kept = request.keep_samples ? &out.samples : nullptr;
@@ -157,17 +175,33 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
     if (kept && out.samples.size() < out.summary.samples)  // streamed: only the head came back
       out.samples = read_motion_samples(out.model, source.path, WrenchColumns::Required, motion);
   } else {
-    BaseParameterOptions bo;
-    bo.offset = with_offset;
-    out.base = find_base_parameters(out.model, bo);
-    if (in_memory) {  // as identify_file: only the rest windows of a continuous log
-      Samples all = std::move(*source.samples);
-      const RestWindows windows = find_rest_windows(out.model, all, options.rest);
-      out.samples = windows.continuous ? rest_samples(all, windows) : std::move(all);
-      out.summary = identify(out.model, out.base, out.samples, options);
-      out.summary.rest = windows;
-    } else {
-      out.summary = identify_file(out.model, out.base, source.path, options, kept, motion.samples);
+    const std::string data_name = in_memory ? source.samples->source : source.path;
+    try {
+      BaseParameterOptions bo;
+      bo.offset = with_offset;
+      out.base = find_base_parameters(out.model, bo);
+      if (in_memory) {  // as identify_file: only the rest windows of a continuous log
+        Samples all = std::move(*source.samples);
+        const RestWindows windows = find_rest_windows(out.model, all, options.rest);
+        out.samples = windows.continuous ? rest_samples(all, windows) : std::move(all);
+        out.summary = identify(out.model, out.base, out.samples, options);
+        out.summary.rest = windows;
+      } else {
+        out.summary =
+            identify_file(out.model, out.base, source.path, options, kept, motion.samples);
+      }
+    } catch (const IdentifiabilityError& e) {
+      // A motion log identified at rest: its weight alone cannot determine what
+      // the motion moves; the fix is --dynamic, not more poses.
+      if (!(in_memory ? velocity_in_memory : has_velocity_columns(out.model, source.path))) throw;
+      throw IdentifiabilityError(
+          fmt::format("{}: this file has velocity columns: a log in motion, which the weight alone "
+                      "does not explain (identified at rest, {}); identify it in motion",
+                      data_name,
+                      std::string(e.what())
+                          .substr(0, std::string(e.what()).find(". To fix"))
+                          .substr(std::string(e.what()).find(": ") + 2)),
+          {{Hint::Setting::Dynamic, "on"}});
     }
   }
   const std::string name = in_memory ? out.samples.source : source.path;

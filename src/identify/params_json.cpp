@@ -46,8 +46,12 @@ json physical_json(const Model& model, const BaseParameters& base, const Physica
   out["inertia_from"] = p.static_layout ? "urdf (about the centre of mass)" : "data and urdf";
   out["consistent"] = p.consistent();
   json prior = json::array();
-  for (const PhysicalLink& l : p.links)
+  json massless = json::array();
+  for (const PhysicalLink& l : p.links) {
     if (l.prior_body) prior.push_back(l.name);
+    if (l.unseen) massless.push_back(l.name);
+  }
+  out["massless_links"] = massless;
   out["tiny_prior_bodies"] = prior;
   json mismatch = json::object();
   for (int i = 0; i < base.num_mass(); ++i) mismatch[base.params[i].name] = p.mismatch[i];
@@ -66,9 +70,18 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
   json j;
   j["format"] = kParamsFormat;
   j["sensor_link"] = model.sensor_link();
-  json joints = json::array();
+  // The joints whose columns the fit used: below the sensor link, then the
+  // ones above it when they gave gravity or the sensor frame's motion (a
+  // wrist sensor), also listed under "upstream_joints".
+  json joints = json::array(), upstream = json::array();
   for (const Joint& jt : model.joints) joints.push_back(jt.name);
+  if (s && model.num_upstream_joints() > 0 && (s->gravity_from_upstream || base.sensor_moving))
+    for (const Joint& jt : model.upstream_joints) {
+      joints.push_back(jt.name);
+      upstream.push_back(jt.name);
+    }
   j["joints"] = joints;
+  if (!upstream.empty()) j["upstream_joints"] = upstream;
   if (!model.held.empty()) {
     json held = json::object();
     for (const auto& [name, value] : model.held) held[name] = value;

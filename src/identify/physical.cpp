@@ -22,7 +22,32 @@
 namespace massid {
 namespace {
 
+// PhysicalSummary::converged: a fall of the cost (squared std) that is nothing.
+constexpr double kNegligibleCostFall = 1e-8;
+
 using Theta = std::array<double, 10>;
+
+// The ten standard parameters (m, h, inertia about the origin) of a body given
+// in frame B, in frame A, with T mapping B coordinates to A (r_A = t + R r_B):
+// h_A = m t + R h_B, I_A = R I_B R^T - m [t]^2 - [t][R h_B] - [R h_B][t].
+Eigen::Matrix<double, 10, 1> moved_parameters(const Eigen::Matrix<double, 10, 1>& p,
+                                              const Eigen::Isometry3d& T) {
+  const auto skew = [](const Eigen::Vector3d& v) {
+    Eigen::Matrix3d S;
+    S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+    return S;
+  };
+  const double m = p[0];
+  const Eigen::Matrix3d R = T.linear();
+  const Eigen::Vector3d t = T.translation(), h = R * p.segment<3>(1);
+  Eigen::Matrix3d I;
+  I << p[4], p[5], p[6], p[5], p[7], p[8], p[6], p[8], p[9];
+  const Eigen::Matrix3d St = skew(t), Sh = skew(h);
+  const Eigen::Matrix3d Ia = R * I * R.transpose() - m * St * St - St * Sh - Sh * St;
+  Eigen::Matrix<double, 10, 1> out;
+  out << m, m * t + h, Ia(0, 0), Ia(0, 1), Ia(0, 2), Ia(1, 1), Ia(1, 2), Ia(2, 2);
+  return out;
+}
 
 // U of the log-Cholesky parameters (physical.hpp), upper triangular 4x4,
 // U[i][j] for j >= i (the rest is left unset).
@@ -362,6 +387,32 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
     out.links.push_back(physical_link(model.links[l].name, out.standard.segment<10>(10 * l)));
     out.links.back().prior_body = prior_body[l];
   }
+  // A link the URDF leaves massless, fixed to a neighbour, is a frame the data
+  // cannot tell from that neighbour (no wrench separates two rigidly joined
+  // bodies): its body joins the neighbour's (the sum of two bodies: consistent,
+  // the same wrench) and the frame stays massless. Children first, into their
+  // parent; the sensor link into a fixed child with a body.
+  const auto merge = [&](int from, int into, const Eigen::Isometry3d& into_from) {
+    out.standard.segment<10>(10 * into) +=
+        moved_parameters(out.standard.segment<10>(10 * from), into_from);
+    out.standard.segment<10>(10 * from).setZero();
+    for (const int l : {from, into}) {
+      const bool prior = out.links[l].prior_body, unseen = out.links[l].unseen;
+      out.links[l] = physical_link(model.links[l].name, out.standard.segment<10>(10 * l));
+      out.links[l].prior_body = prior;
+      out.links[l].unseen = unseen || l == from;
+    }
+  };
+  for (int l = nl - 1; l >= 1; --l)
+    if (prior_body[l] && model.links[l].type == JointType::Fixed)
+      merge(l, model.links[l].parent, model.links[l].origin);
+  if (nl > 0 && prior_body[0])
+    for (int l = 1; l < nl; ++l)
+      if (model.links[l].parent == 0 && model.links[l].type == JointType::Fixed &&
+          !out.links[l].unseen) {
+        merge(0, l, model.links[l].origin.inverse());
+        break;
+      }
   // The mismatch in std of each base parameter.
   const Eigen::VectorXd fitted = base_values_of_standard(model, base, out.standard);
   out.mismatch.resize(nb);
@@ -378,6 +429,14 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
   out.cost = summary.final_cost;
   out.iterations = static_cast<int>(summary.iterations.size()) - 1;  // iteration 0 is the start
   out.converged = summary.termination_type == ceres::CONVERGENCE;
+  // At the iteration limit, a cost that no longer falls by anything a fit can
+  // tell (the data term is in squared std) is converged too: at rest the cost
+  // creeps down at 1e-15 for thousands of iterations under Ceres' relative tolerances.
+  const std::size_t steps = summary.iterations.size();
+  const std::size_t back = std::max<std::size_t>(10, steps / 10);
+  if (!out.converged && summary.termination_type == ceres::NO_CONVERGENCE && steps > back)
+    out.converged =
+        summary.iterations[steps - 1 - back].cost - summary.final_cost < kNegligibleCostFall;
   out.message = summary.message;
   out.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

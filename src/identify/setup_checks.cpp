@@ -691,6 +691,15 @@ void check_units_without_mass(Context& c) {
                       c.s.source, why, mass));
 }
 
+// The degrees message's words on the derivatives: "(and its velocity and
+// acceleration in deg/s, deg/s^2 'J_deg_vel', 'J_deg_acc')".
+std::string degree_derivatives(const std::string& joint) {
+  return fmt::format(
+      " (and its velocity and acceleration in deg/s, deg/s^2, if any, '{0}_deg_vel' and "
+      "'{0}_deg_acc')",
+      joint);
+}
+
 // joint-degrees / joint-millimetres. Statistic per joint column named as the
 // joint (not JOINT_deg): the largest excursion beyond the URDF limits, and
 // whether every value divided by 57.2958 (revolute) or 1000 (prismatic) lies
@@ -730,10 +739,11 @@ void check_joint_units(Context& c) {
                 fmt::format(
                     "{}: column '{}' reaches {:.4g} at {}, beyond the URDF limits [{:.4g}, "
                     "{:.4g}] rad, and every value fits them read as degrees: rename the "
-                    "column '{}_deg' or convert it to radians",
+                    "column '{}_deg'{} or convert it to radians",
                     c.s.source, joint.name,
                     std::abs(q.maxCoeff()) > std::abs(q.minCoeff()) ? q.maxCoeff() : q.minCoeff(),
-                    lines_text(c.s, out), joint.lower, joint.upper, joint.name));
+                    lines_text(c.s, out), joint.lower, joint.upper, joint.name,
+                    degree_derivatives(joint.name)));
         }
       } else if (qmax > 2 * std::numbers::pi + 0.5 &&
                  to_rad * qmax <= 2 * std::numbers::pi + 0.05) {
@@ -742,9 +752,9 @@ void check_joint_units(Context& c) {
         c.add(two_turns ? Severity::Error : Severity::Warning, "joint-degrees",
               fmt::format("{}: continuous joint column '{}' reaches |q| = {:.4g} rad ({:.1f} "
                           "turns) at {}; read as degrees it stays within one turn: if it is in "
-                          "degrees, rename the column '{}_deg' or convert it to radians",
+                          "degrees, rename the column '{}_deg'{} or convert it to radians",
                           c.s.source, joint.name, qmax, qmax / (2 * std::numbers::pi),
-                          lines_text(c.s, out), joint.name));
+                          lines_text(c.s, out), joint.name, degree_derivatives(joint.name)));
       }
     } else if (joint.type == JointType::Prismatic && joint.limited) {
       const double range = joint.upper - joint.lower;
@@ -761,6 +771,109 @@ void check_joint_units(Context& c) {
                           "divide the column by 1000 (massid wants m)",
                           c.s.source, joint.name, q[out.front()], lines_text(c.s, out), joint.lower,
                           joint.upper));
+      }
+    }
+  }
+}
+
+// joint-derivatives. Statistic per joint with a _vel column (and per joint
+// with an _acc column): the least-squares scale s of the column y on the
+// central difference d_i = (x_{i+1} - x_{i-1}) / (t_{i+1} - t_{i-1}) of the
+// column it is the derivative of (position for _vel, _vel for _acc), s = sum
+// y_i d_i / sum d_i^2, over the rows where |y_i| is at least a quarter of its
+// 90th percentile (motion well above the noise) and the three rows lie in
+// one block with t increasing; needs t and 20 such rows. Error when s <= 0 or
+// max(s, 1/s) > 1.5: a column in another unit (deg/s read as rad/s: 57.3) or
+// scaled by a driver (2, 0.5) makes every dynamic parameter wrong while the
+// fit's chi^2 (sigma estimated from its own residuals) looks normal. A coarse
+// sampling of fast motion lowers |d| by sin(w dt) / (w dt): 0.84 at one
+// radian per sample, far inside the bound.
+constexpr double kDerivativeScale = 1.5;
+constexpr int kDerivativeRows = 20;
+
+// The column of `joint` with `suffix` ("_vel", "_acc") in the header: NAME + suffix,
+// or NAME_deg + suffix.
+std::string derivative_column(const Joint& j, const std::vector<std::string>& header,
+                              const std::string& suffix) {
+  if (j.type == JointType::Revolute &&
+      std::find(header.begin(), header.end(), j.name + "_deg" + suffix) != header.end())
+    return j.name + "_deg" + suffix;
+  return j.name + suffix;
+}
+
+// The scale s of y on the derivative of x (above); NaN when the rows do not tell.
+double derivative_scale(const Samples& s, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  const int N = static_cast<int>(x.size());
+  std::vector<int> rows;
+  std::vector<double> d(N, 0.0), mag;
+  for (int i = 1; i + 1 < N; ++i) {
+    if (!s.block.empty() && (s.block[i - 1] != s.block[i] || s.block[i + 1] != s.block[i]))
+      continue;
+    const double dt = s.time[i + 1] - s.time[i - 1];
+    if (!(dt > 0) || !std::isfinite(dt)) continue;
+    d[i] = (x[i + 1] - x[i - 1]) / dt;
+    rows.push_back(i);
+    mag.push_back(std::abs(y[i]));
+  }
+  if (static_cast<int>(rows.size()) < kDerivativeRows) return std::nan("");
+  std::nth_element(mag.begin(), mag.begin() + mag.size() * 9 / 10, mag.end());
+  const double floor = 0.25 * mag[mag.size() * 9 / 10];
+  if (!(floor > 0)) return std::nan("");  // the joint does not move
+  double yd = 0.0, dd = 0.0;
+  int used = 0;
+  for (const int i : rows)
+    if (std::abs(y[i]) >= floor) {
+      yd += y[i] * d[i];
+      dd += d[i] * d[i];
+      ++used;
+    }
+  if (used < kDerivativeRows) return std::nan("");
+  return dd > 0 ? yd / dd : std::nan("");
+}
+
+void check_joint_derivatives(Context& c) {
+  const Samples& s = c.s;
+  if (s.time.size() != c.N) return;
+  struct Group {
+    const std::vector<Joint>* joints;
+    const Eigen::MatrixXd *q, *qd, *qdd;
+  };
+  for (const Group& g :
+       {Group{&c.model.joints, &s.q, &s.qd, &s.qdd},
+        Group{&c.model.upstream_joints, &s.q_upstream, &s.qd_upstream, &s.qdd_upstream}}) {
+    const int n = static_cast<int>(g.joints->size());
+    for (int j = 0; j < n; ++j) {
+      const Joint& joint = (*g.joints)[j];
+      // (x, y, the column of y, the column of x, suffix of y)
+      for (int order = 1; order <= 2; ++order) {
+        const Eigen::MatrixXd& X = order == 1 ? *g.q : *g.qd;
+        const Eigen::MatrixXd& Y = order == 1 ? *g.qd : *g.qdd;
+        if (X.cols() != n || Y.cols() != n || X.rows() != c.N || Y.rows() != c.N) continue;
+        const double k = derivative_scale(s, X.col(j), Y.col(j));
+        if (!std::isfinite(k) || (k > 0 && std::max(k, 1 / k) <= kDerivativeScale)) continue;
+        const std::string suffix = order == 1 ? "_vel" : "_acc";
+        const std::string ycol = derivative_column(joint, c.header, suffix);
+        const std::string xcol =
+            order == 1 ? joint_column(joint, c.header) : derivative_column(joint, c.header, "_vel");
+        const bool degrees = joint.type == JointType::Revolute;
+        std::string fix;
+        if (degrees && std::abs(k * kDeg - 1) < 0.05 && ycol == joint.name + suffix)
+          fix = fmt::format("it holds {}: declare it as '{}_deg{}' (read in {})",
+                            order == 1 ? "deg/s" : "deg/s^2", joint.name, suffix,
+                            order == 1 ? "rad/s" : "rad/s^2");
+        else if (degrees && std::abs(k / kDeg - 1) < 0.05 && ycol != joint.name + suffix)
+          fix = fmt::format("it holds {}: name it '{}{}'", order == 1 ? "rad/s" : "rad/s^2",
+                            joint.name, suffix);
+        else if (k < 0)
+          fix = "negate it";
+        else
+          fix = fmt::format("divide it by {:.3g} or correct its unit (t in s, {} per s{})", k,
+                            order == 1 ? "position" : "velocity", order == 1 ? "" : "^2");
+        c.add(Severity::Error, "joint-derivatives",
+              fmt::format("{}: column '{}' is {:.3g} times the derivative of column '{}' over t "
+                          "(least squares over the rows in motion; 1 expected): {}",
+                          s.source, ycol, k, xcol, fix));
+        break;  // one finding per joint
       }
     }
   }
@@ -1018,6 +1131,7 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
     check_columns(c, options);
     if (!samples.gravity_from_force) check_gravity_magnitude(c);
     check_joint_units(c);
+    check_joint_derivatives(c);
     std::stable_partition(out.begin(), out.end(),
                           [](const SetupFinding& f) { return f.severity == Severity::Error; });
     return out;
@@ -1049,6 +1163,7 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
   check_moment_units(c);
   check_units_without_mass(c);
   check_joint_units(c);
+  check_joint_derivatives(c);
   // Errors first: they decide the outcome.
   std::stable_partition(out.begin(), out.end(),
                         [](const SetupFinding& f) { return f.severity == Severity::Error; });
@@ -1056,14 +1171,16 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
 }
 
 Samples read_samples_head(const Model& model, const std::string& path, int max_rows,
-                          std::vector<std::string>* header, const SampleOptions& read) {
-  return detail::read_file_samples(model, path, max_rows, read, header);
+                          std::vector<std::string>* header, const SampleOptions& read,
+                          bool motion) {
+  return detail::read_file_samples(model, path, max_rows, read, header, motion);
 }
 
 std::vector<SetupFinding> check_setup_file(const Model& model, const std::string& path,
                                            const SetupCheckOptions& options) {
   std::vector<std::string> header;
-  const Samples s = read_samples_head(model, path, options.max_rows, &header, options.read);
+  const Samples s =
+      read_samples_head(model, path, options.max_rows, &header, options.read, options.motion);
   return check_setup(model, s, header, options);
 }
 

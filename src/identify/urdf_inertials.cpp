@@ -280,6 +280,11 @@ std::string identified_urdf(const Model& model, const PhysicalSummary& physical,
   std::vector<LinkInertial> edits;
   for (int i = 0; i < model.num_links(); ++i) {
     const PhysicalLink& l = physical.links[i];
+    // The root link without an <inertial> gets none (a root body is no part of
+    // a robot's dynamics; KDL warns about one); a massless frame the data
+    // cannot see (ee_link, tool0) stays massless.
+    const bool root = model.links[i].name == model.root_link;
+    if ((root && !model.links[i].has_inertial) || l.unseen) continue;
     edits.push_back(LinkInertial{model.links[i].name, l.mass, l.com, l.inertia_com,
                                  l.prior_body ? note + "; no mass in the original URDF: the "
                                                        "fit's small body"

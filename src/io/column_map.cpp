@@ -48,13 +48,16 @@ ColumnGroup all_or_none(const std::vector<std::string>& header, const std::strin
   return out;
 }
 
-// NAME + suffix for every joint, or none.
+// NAME + suffix for every joint, or none; a revolute joint's also as
+// NAME_deg + suffix (deg/s, deg/s^2: read in rad/s, rad/s^2).
 ColumnGroup suffixed(const std::vector<Joint>& joints, const std::vector<std::string>& header,
                      const std::string& where, const char* suffix) {
   ColumnGroup out;
   std::vector<std::string> missing;
   for (const Joint& j : joints) {
     out.push_back({find(header, j.name + suffix), 1.0});
+    if (out.back().column < 0 && j.type == JointType::Revolute)
+      out.back() = {find(header, j.name + "_deg" + suffix), std::numbers::pi / 180.0};
     if (out.back().column < 0) missing.push_back(j.name + suffix);
   }
   if (missing.size() == joints.size()) return {};
@@ -75,7 +78,8 @@ bool is_role(const Model& model, const std::string& role) {
   for (const auto* joints : {&model.joints, &model.upstream_joints})
     for (const Joint& j : *joints)
       if (role == j.name || role == j.name + "_vel" || role == j.name + "_acc" ||
-          (j.type == JointType::Revolute && role == j.name + "_deg"))
+          (j.type == JointType::Revolute &&
+           (role == j.name + "_deg" || role == j.name + "_deg_vel" || role == j.name + "_deg_acc")))
         return true;
   return false;
 }
@@ -178,10 +182,12 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
       for (const auto* js : {&model.joints, &model.upstream_joints})
         for (const Joint& j : *js) joints.push_back(j.name);
       throw InputError(
-          fmt::format("{}: '{}={}' binds an unknown role '{}': the roles are fx,fy,fz,mx,my,mz, "
-                      "gx,gy,gz, t, block, wx,wy,wz,dwx,dwy,dwz,ax,ay,az, tilt_x_deg,tilt_y_deg "
-                      "and the joints ({}), also as JOINT_deg, JOINT_vel, JOINT_acc",
-                      where, role, name, role, name_list(joints)),
+          fmt::format(
+              "{}: '{}={}' binds an unknown role '{}': the roles are fx,fy,fz,mx,my,mz, "
+              "gx,gy,gz, t, block, wx,wy,wz,dwx,dwy,dwz,ax,ay,az, tilt_x_deg,tilt_y_deg "
+              "and the joints ({}), also as JOINT_deg, JOINT_vel, JOINT_acc, JOINT_deg_vel, "
+              "JOINT_deg_acc",
+              where, role, name, role, name_list(joints)),
           {columns_hint});
     }
     if (!seen_roles.insert(role).second)
@@ -322,11 +328,15 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
     m.gravity_from = GravityFrom::Columns;
   else if (!m.q_upstream.empty())
     m.gravity_from = GravityFrom::UpstreamJoints;
+  else if (!m.tilt.empty())
+    m.gravity_from = GravityFrom::Tilt;
   else if (!m.wrench.empty())
     m.gravity_from = GravityFrom::Force;
   else
     throw InputError(
-        fmt::format("{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame)", where));
+        fmt::format("{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame), or "
+                    "tilt_x_deg,tilt_y_deg (the platform's tilt)",
+                    where));
 
   // The note: what was read under another name, what was ignored and why.
   std::vector<bool> read(header.size(), false);

@@ -7,7 +7,8 @@
 //   JOINT or JOINT_deg        position of each joint of Model::joints, rad or m
 //                             (JOINT_deg: a revolute joint in degrees); required
 //   JOINT_vel, JOINT_acc      their velocities and accelerations: every joint or
-//                             none, both or neither
+//                             none, both or neither (a revolute joint's also as
+//                             JOINT_deg_vel, JOINT_deg_acc: deg/s, deg/s^2)
 //   wx wy wz dwx dwy dwz      the sensor frame's angular velocity and
 //   ax ay az                  acceleration, its origin's acceleration (all nine or none)
 //   UP, UP_deg, UP_vel, UP_acc  the joints above the sensor link
@@ -15,12 +16,14 @@
 //   fx fy fz mx my mz         the measured wrench: all six or none
 //   gx gy gz                  gravity in the sensor frame, m/s^2: all or none;
 //                             without them gravity comes from the upstream
-//                             joints (and the root gravity), else along the
-//                             measured force (paper eq. 37)
+//                             joints (and the root gravity), else from the
+//                             tilt columns, else along the measured force
+//                             (paper eq. 37)
 //   tilt_x_deg tilt_y_deg     the platform's tilt as design's plans write it,
-//                             degrees (read in rad): both or none; compensate
-//                             turns the level gravity by it when there is no
-//                             gx,gy,gz; the other readers carry it through
+//                             degrees (read in rad): both or none; without
+//                             gx,gy,gz and upstream joints every reader turns
+//                             the level gravity (SampleOptions::root_gravity;
+//                             compensate: its --gravity) by it (tilted_gravity)
 //   t                         time, s
 //   block                     an integer: the sensor re-zeroed between blocks
 // Other columns are ignored. A column of another name is read as a role when
@@ -49,6 +52,7 @@ using ColumnGroup = std::vector<BoundColumn>;  // empty: the group is absent
 enum class GravityFrom {
   Columns,         // gx, gy, gz
   UpstreamJoints,  // the joints above the sensor link turn the root gravity
+  Tilt,            // tilt_x_deg, tilt_y_deg turn the level gravity (root_gravity): tilted_gravity
   Force,           // the measured force's direction (eq. 37)
 };
 

@@ -167,6 +167,11 @@ SampleColumns bind(const Model& model, std::string_view text, const std::string&
     c.scale[col] = scale;
     c.column_of[v] = col;
   }
+  if (map.gravity_from == GravityFrom::Tilt) {  // the two tilts, after every group
+    c.gravity_from_tilt = true;
+    c.tilt_value = bind_value(c, map.tilt[0].column, map.tilt[0].scale);
+    bind_value(c, map.tilt[1].column, map.tilt[1].scale);
+  }
   return c;
 }
 
@@ -247,19 +252,32 @@ void throw_not_integer(std::string_view text, size_t line_begin, const SampleCol
 }
 
 Samples read_file_samples(const Model& model, const std::string& path, int max_rows,
-                          const SampleOptions& read, std::vector<std::string>* header) {
+                          const SampleOptions& read, std::vector<std::string>* header,
+                          bool motion) {
   const MappedFile file(path);
   const std::string_view text = file.text();
-  const SampleColumns cols = bind_columns(model, text, path, read);
+  const SampleColumns cols = bind_columns(model, text, path, read, motion);
   if (header) *header = cols.roles;
-  const int nj = model.num_joints(), w = cols.wrench_value();
+  const int nj = model.num_joints(), nu = model.num_upstream_joints(), w = cols.wrench_value();
   const size_t limit = static_cast<size_t>(std::max(1, max_rows));
-  std::vector<double> q, g, wrench;
+  std::vector<double> q, g, wrench, t;
+  // Motion: the velocities and accelerations of the joints, then of the upstream joints.
+  std::vector<double> qd, qdd, q_up, qd_up, qdd_up;
   std::vector<int> line;
   struct Enough {};  // max_rows read: the lines after are not parsed
   try {
     parse_block(text, cols, cols.data_begin, text.size(), [&](const double* v, size_t, int l) {
       q.insert(q.end(), v, v + nj);
+      if (cols.qd >= 0) {
+        qd.insert(qd.end(), v + cols.qd, v + cols.qd + nj);
+        qdd.insert(qdd.end(), v + cols.qdd, v + cols.qdd + nj);
+      }
+      if (motion && cols.q_up >= 0) q_up.insert(q_up.end(), v + cols.q_up, v + cols.q_up + nu);
+      if (cols.qd_up >= 0) {
+        qd_up.insert(qd_up.end(), v + cols.qd_up, v + cols.qd_up + nu);
+        qdd_up.insert(qdd_up.end(), v + cols.qdd_up, v + cols.qdd_up + nu);
+      }
+      if (cols.time >= 0) t.push_back(v[cols.time]);
       const size_t at = g.size();
       g.resize(at + 3);
       if (cols.gravity_from_upstream)
@@ -283,6 +301,16 @@ Samples read_file_samples(const Model& model, const std::string& path, int max_r
   s.q = Eigen::Map<const RowMajor>(q.data(), n, nj);
   s.gravity = Eigen::Map<const RowMajor>(g.data(), n, 3);
   s.wrench = Eigen::Map<const RowMajor>(wrench.data(), n, 6);
+  if (cols.qd >= 0) {
+    s.qd = Eigen::Map<const RowMajor>(qd.data(), n, nj);
+    s.qdd = Eigen::Map<const RowMajor>(qdd.data(), n, nj);
+  }
+  if (motion && cols.q_up >= 0) s.q_upstream = Eigen::Map<const RowMajor>(q_up.data(), n, nu);
+  if (cols.qd_up >= 0) {
+    s.qd_upstream = Eigen::Map<const RowMajor>(qd_up.data(), n, nu);
+    s.qdd_upstream = Eigen::Map<const RowMajor>(qdd_up.data(), n, nu);
+  }
+  if (cols.time >= 0) s.time = Eigen::Map<const Eigen::VectorXd>(t.data(), n);
   s.line = std::move(line);
   return s;
 }

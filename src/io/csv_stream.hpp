@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "io/column_map.hpp"
+#include "massid/core/gravity.hpp"
 #include "massid/core/model.hpp"
 #include "massid/core/samples.hpp"
 #include "massid/io/read_samples.hpp"
@@ -68,7 +69,11 @@ struct SampleColumns {
   int num_values = 0;
   bool motion = false;  // bound for a motion log (bind_columns' `motion`)
   bool gravity_from_force = false;
-  bool gravity_from_upstream = false;     // no gx,gy,gz, upstream joint columns: gravity from them
+  bool gravity_from_upstream = false;  // no gx,gy,gz, upstream joint columns: gravity from them
+  // No gx,gy,gz nor upstream joints, tilt_x_deg,tilt_y_deg: gravity is the
+  // root gravity turned by them (tilted_gravity), from the values at tilt_value.
+  bool gravity_from_tilt = false;
+  int tilt_value = -1;
   double g0 = 0.0;                        // |g| for gravity from the force (SampleOptions)
   Eigen::Vector3d root_gravity{0, 0, 0};  // for gravity from the upstream joints (SampleOptions)
   std::size_t data_begin = 0;             // byte offset of the line after the header
@@ -133,12 +138,14 @@ bool parse_line_slow(std::string_view text, std::size_t line_begin, std::size_t 
 bool parse_row_slow(std::string_view line, int line_no, const SampleColumns& c, double* vals);
 
 // The first max_rows samples of a data file (q, gravity, wrench, line: what
-// the static binding reads), with the rules and errors of read_csv +
+// the static binding reads; with `motion` also t and the joints' _vel and
+// _acc, for the set-up checks), with the rules and errors of read_csv +
 // read_samples (WrenchColumns::Required); lines after the last sample read are
 // not looked at. header: the file's column names. The one reader of a whole
 // file (identify_file) and of its head (read_samples_head).
 Samples read_file_samples(const Model& model, const std::string& path, int max_rows,
-                          const SampleOptions& read, std::vector<std::string>* header = nullptr);
+                          const SampleOptions& read, std::vector<std::string>* header = nullptr,
+                          bool motion = false);
 
 // Throws the zero-force error of read_samples for the line at `line_begin`.
 [[noreturn]] void throw_zero_force(std::string_view text, std::size_t line_begin,
@@ -254,7 +261,13 @@ std::size_t parse_block(std::string_view text, const SampleColumns& c, std::size
                  ? 1
                  : 0;
     if (kind == 1) {
-      if (c.gravity_from_force) {
+      if (c.gravity_from_tilt) {
+        const Eigen::Vector3d gt =
+            tilted_gravity(c.root_gravity, Tilt{vals[c.tilt_value], vals[c.tilt_value + 1]});
+        vals[g] = gt[0];
+        vals[g + 1] = gt[1];
+        vals[g + 2] = gt[2];
+      } else if (c.gravity_from_force) {
         const double f0 = vals[w], f1 = vals[w + 1], f2 = vals[w + 2];
         const double n = std::sqrt(f0 * f0 + f1 * f1 + f2 * f2);
         if (!(n > 0.0)) throw_zero_force(text, static_cast<std::size_t>(p - base), c);

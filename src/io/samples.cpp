@@ -10,6 +10,7 @@
 #include "io/csv_stream.hpp"
 #include "io/edit_distance.hpp"
 #include "massid/core/errors.hpp"
+#include "massid/core/gravity.hpp"
 #include "massid/core/kinematics.hpp"
 #include "massid/io/csv.hpp"
 #include "massid/io/read_samples.hpp"
@@ -126,6 +127,16 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
     case detail::GravityFrom::UpstreamJoints:
       s.gravity.resize(N, 3);
       s.gravity_from_upstream = true;
+      resolve_upstream(model, s);
+      break;
+    case detail::GravityFrom::Tilt:
+      s.gravity.resize(N, 3);
+      for (int r = 0; r < N; ++r)
+        s.gravity.row(r) =
+            tilted_gravity(options.root_gravity,
+                           Tilt{map.tilt[0].scale * table.number(r, map.tilt[0].column),
+                                map.tilt[1].scale * table.number(r, map.tilt[1].column)})
+                .transpose();
       resolve_upstream(model, s);
       break;
     case detail::GravityFrom::Force:

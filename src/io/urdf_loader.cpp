@@ -3,6 +3,7 @@
 // complaints reach the user as one line instead of going to the console.
 #include <console_bridge/console.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 
@@ -312,6 +313,7 @@ struct PendingMimic {
 void resolve_mimics(Model& model, const std::vector<PendingMimic>& pending,
                     const urdf::ModelInterface& urdf, const std::string& source) {
   std::vector<std::string> problems;
+  std::vector<std::string> ignored, ignored_masters;  // mimic limits no master position meets
   for (const PendingMimic& m : pending) {
     const int j = model.find_joint(m.master);
     if (j >= 0) continue;
@@ -360,17 +362,27 @@ void resolve_mimics(Model& model, const std::vector<PendingMimic>& pending,
     }
     if (!(lo < hi)) {
       // Published grippers copy one <limit> to every finger, with multipliers
-      // of -1: taken literally the master could not move. Keep its own range.
-      model.warnings.push_back(fmt::format(
-          "{}:{}: mimic joint '{}' (= {} x '{}' + {}) has limits [{}, {}] that no position of "
-          "'{}' in [{}, {}] satisfies; they are ignored (the master keeps its own limits)",
-          source, m.line, m.joint, m.multiplier, m.master, m.offset, m.lower, m.upper, m.master,
-          master.lower, master.upper));
+      // of -1: taken literally the master could not move. Keep its own range
+      // (one note for all such joints: a gripper has several).
+      ignored.push_back(fmt::format("'{}' (line {}: = {} x '{}' + {}, [{}, {}])", m.joint, m.line,
+                                    m.multiplier, m.master, m.offset, m.lower, m.upper));
+      ignored_masters.push_back(
+          fmt::format("'{}' in [{}, {}]", m.master, master.lower, master.upper));
       continue;
     }
     master.limited = true;
     master.lower = lo;
     master.upper = hi;
+  }
+  if (!ignored.empty()) {
+    std::sort(ignored_masters.begin(), ignored_masters.end());
+    ignored_masters.erase(std::unique(ignored_masters.begin(), ignored_masters.end()),
+                          ignored_masters.end());
+    model.warnings.push_back(fmt::format(
+        "{}: the limits of mimic joint{} {} are met by no position of their master ({}): they are "
+        "ignored (the master keeps its own limits)",
+        source, ignored.size() > 1 ? "s" : "", fmt::join(ignored, ", "),
+        fmt::join(ignored_masters, ", ")));
   }
 }
 

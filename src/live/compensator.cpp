@@ -156,18 +156,16 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
           "{}: tilt_x_deg,tilt_y_deg and the joints above sensor link '{}' both turn gravity: give "
           "gx,gy,gz (sensor frame) instead",
           where, model.sensor_link()));
-  } else if (c.gravity_from_force) {
-    if (c.tilt.empty())
-      throw InputError(fmt::format(
-          "{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame), or tilt_x_deg,tilt_y_deg "
-          "(the platform's tilt){}; compensate does not take gravity from the measured force",
-          where,
-          model.num_upstream_joints() > 0 ? ", or the columns of the joints above the sensor link"
-                                          : ""));
+  } else if (c.gravity_from_tilt) {  // bound by the reader (csv_stream.hpp), turned here
     m.gravity_from = GravityFrom::Tilt;
-    c.gravity_from_force = false;
-    m.tilt = detail::bind_value(c, c.tilt[0].column, c.tilt[0].scale);
-    detail::bind_value(c, c.tilt[1].column, c.tilt[1].scale);
+    m.tilt = c.tilt_value;
+  } else if (c.gravity_from_force) {
+    throw InputError(fmt::format(
+        "{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame), or tilt_x_deg,tilt_y_deg "
+        "(the platform's tilt){}; compensate does not take gravity from the measured force",
+        where,
+        model.num_upstream_joints() > 0 ? ", or the columns of the joints above the sensor link"
+                                        : ""));
   }
 
   std::vector<std::string> notes;

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/argument_checks.hpp"
 #include "massid/core/errors.hpp"
@@ -83,8 +85,37 @@ IdentifiedModel IdentifiedModel::with_delay(double seconds) const {
 
 IdentifiedModel IdentifiedModel::load(const std::string& urdf_path, const ParamsFile& params,
                                       const IdentifiedModelOptions& options) {
-  return from_params(hold_joints(load_urdf(urdf_path, params.sensor_link), params.held), params,
-                     options);
+  // The file's sensor link, or a link of its terms, not in this URDF (the
+  // user named none: they are the file's): identified on another robot.
+  std::optional<Model> model, whole;
+  std::vector<std::string> missing;
+  try {
+    model = load_urdf(urdf_path, params.sensor_link);
+  } catch (const InputError&) {
+    try {
+      whole = load_urdf(urdf_path);
+    } catch (const InputError&) {
+    }
+    if (!whole || whole->find_link(params.sensor_link) >= 0) throw;
+    missing.push_back(params.sensor_link);
+  }
+  const Model& links = model ? *model : *whole;
+  for (const ParamsFile::Entry& e : params.base_parameters)
+    for (const auto& t : e.terms)
+      if (links.find_link(t.link) < 0 &&
+          std::find(missing.begin(), missing.end(), t.link) == missing.end())
+        missing.push_back(t.link);
+  if (!missing.empty()) {
+    std::string names;
+    for (std::size_t i = 0; i < missing.size() && i < 8; ++i)
+      names += (i ? ", '" : "'") + missing[i] + "'";
+    if (missing.size() > 8) names += fmt::format(" and {} more", missing.size() - 8);
+    throw InputError(fmt::format(
+        "{}: the params file belongs to another robot (its links {} are not in {}): give the URDF "
+        "it was identified with",
+        params.source, names, urdf_path));
+  }
+  return from_params(hold_joints(std::move(*model), params.held), params, options);
 }
 
 IdentifiedModel IdentifiedModel::load(const std::string& urdf_path, const std::string& params_path,

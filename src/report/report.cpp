@@ -164,7 +164,11 @@ std::string physical_report(const BaseParameters& base, const PhysicalSummary& p
         "{:>11.4g}  {} ({:.2g}){}\n",
         l.name, l.mass, l.com.x(), l.com.y(), l.com.z(), l.principal_moments[0],
         l.principal_moments[1], l.principal_moments[2], l.consistent ? "yes" : "NO",
-        l.min_eigenvalue, l.prior_body ? "  no mass in the URDF: tiny prior body" : "");
+        l.min_eigenvalue,
+        l.unseen
+            ? "  no mass in the URDF, fixed to a neighbour: massless (its share is the neighbour's)"
+        : l.prior_body ? "  no mass in the URDF: tiny prior body"
+                       : "");
   if (p.worst >= 0)
     out += fmt::format(
         "worst base-parameter mismatch (K pi_phys - identified) / std: {} {:+.3g} std ({})\n",

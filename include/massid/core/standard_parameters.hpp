@@ -21,10 +21,16 @@ struct PhysicalLink {
   Eigen::Matrix3d inertia_com = Eigen::Matrix3d::Zero();        // about com, link frame, kg m^2
   Eigen::Vector3d principal_moments = Eigen::Vector3d::Zero();  // of inertia_com, ascending
   // Smallest eigenvalue of the pseudo-inertia J (kg m^2) and whether it is
-  // non-negative within round-off (-1e-12 tr J): the link is a real body.
+  // non-negative within round-off (-1e-12 tr J): the link is a real body (or
+  // no body: all ten parameters zero, a massless frame).
   double min_eigenvalue = 0.0;
   bool consistent = false;
   bool prior_body = false;  // the URDF gave no mass: the prior was the tiny body
+  // prior_body and rigidly fixed to a neighbour the data cannot tell it from
+  // (ee_link, tool0, a massless root): its fitted body joined the
+  // neighbour's, its ten parameters are 0 (consistent: no body) and it stays
+  // massless in the identified URDF.
+  bool unseen = false;
 };
 
 // K pi for ten standard parameters per link (full layout, [10 num_links]):

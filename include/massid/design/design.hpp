@@ -54,6 +54,10 @@ struct DesignOptions {
   std::vector<Tilt> tilts;         // or only these (empty and no tilt_max: level only)
   Eigen::Vector3d level_gravity{0.0, 0.0, -kStandardGravity};  // sensor frame, platform level
   std::map<std::string, std::pair<double, double>> limits;     // joint -> narrowed range
+  // Fraction of each limited joint's URDF range kept free at each end (as
+  // design --dynamic's ExcitationLimits::position_margin): a real arm hits
+  // itself near its limits. `limits` narrow the range further.
+  double position_margin = 0.1;
   // m: every point that moves with the joints (link origins, centres of mass,
   // the bounding spheres of primitive collision shapes) stays this far above
   // the platform plane: the plane through the sensor-frame origin normal to

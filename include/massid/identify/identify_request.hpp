@@ -63,6 +63,8 @@ struct IdentifyRequest {
   bool checks = true;
   bool robust = false;    // reject samples with implausible residuals
   bool physical = false;  // also fit physically consistent standard parameters
+  // The physical fit's solver limit (PhysicalOptions::max_iterations); 0: its default.
+  int physical_iterations = 0;
   // The noise per axis (unset: estimated from the residuals), N and N m.
   std::optional<double> sigma_force, sigma_moment;
   // Gravity in the URDF root frame, for a sensor below movable joints whose

@@ -110,6 +110,9 @@ struct PhysicalSummary {
   double initial_cost = 0.0, cost = 0.0;  // Ceres' 1/2 |r|^2 at the start and the end
   int iterations = 0;
   double solve_seconds = 0.0;
+  // Ceres' convergence, or its iteration limit with the cost falling by less
+  // than 1e-8 (squared std: nothing a fit can tell) over the last tenth of
+  // the iterations (at least 10).
   bool converged = false;
   std::string message;  // Ceres' termination message
 

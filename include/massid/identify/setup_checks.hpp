@@ -8,6 +8,8 @@
 //   frame-rotation      warning / error  the wrench frame is rotated against gx,gy,gz (2 / 5 deg)
 //   joint-degrees       error / warning  a radian joint column holds degrees
 //   joint-millimetres   error            a prismatic joint column holds millimetres
+//   joint-derivatives   error            a _vel (_acc) column is not the derivative of the
+//                                        position (_vel) over t: another unit or a scale
 //   force-units         error            forces in mN (total mass ~1000 x the URDF's)
 //   moment-units        error            moments in N mm (lever arms ~1000 x the robot)
 //                                        (without URDF masses both judged by the robot's reach)
@@ -66,7 +68,8 @@ struct SetupCheckOptions {
   // A motion log: the force is the weight minus the rate of change of
   // momentum, not M g, so the checks that compare each sample's force with
   // its gravity (wrench-sign, frame-rotation) are not made; the unit, column
-  // and gravity checks are.
+  // and gravity checks are, and check_setup_file reads t, _vel and _acc for
+  // joint-derivatives.
   bool motion = false;
   // check_setup_file reads the file with these (the root gravity for a sensor
   // below movable joints).
@@ -86,10 +89,11 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
 // of data files (memory-mapped; memory bounded by max_rows, whatever the
 // file's size; lines after the last sample read are not looked at), with
 // read_csv's and read_samples' rules and errors. header: the roles of the
-// file's columns (column_roles).
+// file's columns (column_roles). `motion`: t and the joints' _vel and _acc
+// too (the sensor motion wx..az bound as a motion log binds it).
 Samples read_samples_head(const Model& model, const std::string& path, int max_rows,
                           std::vector<std::string>* header = nullptr,
-                          const SampleOptions& read = {});
+                          const SampleOptions& read = {}, bool motion = false);
 
 // read_samples_head, then check_setup.
 std::vector<SetupFinding> check_setup_file(const Model& model, const std::string& path,

@@ -36,8 +36,10 @@ std::string replace_inertials(const std::string& urdf, const std::string& source
 // physically consistent inertials of every measured link written in (mass,
 // centre of mass and inertia about it: physical.hpp; at rest the inertia about
 // the centre of mass is the URDF's). A link the URDF gives no mass gets the
-// fit's body too (fit_physical's tiny prior body, unless the data moved it),
-// so that the file reproduces the fit's wrench exactly. `note` goes into each
+// fit's body, unless it is a frame fixed to a neighbour (PhysicalLink::unseen:
+// ee_link, tool0, a massless root), whose body the fit gave the neighbour: it
+// stays massless, and the URDF's root link without an <inertial> gets none;
+// the file reproduces the fit's wrench exactly. `note` goes into each
 // written element as a comment. InputError naming the file when it cannot be
 // read.
 std::string identified_urdf(const Model& model, const PhysicalSummary& physical,
