@@ -119,6 +119,13 @@ class Tracker {
   std::unique_ptr<Impl> impl_;
 };
 
+// The columns compensate --track appends after fx_comp..mz_comp (interface.md).
+inline constexpr const char* kTrackerColumns[] = {
+    "payload_m",     "payload_cx",  "payload_cy",  "payload_cz",  "payload_m_std",
+    "payload_c_std", "payload_ixx", "payload_ixy", "payload_ixz", "payload_iyy",
+    "payload_iyz",   "payload_izz", "offset_fx",   "offset_fy",   "offset_fz",
+    "offset_mx",     "offset_my",   "offset_mz",   "event"};
+
 // "", "change", "contact"
 const char* tracker_event_name(TrackerEvent event);
 
