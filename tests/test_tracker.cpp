@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -73,6 +74,8 @@ void expect_tracked(const TrackerLog& log, const TrackerRun& run) {
   const Samples& s = log.samples;
   int changes = 0, contact_rows = 0, contact_flagged = 0, free_rows = 0, free_flagged = 0;
   double worst_mass = 0, worst_zero = 0, worst_com = 0, worst_f = 0, worst_m = 0;
+  double worst_inertia = 0;
+  int undetermined = 0;
   for (int i = 0; i < s.size(); ++i) {
     const double t = s.time[i];
     const TrackerEstimate& e = run.rows[static_cast<std::size_t>(i)];
@@ -97,6 +100,15 @@ void expect_tracked(const TrackerLog& log, const TrackerRun& run) {
     if (t >= kRelease + 1.0) worst_zero = std::max(worst_zero, e.mass / kObjectMass);
     if (t >= kMotion[1].a + 1.5 && t < kRelease)
       worst_com = std::max(worst_com, (e.com - kObjectCom).norm());
+    // The principal moments, 3 s into the motion after the grasp.
+    if (t >= kMotion[1].a + 3.0 && t < kRelease) {
+      if (!e.inertia_determined) ++undetermined;
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(e.inertia);
+      Eigen::Vector3d truth = kObjectInertia;
+      std::sort(truth.data(), truth.data() + 3);
+      worst_inertia = std::max(
+          worst_inertia, ((eig.eigenvalues() - truth).array() / truth.array()).abs().maxCoeff());
+    }
     if (t >= 5.0) {
       const Wrench d = e.offset - tracker_offset(t);
       worst_f = std::max(worst_f, d.head<3>().cwiseAbs().maxCoeff());
@@ -105,9 +117,10 @@ void expect_tracked(const TrackerLog& log, const TrackerRun& run) {
   }
   std::cout << fmt::format(
       "tracker: {} changes; worst mass error {:.3g} %, after release {:.3g} %, com {:.3g} mm, "
-      "offsets {:.3g} N {:.3g} N m; contact rows flagged {}/{}, free rows {}/{}\n",
+      "offsets {:.3g} N {:.3g} N m; contact rows flagged {}/{}, free rows {}/{}; principal "
+      "moments {:.3g} %\n",
       changes, 100 * worst_mass, 100 * worst_zero, 1e3 * worst_com, worst_f, worst_m,
-      contact_flagged, contact_rows, free_flagged, free_rows);
+      contact_flagged, contact_rows, free_flagged, free_rows, 100 * worst_inertia);
   EXPECT_EQ(changes, 2);
   EXPECT_LT(worst_mass, 0.01);
   EXPECT_LT(worst_zero, 0.01);
@@ -116,6 +129,8 @@ void expect_tracked(const TrackerLog& log, const TrackerRun& run) {
   EXPECT_LT(worst_m, 0.004);
   EXPECT_GE(contact_flagged, 0.9 * contact_rows);
   EXPECT_LE(free_flagged, 0.01 * free_rows);
+  EXPECT_EQ(undetermined, 0);
+  EXPECT_LT(worst_inertia, 0.10);
 }
 
 TEST(Tracker, WristSensorTracksGraspDriftContactAndRelease) {
@@ -126,6 +141,61 @@ TEST(Tracker, WristSensorTracksGraspDriftContactAndRelease) {
 TEST(Tracker, BaseSensorTracksGraspDriftContactAndRelease) {
   const TrackerLog log = tracker_log(false, 2);
   expect_tracked(log, track(log));
+}
+
+// Honest std: the mass (at rest after the grasp, and in motion) and the
+// centre of mass (in motion) standardised by their std, over 10 seeds (10,
+// not the 50, to keep the test fast): RMS within 0.7 .. 1.5.
+TEST(Tracker, StandardisedErrorsOverTenSeeds) {
+  double sum = 0;
+  int n = 0;
+  for (std::uint64_t seed = 100; seed < 110; ++seed) {
+    const TrackerLog log = tracker_log(true, seed);
+    const TrackerRun run = track(log);
+    for (const double t : {kGrasp + 1.5, 15.0, 21.0}) {
+      const TrackerEstimate& e = run.rows[static_cast<std::size_t>(std::lround(t * kRate))];
+      const double zm = (e.mass - kObjectMass) / e.mass_std;
+      sum += zm * zm;
+      ++n;
+      if (t < kMotion[1].a) continue;  // the com along gravity is unseen at rest
+      for (int k = 0; k < 3; ++k) {
+        const double zc = (e.com[k] - kObjectCom[k]) / e.com_stds[k];
+        sum += zc * zc;
+        ++n;
+      }
+    }
+  }
+  const double rms = std::sqrt(sum / n);
+  std::cout << fmt::format("tracker: standardised errors' RMS {:.3f} over {} values\n", rms, n);
+  EXPECT_GT(rms, 0.7);
+  EXPECT_LT(rms, 1.5);
+}
+
+// A contact at rest, horizontal: no weight can explain it, so it is contact
+// throughout, and the payload (none) and offsets are untouched.
+TEST(Tracker, HorizontalPushAtRestIsContactNotALoad) {
+  TrackerLog log = tracker_log(true, 21, false);
+  Samples& s = log.samples;
+  const Eigen::Matrix3d R = upstream_kinematics(log.plain, s.q_upstream.row(0).transpose(),
+                                                Eigen::VectorXd(), Eigen::VectorXd())
+                                .rotation;
+  const Eigen::Vector3d F = R.transpose() * Eigen::Vector3d(8.0, -5.0, 0.0);
+  int rows = 0;
+  for (int i = 0; i < s.size(); ++i)
+    if (s.time[i] >= 1.0 && s.time[i] < 2.5) {  // at rest
+      s.wrench.block<1, 3>(i, 0) += F.transpose();
+      ++rows;
+    }
+  const TrackerRun run = track(log);
+  int flagged = 0, changes = 0;
+  for (int i = 0; i < s.size(); ++i) {
+    const TrackerEstimate& e = run.rows[static_cast<std::size_t>(i)];
+    changes += e.event == TrackerEvent::Change;
+    if (s.time[i] >= 1.0 && s.time[i] < 2.5) flagged += e.event == TrackerEvent::Contact;
+    EXPECT_LT(e.mass, 0.01) << s.time[i];
+  }
+  EXPECT_EQ(changes, 0);
+  EXPECT_EQ(flagged, rows);
 }
 
 TEST(Tracker, PayloadLinkDefaultsToTheFarthestAndUnknownLinksAreNamed) {

@@ -169,12 +169,13 @@ void Tracker::Impl::write_estimate(const Wrench& z, const Matrix6x10& Y) {
     J.col(0) = -h / (out.mass * out.mass);
     J.rightCols<3>() = Eigen::Matrix3d::Identity() / out.mass;
     const Eigen::Matrix3d C = J * P.topLeftCorner<4, 4>() * J.transpose();
-    out.com_std = std::sqrt(std::max(C.diagonal().maxCoeff(), 0.0));
+    out.com_stds = C.diagonal().cwiseMax(0.0).cwiseSqrt();
   } else {
     out.com.setZero();
-    out.com_std = std::sqrt(std::max(Phh.diagonal().maxCoeff(), 0.0)) /
-                  std::max(std::max(out.mass, 3.0 * out.mass_std), 1e-12);
+    out.com_stds = Phh.diagonal().cwiseMax(0.0).cwiseSqrt() /
+                   std::max(std::max(out.mass, 3.0 * out.mass_std), 1e-12);
   }
+  out.com_std = out.com_stds.maxCoeff();
   // The inertia about the centre of mass, projected: principal moments
   // l_k = d_i + d_j with the second moments d >= 0 (PSD and the triangle
   // inequalities).

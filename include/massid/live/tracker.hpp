@@ -49,7 +49,7 @@ struct TrackerOptions {
   // Sensor noise, std per axis (N, N m).
   Wrench noise = (Wrench() << 0.05, 0.05, 0.05, 0.003, 0.003, 0.003).finished();
   // The offsets' random walk, std growth per sqrt(s) (N, N m).
-  Wrench offset_walk = (Wrench() << 0.02, 0.02, 0.02, 0.001, 0.001, 0.001).finished();
+  Wrench offset_walk = (Wrench() << 0.005, 0.005, 0.005, 0.00025, 0.00025, 0.00025).finished();
   // The offsets' std at the start: the identified model's offsets (or zero)
   // are that uncertain (N, N m).
   Wrench offset_std = (Wrench() << 10.0, 10.0, 10.0, 1.0, 1.0, 1.0).finished();
@@ -77,10 +77,11 @@ enum class TrackerEvent { None, Change, Contact };
 
 // The estimate after a row, physically consistent.
 struct TrackerEstimate {
-  double mass = 0.0, mass_std = 0.0;                  // kg
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();      // LINK's frame, m (0 while the mass is 0)
-  double com_std = 0.0;                               // the largest of the three, m
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about the com, LINK's axes, kg m^2
+  double mass = 0.0, mass_std = 0.0;                   // kg
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();       // LINK's frame, m (0 while the mass is 0)
+  Eigen::Vector3d com_stds = Eigen::Vector3d::Zero();  // per coordinate, m
+  double com_std = 0.0;                                // the largest of the three, m
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();   // about the com, LINK's axes, kg m^2
   bool inertia_determined = false;
   Wrench offset = Wrench::Zero();
   Wrench offset_std = Wrench::Zero();
