@@ -4,6 +4,14 @@
 // tracker_support.hpp) through stdin. Checked: the spec's columns in order,
 // the events, the payload's mass against the object's, *_comp against the
 // contact wrench put into the data.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
+#include <chrono>
+#include <regex>
+#include <thread>
+
 #include "cli_support.hpp"
 #include "tracker_support.hpp"
 
@@ -90,6 +98,55 @@ TEST_F(CliTracker, TrackAppendsTheSpecsColumnsAndTracksTheObject) {
   EXPECT_LT(std::sqrt(sq_m / in_contact), 1.5 * 0.003);
   EXPECT_LT(worst_comp_f, 5.5 * 0.05);
   EXPECT_LT(worst_comp_m, 5.5 * 0.003);
+}
+
+// The same tracked lines over loopback UDP (one datagram each, --udp 0)
+// give the same output, to the byte, as on stdin.
+TEST_F(CliTracker, TrackOverUdpIsTrackOnStdin) {
+  const std::string tool = params();
+  const std::string csv = tracker_csv(tracker_log(true, 14), massid::load_urdf(kUrUrdf));
+  std::vector<std::string> lines;
+  std::size_t at = 0;
+  for (std::size_t next; (next = csv.find('\n', at)) != std::string::npos && lines.size() < 1500;
+       at = next + 1)
+    lines.push_back(csv.substr(at, next - at));
+  std::string head;
+  for (const std::string& l : lines) head += l + "\n";
+  const Result stdin_run = run({"compensate", kUrUrdf, tool, "--track"}, file("head.csv", head));
+  ASSERT_EQ(stdin_run.code, 0) << stdin_run;
+
+  Result udp_run;
+  std::thread command([&] {
+    udp_run = run({"compensate", kUrUrdf, tool, "--track", "--udp", "0"});
+  });
+  // The port, from the command's stderr.
+  int port = 0;
+  for (int k = 0; k < 1000 && port == 0; ++k) {
+    std::smatch m;
+    const std::string err = read_file(path(".stderr"));
+    if (std::regex_search(err, m, std::regex(R"(udp 127\.0\.0\.1:(\d+))")))
+      port = std::stoi(m[1]);
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_GT(port, 0);
+  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<uint16_t>(port));
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  for (std::size_t i = 0; i <= lines.size(); ++i) {
+    const std::string text = i < lines.size() ? lines[i] : "";  // "" ends the stream
+    EXPECT_EQ(
+        sendto(fd, text.data(), text.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to),
+        static_cast<ssize_t>(text.size()));
+    if (i % 50 == 49) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  command.join();
+  close(fd);
+  EXPECT_EQ(udp_run.code, 0) << udp_run.err;
+  EXPECT_EQ(udp_run.out, stdin_run.out);
 }
 
 TEST_F(CliTracker, TrackNeedsTimeAndNamesAWrongPayloadLink) {
