@@ -4,10 +4,6 @@
 // tracker_support.hpp) through stdin. Checked: the spec's columns in order,
 // the events, the payload's mass against the object's, *_comp against the
 // contact wrench put into the data.
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-
 #include <chrono>
 #include <regex>
 #include <thread>
@@ -130,21 +126,12 @@ TEST_F(CliTracker, TrackOverUdpIsTrackOnStdin) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   ASSERT_GT(port, 0);
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  ASSERT_GE(fd, 0);
-  sockaddr_in to{};
-  to.sin_family = AF_INET;
-  to.sin_port = htons(static_cast<uint16_t>(port));
-  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const LoopbackSender sender(port);
   for (std::size_t i = 0; i <= lines.size(); ++i) {
-    const std::string text = i < lines.size() ? lines[i] : "";  // "" ends the stream
-    EXPECT_EQ(
-        sendto(fd, text.data(), text.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to),
-        static_cast<ssize_t>(text.size()));
+    EXPECT_TRUE(sender.send(i < lines.size() ? lines[i] : ""));  // "" ends the stream
     if (i % 50 == 49) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   command.join();
-  close(fd);
   EXPECT_EQ(udp_run.code, 0) << udp_run.err;
   EXPECT_EQ(udp_run.out, stdin_run.out);
 }
