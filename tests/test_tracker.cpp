@@ -198,6 +198,68 @@ TEST(Tracker, HorizontalPushAtRestIsContactNotALoad) {
   EXPECT_EQ(flagged, rows);
 }
 
+// A static params file (first moments, identified at rest) tracks the 4
+// parameters a rest log shows: a wrist log of poses held 1 s each (no
+// velocities), the object grasped during the third. The mass from the pose
+// it is grasped at, the whole centre of mass once gravity has turned; the
+// inertia never written.
+TEST(Tracker, StaticParamsTrackMassAndCentreOfMassFromRestPoses) {
+  const std::string urdf = test::examples()[1].urdf;
+  const Model wrist = load_urdf(urdf, "wrist_3_link");
+  const Model with = load_urdf_string(object_urdf(urdf), "wrist_3_link", "ur_like+object");
+  const double rate = 200.0, hold = 1.0, grasp = 2.5;
+  const int poses = 12, per = static_cast<int>(hold * rate), n = poses * per;
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> U(-2.5, 2.5);
+  Samples s;
+  s.source = "rest";
+  s.q.resize(n, 0);
+  s.q_upstream.resize(n, 6);
+  s.gravity.resize(n, 3);
+  s.gravity_from_upstream = true;
+  s.time.resize(n);
+  s.line.resize(static_cast<std::size_t>(n));
+  Eigen::VectorXd q(6);
+  for (int i = 0; i < n; ++i) {
+    if (i % per == 0)
+      for (int j = 0; j < 6; ++j) q[j] = U(rng);
+    s.q_upstream.row(i) = q.transpose();
+    s.time[i] = i / rate;
+    s.line[static_cast<std::size_t>(i)] = i + 2;
+  }
+  resolve_upstream(wrist, s);
+  SimulateOptions so;
+  so.noise_force = 0.05;
+  so.noise_moment = 0.003;
+  so.seed = 32;
+  const Eigen::MatrixXd w0 = simulate_wrenches(wrist, s, so);
+  so.seed = 33;
+  const Eigen::MatrixXd w1 = simulate_wrenches(with, s, so);
+  const BaseParameters base = find_base_parameters(wrist);
+  ASSERT_FALSE(base.motion());
+  const IdentifiedModel model = IdentifiedModel::from_values(
+      wrist, base, base.K * ParameterLayout::first_moments().nominal(wrist));
+  Tracker tracker(model);
+  int changes = 0, written = 0;
+  double worst_mass = 0, worst_com = 0;
+  for (int i = 0; i < n; ++i) {
+    const double t = s.time[i];
+    const Wrench w = (t >= grasp ? w1 : w0).row(i).transpose();
+    const TrackerEstimate& e =
+        tracker.update(t, nullptr, nullptr, nullptr, s.gravity.row(i).transpose(), {}, w);
+    ASSERT_TRUE(tracker_consistent(e));
+    written += t >= grasp + 0.5 && e.inertia_determined;  // the payload known zero before
+    changes += e.event == TrackerEvent::Change;
+    if (t >= grasp + 1.0)
+      worst_mass = std::max(worst_mass, std::abs(e.mass - kObjectMass) / kObjectMass);
+    if (t >= 6.0) worst_com = std::max(worst_com, (e.com - kObjectCom).norm());
+  }
+  EXPECT_EQ(changes, 1);
+  EXPECT_EQ(written, 0);
+  EXPECT_LT(worst_mass, 0.01);
+  EXPECT_LT(worst_com, 0.002);
+}
+
 TEST(Tracker, PayloadLinkDefaultsToTheFarthestAndUnknownLinksAreNamed) {
   const TrackerLog log = tracker_log(true, 3);
   const IdentifiedModel model = tracker_identified(log);
