@@ -138,15 +138,30 @@ TEST_F(CliTracker, TrackOverUdpIsTrackOnStdin) {
 
 TEST_F(CliTracker, TrackNeedsTimeAndNamesAWrongPayloadLink) {
   const std::string tool = params();
-  const std::string no_t = file("no_t.csv", "fx,fy,fz,mx,my,mz\n0,0,0,0,0,0\n");
+  const std::string no_t = file("no_t.csv", "gx,gy,gz,fx,fy,fz,mx,my,mz\n0,0,-9.8,0,0,0,0,0,0\n");
   Result r = run({"compensate", kUrUrdf, tool, "--track"}, no_t);
   EXPECT_NE(r.code, 0) << r;
-  EXPECT_NE(r.err.find("t"), std::string::npos) << r;
+  EXPECT_NE(r.err.find("--track needs the time column t"), std::string::npos) << r;
   const std::string in =
       file("one.csv", tracker_csv(tracker_log(true, 13, false), massid::load_urdf(kUrUrdf)));
   r = run({"compensate", kUrUrdf, tool, "--track", "--payload-link", "gripper"}, in);
   EXPECT_NE(r.code, 0) << r;
   EXPECT_NE(r.err.find("'gripper'"), std::string::npos) << r;
+  // A tracking column already in the input.
+  const std::string with_event =
+      file("event.csv", "t,event,gx,gy,gz,fx,fy,fz,mx,my,mz\n0,1,0,0,-9.8,0,0,0,0,0,0\n");
+  r = run({"compensate", kUrUrdf, tool, "--track"}, with_event);
+  EXPECT_NE(r.code, 0) << r;
+  EXPECT_NE(r.err.find("'event'"), std::string::npos) << r;
+  // t going back: the line is named and skipped.
+  const std::string back =
+      file("back.csv",
+           "t,gx,gy,gz,fx,fy,fz,mx,my,mz\n0.1,0,0,-9.8,0,0,0,0,0,0\n0.05,0,0,-9.8,0,0,0,0,0,0\n"
+           "0.2,0,0,-9.8,0,0,0,0,0,0\n");
+  r = run({"compensate", kUrUrdf, tool, "--track"}, back);
+  EXPECT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.err.find("stdin:3: t = 0.05 does not increase"), std::string::npos) << r;
+  EXPECT_EQ(count_lines(r.out), 3) << r;  // the header and two samples
   r = run({"compensate", kUrUrdf, tool, "--payload-link", "tool"}, in);
   EXPECT_NE(r.code, 0) << r;
   EXPECT_NE(r.err.find("--track"), std::string::npos) << r;
