@@ -53,6 +53,21 @@ void add_compensate_command(CLI::App& app, CompensateCommand& c) {
   s->add_option("--gravity", c.level_gravity,
                 "Gravity in the sensor frame with the platform level, gx,gy,gz (default "
                 "0,0,-9.80665): turned by the tilt_x_deg,tilt_y_deg columns");
+  s->add_flag("--track", c.track,
+              "Also track a payload on a link and the sensor's drifting offsets (needs t): "
+              "payload_m .. event columns after fx_comp..mz_comp, which become the external "
+              "wrench (docs/tracking.md)");
+  s->add_option("--payload-link", c.payload_link,
+                "With --track: the payload's link (default: the measured link farthest from the "
+                "sensor)");
+  s->add_option("--sigma-force", c.sigma_force,
+                "With --track: the sensor's force noise, N per axis (default: the params file's "
+                "residual RMS)")
+      ->check(CLI::PositiveNumber);
+  s->add_option("--sigma-moment", c.sigma_moment,
+                "With --track: the sensor's moment noise, N m per axis (default: the params "
+                "file's residual RMS)")
+      ->check(CLI::PositiveNumber);
   add_columns_option(s, c.columns);
 }
 
@@ -287,7 +302,7 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
   std::cerr << std::flush;
   if (!write_all(1, comp.output_header().data(), comp.output_header().size())) return 0;
 
-  LatencyHistogram latency;
+  LatencyHistogram latency, tracker_latency;
   ContactLog contact;
   long skipped = 0;
   while (lines.next(line, number)) {
@@ -302,6 +317,7 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
     }
     if (out.empty()) continue;  // a comment
     latency.record(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
+    if (comp.tracker()) tracker_latency.record(comp.tracker_update_ns());
     if (!write_all(1, out.data(), out.size())) break;  // the reader is gone
     lines.reply(out);
     if constexpr (Lines::kEnds) contact.add(number, comp.compensated(), comp.measured());
@@ -313,6 +329,12 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
         "format) median {:.3f} us, 99.9th percentile {:.3f} us, max {:.3f} us\n",
         latency.count(), skipped, latency.percentile(0.5) * 1e-3, latency.percentile(0.999) * 1e-3,
         static_cast<double>(latency.max()) * 1e-3);
+  if (c.stats && comp.tracker())
+    std::cerr << fmt::format(
+        "massid: compensate: tracker update (its part of the latency) median {:.3f} us, 99.9th "
+        "percentile {:.3f} us, max {:.3f} us\n",
+        tracker_latency.percentile(0.5) * 1e-3, tracker_latency.percentile(0.999) * 1e-3,
+        static_cast<double>(tracker_latency.max()) * 1e-3);
   return 0;
 }
 
@@ -320,8 +342,22 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
 
 int run_compensate(const CompensateCommand& c) {
   if (c.reply && c.udp_port < 0) throw InputError("--reply goes with --udp PORT");
-  const IdentifiedModel identified = IdentifiedModel::load(c.urdf, c.params);
+  if (!c.track && (!c.payload_link.empty() || c.sigma_force > 0 || c.sigma_moment > 0))
+    throw InputError("--payload-link, --sigma-force and --sigma-moment go with --track");
+  const ParamsFile params = read_params(c.params);
+  const IdentifiedModel identified = IdentifiedModel::load(c.urdf, params);
   CompensatorOptions options;
+  if (c.track) {
+    // The sensor noise: given, else the fit's residual RMS per axis, else the
+    // tracker's default.
+    options.track = true;
+    options.tracker.payload_link = c.payload_link;
+    Wrench& noise = options.tracker.noise;
+    for (int k = 0; k < 6; ++k)
+      if (params.residual_rms[k] > 0) noise[k] = params.residual_rms[k];
+    if (c.sigma_force > 0) noise.head<3>().setConstant(c.sigma_force);
+    if (c.sigma_moment > 0) noise.tail<3>().setConstant(c.sigma_moment);
+  }
   if (!c.root_gravity.empty())
     options.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");
   if (!c.level_gravity.empty())

@@ -21,6 +21,9 @@ struct CompensateCommand {
   std::string root_gravity;   // --root-gravity gx,gy,gz (root frame; upstream joints)
   std::string level_gravity;  // --gravity gx,gy,gz (sensor frame, level; tilt columns)
   std::vector<std::string> columns;  // --columns ROLE=NAME,...
+  bool track = false;                // --track: the payload and the offsets (tracker.hpp)
+  std::string payload_link;          // --payload-link LINK ("" = the farthest measured link)
+  double sigma_force = 0.0, sigma_moment = 0.0;  // --sigma-force/--sigma-moment (0: the params')
 };
 
 void add_compensate_command(CLI::App& app, CompensateCommand& cmd);

@@ -3,9 +3,12 @@
 // files it writes.
 #pragma once
 
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <spawn.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -22,6 +25,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 extern char** environ;
@@ -57,6 +61,31 @@ inline int count_lines(const std::string& text) {
   if (!text.empty() && text.back() != '\n') ++n;
   return n;
 }
+
+// A UDP socket sending datagrams to 127.0.0.1:port (compensate --udp).
+class LoopbackSender {
+ public:
+  explicit LoopbackSender(int port) : fd_(socket(AF_INET, SOCK_DGRAM, 0)) {
+    to_.sin_family = AF_INET;
+    to_.sin_port = htons(static_cast<uint16_t>(port));
+    to_.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  }
+  ~LoopbackSender() {
+    if (fd_ >= 0) close(fd_);
+  }
+  LoopbackSender(const LoopbackSender&) = delete;
+  LoopbackSender& operator=(const LoopbackSender&) = delete;
+  int fd() const { return fd_; }
+  // One datagram; true when it was sent whole.
+  bool send(std::string_view text) const {
+    return sendto(fd_, text.data(), text.size(), 0, reinterpret_cast<const sockaddr*>(&to_),
+                  sizeof to_) == static_cast<ssize_t>(text.size());
+  }
+
+ private:
+  int fd_ = -1;
+  sockaddr_in to_{};
+};
 
 struct Result {
   int code = -1;

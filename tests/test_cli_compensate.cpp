@@ -405,22 +405,14 @@ TEST_F(CliCompensate, UdpLoopbackWithMalformedDatagramsAndReplies) {
   const int port = std::stoi(m[1]);
   ASSERT_GT(port, 0);
 
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  ASSERT_GE(fd, 0);
-  sockaddr_in to{};
-  to.sin_family = AF_INET;
-  to.sin_port = htons(static_cast<uint16_t>(port));
-  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  const auto send_line = [&](const std::string& text) {
-    ASSERT_EQ(
-        sendto(fd, text.data(), text.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to),
-        static_cast<ssize_t>(text.size()));
-  };
+  const LoopbackSender sender(port);
+  ASSERT_GE(sender.fd(), 0);
+  const auto send_line = [&](const std::string& text) { ASSERT_TRUE(sender.send(text)); };
   const auto reply = [&]() -> std::optional<std::string> {
-    pollfd p{fd, POLLIN, 0};
+    pollfd p{sender.fd(), POLLIN, 0};
     if (poll(&p, 1, 10000) <= 0) return std::nullopt;
     char buf[65536];
-    const ssize_t n = recv(fd, buf, sizeof buf, 0);
+    const ssize_t n = recv(sender.fd(), buf, sizeof buf, 0);
     return n > 0 ? std::optional<std::string>(std::string(buf, static_cast<size_t>(n)))
                  : std::nullopt;
   };
@@ -456,7 +448,6 @@ TEST_F(CliCompensate, UdpLoopbackWithMalformedDatagramsAndReplies) {
   }
   send_line("");  // the end
   EXPECT_EQ(live.wait(), 0) << live.err;
-  close(fd);
   write_file(path("out.csv"), got);
   const Table out = read_table(path("out.csv"));
   ASSERT_EQ(out.rows.size(), 100u);
@@ -478,23 +469,17 @@ TEST_F(CliCompensate, UdpEndsAtEndLineAndAtSigterm) {
     ASSERT_TRUE(hello);
     std::smatch m;
     ASSERT_TRUE(std::regex_search(*hello, m, std::regex(R"(:(\d+)$)"))) << *hello;
-    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_port = htons(static_cast<uint16_t>(std::stoi(m[1])));
-    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const LoopbackSender sender(std::stoi(m[1]));
     for (int i = 0; i <= 3; ++i) {
-      sendto(fd, lines[i].data(), lines[i].size(), 0, reinterpret_cast<const sockaddr*>(&to),
-             sizeof to);
+      sender.send(lines[i]);
       ASSERT_TRUE(live.line()) << i;
     }
     if (by_signal)
       live.signal_stop(SIGTERM);
     else
-      sendto(fd, "end\n", 4, 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+      sender.send("end\n");
     EXPECT_EQ(live.wait(), 0) << live.err;
     EXPECT_EQ(parse_stats(live.err).samples, 3) << live.err;
-    close(fd);
   }
 }
 

@@ -16,6 +16,7 @@
 #include "massid/io/urdf.hpp"
 #include "massid/live/compensator.hpp"
 #include "test_support.hpp"
+#include "tracker_support.hpp"
 
 extern "C" {
 void* __libc_malloc(std::size_t);
@@ -168,6 +169,52 @@ TEST_P(NoAllocation, CompensateLine) {
 
 INSTANTIATE_TEST_SUITE_P(Examples, NoAllocation, ::testing::ValuesIn(test::examples()),
                          [](const auto& info) { return info.param.name; });
+
+// The tracker's update (tracker.hpp) over a whole tracked log: gated rows, a
+// contact, two refitted changes and the restarts after them, and the
+// compensate --track line with its columns.
+TEST(NoAllocation, TrackerUpdateAndTrackedLine) {
+  const tracker_test::TrackerLog log = tracker_test::tracker_log(true, 5);
+  const IdentifiedModel identified = tracker_test::tracker_identified(log);
+  Tracker tracker(identified);
+  const Samples& s = log.samples;
+  std::vector<Eigen::Vector3d> g(static_cast<std::size_t>(s.size()));
+  std::vector<FrameMotion> sensor(g.size());
+  std::vector<Wrench> w(g.size());
+  for (int i = 0; i < s.size(); ++i) {
+    g[static_cast<std::size_t>(i)] = s.gravity.row(i).transpose();
+    const auto m = s.sensor_motion.row(i);
+    sensor[static_cast<std::size_t>(i)] = {m.segment<3>(0).transpose(), m.segment<3>(3).transpose(),
+                                           m.segment<3>(6).transpose()};
+    w[static_cast<std::size_t>(i)] = s.wrench.row(i).transpose();
+  }
+  const double none = 0.0;
+  int changes = 0;
+  const long before = allocations();
+  for (int i = 0; i < s.size(); ++i) {
+    const std::size_t k = static_cast<std::size_t>(i);
+    changes += tracker.update(s.time[i], &none, &none, &none, g[k], sensor[k], w[k]).event ==
+               TrackerEvent::Change;
+  }
+  EXPECT_EQ(allocations() - before, 0);
+  EXPECT_EQ(changes, 2);
+
+  // compensate --track's line.
+  const Model arm = load_urdf(test::examples()[1].urdf);
+  const std::string csv = tracker_test::tracker_csv(log, arm);
+  std::vector<std::string> lines;
+  std::size_t at = 0;
+  for (std::size_t next; (next = csv.find('\n', at)) != std::string::npos; at = next + 1)
+    lines.push_back(csv.substr(at, next - at));
+  CompensatorOptions o;
+  o.track = true;
+  Compensator comp(identified, lines[0], "test", o);
+  for (std::size_t k = 1; k < 20; ++k) comp.compensate(lines[k], static_cast<int>(k + 1));
+  const long before_lines = allocations();
+  for (std::size_t k = 20; k < lines.size(); ++k)
+    comp.compensate(lines[k], static_cast<int>(k + 1));
+  EXPECT_EQ(allocations() - before_lines, 0);
+}
 
 TEST(NoAllocation, EmulatorControlStep) {
   const Model model = load_urdf(MASSID_SOURCE_DIR "/examples/puma260/puma260.urdf");

@@ -55,6 +55,17 @@ Eigen::Matrix<double, 6, 10> body_regressor(const Eigen::Vector3d& w, const Eige
   return B;
 }
 
+Eigen::Matrix<double, 6, 10> link_regressor(const KinematicsData& data, int l) {
+  const Eigen::Matrix<double, 6, 10> B =
+      body_regressor(data.omega[l], data.omega_dot[l], data.accel[l]);
+  const Eigen::Matrix3d& R = data.rotation[l];
+  const Eigen::Matrix<double, 3, 10> f = R * B.topRows<3>();
+  Eigen::Matrix<double, 6, 10> Y;
+  Y.topRows<3>() = -f;
+  Y.bottomRows<3>() = -(R * B.bottomRows<3>() + skew(data.position[l]) * f);
+  return Y;
+}
+
 void motion_regressor(const Model& model, const KinematicsData& data,
                       Eigen::Ref<Eigen::MatrixXd> Y) {
   constexpr int P = 10;
@@ -63,14 +74,7 @@ void motion_regressor(const Model& model, const KinematicsData& data,
                      "10 parameters per link");
   detail::check_size("motion_regressor", "data", static_cast<Eigen::Index>(data.rotation.size()),
                      model.num_links(), "a workspace for the model's links");
-  for (int l = 0; l < model.num_links(); ++l) {
-    const Eigen::Matrix<double, 6, 10> B =
-        body_regressor(data.omega[l], data.omega_dot[l], data.accel[l]);
-    const Eigen::Matrix3d& R = data.rotation[l];
-    const Eigen::Matrix<double, 3, 10> f = R * B.topRows<3>();
-    Y.block<3, P>(0, P * l) = -f;
-    Y.block<3, P>(3, P * l) = -(R * B.bottomRows<3>() + skew(data.position[l]) * f);
-  }
+  for (int l = 0; l < model.num_links(); ++l) Y.block<6, P>(0, P * l) = link_regressor(data, l);
 }
 
 }  // namespace massid

@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <chrono>
 #include <optional>
 #include <vector>
 
@@ -45,6 +46,10 @@ struct Compensator::Impl {
   std::string header, note;             // output header; notes on the columns
   std::string line_out;                 // the output line, reused (capacity kept)
   Wrench compensated = Wrench::Zero();  // the last good line's fx..mz_comp
+  std::optional<Tracker> tracker;       // options.track
+  long long tracker_ns = 0;             // its last update's time
+  double last_t = 0.0;                  // the last good line's t (tracking)
+  int lines_done = 0;
 
   // The clock delay (IdentifiedModel::delay, > 0): line i is predicted for the
   // joint stream at t_i - delay, interpolated linearly between the two lines
@@ -202,14 +207,35 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   // The clock delay: t is needed; a wrench ahead of the joints would need
   // lines not read yet.
   m.delay = identified.delay();
+  const auto bind_time = [&] {
+    if (c.time < 0 && find(header, "t") >= 0 && c.target[find(header, "t")] < 0)
+      c.time = detail::bind_value(c, find(header, "t"), 1.0);  // a static binding leaves t
+  };
+  if (options.track) {
+    bind_time();
+    if (c.time < 0)
+      throw InputError(fmt::format(
+          "{}: --track needs the time column t (the offsets drift with time); add t", where));
+    for (const char* name : kTrackerColumns)
+      if (find(header, name) >= 0)
+        throw InputError(fmt::format(
+            "{}: column '{}' is already in the header: compensate --track appends it; drop or "
+            "rename it",
+            where, name));
+    m.tracker.emplace(identified, options.tracker);
+    notes.push_back(fmt::format(
+        "tracking a payload on link '{}' and the sensor's offsets; sensor noise taken as {:.4g} "
+        "N, {:.4g} N m",
+        m.tracker->payload_link_name(), options.tracker.noise.head<3>().maxCoeff(),
+        options.tracker.noise.tail<3>().maxCoeff()));
+  }
   if (m.delay != 0.0) {
     if (m.delay < 0.0)
       throw InputError(fmt::format(
           "{}: {} has a negative clock delay ({:.4g} ms: the wrench ahead of the joints): "
           "compensating it live needs lines not read yet; massid predict applies it to a file",
           where, params_name, 1e3 * m.delay));
-    if (c.time < 0 && find(header, "t") >= 0 && c.target[find(header, "t")] < 0)
-      c.time = detail::bind_value(c, find(header, "t"), 1.0);  // a static binding leaves t
+    bind_time();
     if (c.time < 0)
       throw InputError(fmt::format(
           "{}: {} has the wrench's clock delay ({:.4g} ms, identify --delay): compensate applies "
@@ -232,6 +258,8 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   if (h.substr(0, 3) == "\xEF\xBB\xBF") h.remove_prefix(3);  // UTF-8 BOM
   m.header = std::string(h);
   for (const char* w : kWrenchColumns) m.header += fmt::format(",{}_comp", w);
+  if (m.tracker)
+    for (const char* name : kTrackerColumns) m.header += fmt::format(",{}", name);
   m.header += '\n';
   m.line_out.reserve(4096);
 }
@@ -243,6 +271,8 @@ Compensator& Compensator::operator=(Compensator&&) noexcept = default;
 const std::string& Compensator::output_header() const { return impl_->header; }
 const std::string& Compensator::note() const { return impl_->note; }
 const Wrench& Compensator::compensated() const { return impl_->compensated; }
+const Tracker* Compensator::tracker() const { return impl_->tracker ? &*impl_->tracker : nullptr; }
+long long Compensator::tracker_update_ns() const { return impl_->tracker_ns; }
 Eigen::Map<const Wrench> Compensator::measured() const {
   return Eigen::Map<const Wrench>(impl_->values.data() + impl_->columns.wrench);
 }
@@ -272,9 +302,30 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
   }
   const double* qd = c.qd >= 0 ? js + c.qd : js;  // static, or no joints: never read
   const double* qdd = c.qdd >= 0 ? js + c.qdd : js;
-  // The mechanism's wrench; measured - predicted - offset (identified_model.hpp).
-  const Wrench predicted = m.identified.predict(*m.data, js, qd, qdd, g, sensor);
-  m.compensated = m.identified.compensate(Eigen::Map<const Wrench>(v + c.wrench), predicted);
+  const Eigen::Map<const Wrench> measured(v + c.wrench);
+  if (m.tracker) {
+    // measured - predicted(mechanism and payload) - offset, by the tracker.
+    const double t = v[c.time];
+    if (m.lines_done > 0 && !(t > m.last_t))
+      throw InputError(fmt::format(
+          "{}:{}: t = {} does not increase (the previous line's is {}): tracking needs time in "
+          "order",
+          c.source, line_no, t, m.last_t));
+    const auto t0 = std::chrono::steady_clock::now();
+    m.compensated = m.tracker
+                        ->update(t, js, c.qd >= 0 ? qd : nullptr, c.qdd >= 0 ? qdd : nullptr, g,
+                                 sensor, measured)
+                        .compensated;
+    m.tracker_ns =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0)
+            .count();
+    m.last_t = t;
+  } else {
+    // The mechanism's wrench; measured - predicted - offset (identified_model.hpp).
+    const Wrench predicted = m.identified.predict(*m.data, js, qd, qdd, g, sensor);
+    m.compensated = m.identified.compensate(measured, predicted);
+  }
+  ++m.lines_done;
 
   // The input text, then the six values as format_number writes them.
   std::string& out = m.line_out;
@@ -284,6 +335,28 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
     number[0] = ',';
     const char* end = fmt::format_to(number + 1, "{}", m.compensated[k]);
     out.append(number, static_cast<std::size_t>(end - number));
+  }
+  if (m.tracker) {
+    const TrackerEstimate& e = m.tracker->estimate();
+    const auto put = [&](double x) {
+      number[0] = ',';
+      const char* end = fmt::format_to(number + 1, "{}", x);
+      out.append(number, static_cast<std::size_t>(end - number));
+    };
+    put(e.mass);
+    for (int k = 0; k < 3; ++k) put(e.com[k]);
+    put(e.mass_std);
+    put(e.com_std);
+    const int upper[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+    for (const auto& ij : upper) {
+      if (e.inertia_determined)
+        put(e.inertia(ij[0], ij[1]));
+      else
+        out += ',';
+    }
+    for (int k = 0; k < 6; ++k) put(e.offset[k]);
+    out += ',';
+    out += tracker_event_name(e.event);
   }
   out += '\n';
   return out;

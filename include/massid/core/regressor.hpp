@@ -47,6 +47,11 @@ void standard_regressor(const Model& model, const KinematicsData& data,
 Eigen::Matrix<double, 6, 10> body_regressor(const Eigen::Vector3d& w, const Eigen::Vector3d& dw,
                                             const Eigen::Vector3d& a);
 
+// One link's block of motion_regressor: its ten parameters' columns
+// (m, mx, my, mz, ixx, ixy, ixz, iyy, iyz, izz about its origin, its frame).
+// At rest (forward_kinematics with zero rates) the inertia columns are zero.
+Eigen::Matrix<double, 6, 10> link_regressor(const KinematicsData& data, int link);
+
 // Y: 6 x ParameterLayout::full().size(model), overwritten. `data` must hold
 // forward_kinematics with motion (velocities, accelerations, gravity).
 void motion_regressor(const Model& model, const KinematicsData& data,

@@ -28,6 +28,7 @@
 #include "massid/io/params_file.hpp"
 #include "massid/io/read_samples.hpp"
 #include "massid/live/identified_model.hpp"
+#include "massid/live/tracker.hpp"
 
 namespace massid {
 
@@ -40,6 +41,12 @@ struct CompensatorOptions {
   Eigen::Vector3d level_gravity{0.0, 0.0, -kStandardGravity};
   // Columns of the stream read as roles under other names (read_samples.hpp).
   ColumnNames columns;
+  // Track a payload and the drifting offsets (tracker.hpp; `compensate
+  // --track`): the stream needs t; the tracking columns follow fx_comp..mz_comp
+  // (payload_m ... event, interface.md "Tracking") and *_comp becomes
+  // measured - predicted(mechanism and payload) - offset.
+  bool track = false;
+  TrackerOptions tracker;
 };
 
 class Compensator {
@@ -77,6 +84,10 @@ class Compensator {
   const Wrench& compensated() const;
   // The last good line's measured wrench, fx..mz (valid until the next call).
   Eigen::Map<const Wrench> measured() const;
+  // With options.track: the tracker (its estimate after the last good line)
+  // and the time its update took on that line, ns; null and 0 otherwise.
+  const Tracker* tracker() const;
+  long long tracker_update_ns() const;
 
  private:
   struct Impl;
