@@ -73,7 +73,7 @@ if [ "$(cat "$SYSROOT/.complete" 2>/dev/null)" != "$recipe" ]; then
   echo "$recipe" >"$SYSROOT/.complete"
 fi
 
-# 3. massid_core, massid_tests and the C interface (massid_c) for aarch64: -O2 without debug information
+# 3. massid_core, massid_tests, massid_tracker_tests and the C interface (massid_c) for aarch64: -O2 without debug information
 #    (compile time), a unity build as in scripts/test.sh, warnings as errors, without the emulator and the CLI
 #    (MuJoCo), Python, benchmarks and fuzzers; ccache as in the normal build.
 export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}
@@ -81,7 +81,7 @@ cmake -S . -B "$ARM/build" --toolchain "$PWD/cmake/aarch64-linux-gnu.cmake" \
   -DMASSID_ARM_SYSROOT="$SYSROOT_ABS" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" -DCMAKE_UNITY_BUILD=ON \
   -DMASSID_WERROR=ON -DMASSID_EMULATOR=OFF -DMASSID_MUJOCO_TESTS=OFF -DMASSID_BENCH=OFF \
   -DMASSID_PYTHON=OFF -DCMAKE_CXX_COMPILER_LAUNCHER=ccache >/dev/null
-cmake --build "$ARM/build" -j "$JOBS" --target massid_tests massid_c
+cmake --build "$ARM/build" -j "$JOBS" --target massid_tests massid_tracker_tests massid_c
 
 # 4. The tests under qemu-aarch64 (ctest runs them through the toolchain
 #    file's CMAKE_CROSSCOMPILING_EMULATOR), but for those that took more than
