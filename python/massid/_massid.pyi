@@ -252,6 +252,7 @@ class Identification:
     warnings: list[str]  # also issued as MassidWarning
     delay: Optional[dict[str, Any]]  # dynamic with delay: value, std (s), estimated, scan
     rest_windows: Optional[dict[str, Any]]  # continuous static log: windows, samples, rows, moving, criterion
+    quasi_static: Optional[dict[str, float]]  # continuous static log too slow for its motion to show: rows, windowed_samples, max_speed, inertial_force, inertial_moment, noise_force, noise_moment
     physical: Optional[PhysicalSummary]  # physical=True: physically consistent parameters
     def report(self) -> str: ...  # the CLI's text report
     def to_json(self) -> str: ...  # the params file ("massid-params-1")
