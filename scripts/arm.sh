@@ -55,7 +55,9 @@ recipe="$SYSROOT_ABS: ${pkgs[*]} ${pkgs_all[*]}"
 if [ "$(cat "$SYSROOT/.complete" 2>/dev/null)" != "$recipe" ]; then
   echo "Making the arm64 sysroot $SYSROOT"
   dpkg --print-foreign-architectures | grep -qx arm64 || $SUDO dpkg --add-architecture arm64
-  apt-cache show libceres-dev:arm64 >/dev/null 2>&1 || $SUDO apt-get update -qq
+  # (as root, like the download below: where apt's _apt user cannot run gpgv,
+  # the arm64 indexes were silently not fetched)
+  apt-cache show libceres-dev:arm64 >/dev/null 2>&1 || $SUDO apt-get update -qq -o APT::Sandbox::User=root
   rm -rf "$ARM/debs" "$SYSROOT"
   mkdir -p "$ARM/debs" "$SYSROOT"
   # -o APT::Sandbox::User=root: _apt cannot write into this tree (a harmless warning otherwise).
