@@ -77,9 +77,10 @@ TEST(UnloggedJoints, AHandsFingersAreHeldWithOneNoteAndFitAsIfHeldByHand) {
   EXPECT_EQ(note->hints.front(), (Hint{Hint::Setting::HoldJoints, ""}));
   EXPECT_EQ(held.num_joints(), 0);
   ASSERT_EQ(held.held.size(), 36u);
-  for (const auto& [name, value] : hand_held()) {
+  for (const auto& joint : hand_held()) {
+    const auto& [name, value] = joint;
     const auto it = std::find_if(held.held.begin(), held.held.end(),
-                                 [&](const auto& h) { return h.first == name; });
+                                 [&](const auto& h) { return h.first == joint.first; });
     ASSERT_NE(it, held.held.end()) << name;
     EXPECT_EQ(it->second, value) << name;
   }

@@ -17,7 +17,9 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
   if (!(level_.norm() > 0.0))
     throw InputError("design: the level gravity vector is zero",
                      {{Hint::Setting::LevelGravity, ""}});
-  for (const auto& [name, range] : o.limits)
+  for (const auto& limit : o.limits) {
+    const std::string& name =
+        limit.first;  // (a lambda cannot capture a structured binding in C++17)
     if (model.find_joint(name) < 0 &&
         std::none_of(model.upstream_joints.begin(), model.upstream_joints.end(),
                      [&](const Joint& j) { return j.name == name; }))
@@ -26,6 +28,7 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
                       "sensor link",
                       name),
           {{Hint::Setting::Limits, name + "=LO:HI"}});
+  }
   for (int j = 0; j < model.num_joints(); ++j) {
     const Joint& joint = model.joints[j];
     double lo = joint.generic_position(0.0), hi = joint.generic_position(1.0);
