@@ -66,6 +66,7 @@
 #include "massid/io/urdf.hpp"
 #include "motion_support.hpp"
 #include "mujoco_support.hpp"
+#include "tracker_support.hpp"
 
 namespace {
 
@@ -483,5 +484,121 @@ TEST_P(MujocoWristSensor, UpstreamJointsMatchMujoco) {
 INSTANTIATE_TEST_SUITE_P(UrLike, MujocoWristSensor,
                          ::testing::Values("base_link", "upper_arm_link", "wrist_2_link", "tool"),
                          [](const auto& info) { return std::string(info.param); });
+
+// ---------------------------------------------------------------------------
+// The tracker's test logs (tracker_support.hpp: massid's simulator, plus an
+// object grasped and put down, drifting offsets, a contact and noise) against
+// MuJoCo: the whole ur_like at its root, level gravity, with and without the
+// object welded to the tool, the force/torque site on the sensor link
+// (wrist_3_link, or the base link for a base sensor). Each checked row's
+// reading is MuJoCo's (with the object while it is held) + the offsets + the
+// contact, the world-fixed force at the tool's tip taken through MuJoCo's own
+// poses of the tool and the sensor, + the noise the log recorded; it must
+// equal the log's wrench to round-off.
+
+class MujocoTrackerLog : public ::testing::TestWithParam<bool> {};
+
+TEST_P(MujocoTrackerLog, LogIsMujocosReadingPlusOffsetsContactAndNoise) {
+  namespace tt = massid::tracker_test;
+  const bool wrist = GetParam();
+  const tt::TrackerLog log = tt::tracker_log(wrist, 3);
+  const massid::Samples& s = log.samples;
+  const std::string path = std::string(MASSID_SOURCE_DIR) + "/examples/ur_like/ur_like.urdf";
+  const massid::Model plain = massid::load_urdf(path);
+  const massid::Model with = massid::load_urdf_string(tt::object_urdf(path), "", "ur_like+object");
+  const int site = wrist ? plain.find_link("wrist_3_link") : 0;
+  const std::string sensor_name = plain.links[static_cast<std::size_t>(site)].name;
+  TempDir dir(std::string("tracker_") + (wrist ? "wrist" : "base"));
+  std::mt19937_64 rng(5);
+  const FrameTrajectory frame = FrameTrajectory::random(rng, false);
+  struct Sim {
+    ModelPtr m;
+    DataPtr d;
+  };
+  const auto make = [&](const massid::Model& model, const char* name) {
+    const fs::path file = dir.path() / name;
+    write_text(file, mjcf_in_motion(model, frame, false, site));
+    Sim sim{load_mujoco(file), nullptr};
+    mjModel* m = sim.m.get();
+    m->opt.disableflags |= mjDSBL_CONSTRAINT | mjDSBL_CONTACT | mjDSBL_PASSIVE | mjDSBL_ACTUATION;
+    // The log's world: the arm's root at the origin, level gravity.
+    const int mount = id_of(m, mjOBJ_BODY, "massid_mount");
+    mju_zero(m->body_pos + 3 * mount, 3);
+    mju_unit4(m->body_quat + 4 * mount);
+    for (int k = 0; k < 3; ++k) m->opt.gravity[k] = massid::test::kLevel[k];
+    exact_principal_axes(model, m);
+    sim.d.reset(mj_makeData(m));
+    return sim;
+  };
+  Sim sims[2] = {make(plain, "plain.xml"), make(with, "object.xml")};
+  EXPECT_NEAR(sims[1].m->body_subtreemass[id_of(sims[1].m.get(), mjOBJ_BODY, sensor_name)] -
+                  sims[0].m->body_subtreemass[id_of(sims[0].m.get(), mjOBJ_BODY, sensor_name)],
+              tt::kObjectMass, 1e-12);
+  const std::vector<massid::Joint>& joints = wrist ? log.plain.upstream_joints : log.plain.joints;
+  const Eigen::MatrixXd& Q = wrist ? s.q_upstream : s.q;
+  const Eigen::MatrixXd& Qd = wrist ? s.qd_upstream : s.qd;
+  const Eigen::MatrixXd& Qdd = wrist ? s.qdd_upstream : s.qdd;
+  ASSERT_EQ(static_cast<int>(joints.size()), 6);
+  double worst = 0.0, largest = 0.0;
+  int rows = 0, holding = 0, contact = 0;
+  for (int i = 0; i < s.size(); i += 7) {
+    const double t = s.time[i];
+    Sim& sim = sims[tt::tracker_holding(t) ? 1 : 0];
+    mjModel* m = sim.m.get();
+    mjData* d = sim.d.get();
+    mj_resetData(m, d);
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      const int a = m->jnt_qposadr[id_of(m, mjOBJ_JOINT, joints[j].name)];
+      const auto c = static_cast<Eigen::Index>(j);
+      d->qpos[a] = Q(i, c);
+      d->qvel[a] = Qd(i, c);
+      d->qacc[a] = Qdd(i, c);
+    }
+    const Eigen::VectorXd qacc = Eigen::Map<const Eigen::VectorXd>(d->qacc, m->nv);
+    mj_inverse(m, d);
+    mju_copy(d->qfrc_applied, d->qfrc_inverse, m->nv);
+    mj_forward(m, d);
+    ASSERT_LT((Eigen::Map<const Eigen::VectorXd>(d->qacc, m->nv) - qacc).norm(),
+              kQaccRelative * (1.0 + qacc.norm()));
+    const int force = id_of(m, mjOBJ_SENSOR, "ft_force");
+    const int torque = id_of(m, mjOBJ_SENSOR, "ft_torque");
+    Wrench6 expected;
+    for (int k = 0; k < 3; ++k) {
+      expected[k] = -d->sensordata[m->sensor_adr[force] + k];
+      expected[3 + k] = -d->sensordata[m->sensor_adr[torque] + k];
+    }
+    expected += tt::tracker_offset(t);
+    if (tt::tracker_in_contact(t)) {
+      using RowMajor3 = Eigen::Matrix<mjtNum, 3, 3, Eigen::RowMajor>;
+      const int tool = id_of(m, mjOBJ_BODY, "tool"), body = id_of(m, mjOBJ_BODY, sensor_name);
+      const Eigen::Map<const RowMajor3> R_tool(d->xmat + 9 * tool), R_s(d->xmat + 9 * body);
+      const Eigen::Map<const Eigen::Vector3d> p_tool(d->xpos + 3 * tool), p_s(d->xpos + 3 * body);
+      const Eigen::Vector3d F = tt::tracker_contact_scale(t) * tt::kContactForce;
+      const Eigen::Vector3d tip = p_tool + R_tool * tt::kContactPoint;
+      const Eigen::Vector3d F_s = R_s.transpose() * F, r_s = R_s.transpose() * (tip - p_s);
+      expected.head<3>() += F_s;
+      expected.tail<3>() += r_s.cross(F_s);
+      ++contact;
+    }
+    const Wrench6 logged = s.wrench.row(i).transpose() - log.noise.row(i).transpose();
+    const double e = (logged - expected).norm();
+    worst = std::max(worst, e / expected.norm());
+    largest = std::max(largest, expected.norm());
+    EXPECT_LE(e, kRelative * expected.norm() + kAbsolute)
+        << "t = " << t << "\nMuJoCo " << expected.transpose() << "\nlog " << logged.transpose();
+    ++rows;
+    holding += tt::tracker_holding(t);
+  }
+  EXPECT_GT(holding, rows / 4);
+  EXPECT_GT(contact, 100);
+  std::cout << "[ mujoco   ] tracker log, " << (wrist ? "wrist" : "base") << " sensor: " << rows
+            << " rows (" << holding << " holding the object, " << contact
+            << " in contact), max |w| " << num(largest) << ", max relative |MuJoCo - log| "
+            << num(worst) << "\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(UrLike, MujocoTrackerLog, ::testing::Bool(), [](const auto& info) {
+  return std::string(info.param ? "Wrist" : "Base");
+});
 
 }  // namespace

@@ -125,9 +125,10 @@ inline Wrench tracker_offset(double t) {
 
 // One tracked log: the inputs per row and the true payload.
 struct TrackerLog {
-  Model plain;        // what the tracker is given
-  Samples samples;    // joints, gravity, sensor motion, wrench (measured)
-  bool wrist = true;  // the sensor on wrist_3_link (else the base)
+  Model plain;            // what the tracker is given
+  Samples samples;        // joints, gravity, sensor motion, wrench (measured)
+  bool wrist = true;      // the sensor on wrist_3_link (else the base)
+  Eigen::MatrixXd noise;  // [rows x 6] the noise added to the wrench (N, N m)
 };
 
 // The contact's wrench on the sensor at row i of a log (zero outside the
@@ -198,11 +199,13 @@ inline TrackerLog tracker_log(bool wrist, std::uint64_t seed, bool events = true
   std::mt19937_64 rng(seed * 7919 + 1);
   std::normal_distribution<double> N(0.0, 1.0);
   s.wrench.resize(n, 6);
+  log.noise.resize(n, 6);
   for (int i = 0; i < n; ++i) {
     const double t = s.time[i];
     Wrench w = (events && tracker_holding(t) ? w1 : w0).row(i).transpose();
     if (events) w += tracker_offset(t);
-    for (int k = 0; k < 6; ++k) w[k] += N(rng) * (k < 3 ? 0.05 : 0.003);
+    for (int k = 0; k < 6; ++k) log.noise(i, k) = N(rng) * (k < 3 ? 0.05 : 0.003);
+    w += log.noise.row(i).transpose();
     if (events) w += tracker_contact_wrench(log, i);
     s.wrench.row(i) = w.transpose();
   }
