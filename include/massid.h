@@ -3,7 +3,9 @@
  *
  * Loads a URDF and a params file (massid identify -o PARAMS.json, static or
  * --dynamic) and predicts the wrench the mechanism exerts on the sensor, at
- * rest or in motion, into arrays the caller owns. Pure C (C99 and later, and
+ * rest or in motion, into arrays the caller owns; tracks a payload and the
+ * sensor's drifting offsets online (massid_tracker_*, as `massid compensate
+ * --track`). Pure C (C99 and later, and
  * C++); for C programs, Simulink/LabVIEW targets and foreign-function
  * interfaces (Python ctypes, Julia ccall, ...).
  *
@@ -27,14 +29,17 @@
  * fills wrench with NaN (when wrench is not NULL), so that a caller that does
  * not check the code does not act on a stale value.
  *
- * Allocation: only massid_predictor_load/open/clone allocate (the model, the
- * compiled predictor and its workspace). The predict calls and every query
- * never allocate, never lock and never throw.
+ * Allocation: only massid_predictor_load/open/clone and massid_tracker_create
+ * allocate (the model, the compiled predictor and its workspace). The predict
+ * calls, the tracker updates and every query never allocate, never lock and
+ * never throw.
  *
  * Thread safety: a handle holds its own workspace, which every predict call
  * writes, so one handle must not be used by two threads at once: give each
  * thread its own handle (massid_predictor_clone copies one without reading
- * the files again). Different handles are independent. The queries
+ * the files again). Different handles are independent; a tracker is a handle
+ * of its own (one thread at a time), independent of the predictor it was made
+ * from. The queries
  * (num_joints, joint_name, offset, ...) only read what loading wrote and may
  * run alongside anything but massid_predictor_free. massid_error_string and
  * massid_version return static strings. The library has no global state.
