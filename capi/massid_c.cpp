@@ -466,7 +466,7 @@ int tracker_update(massid_tracker* tr, double t, const double* q, const double* 
                    const double* measured, massid_tracker_estimate* estimate) {
   if (!tr || !gravity || !measured) return MASSID_ERROR_INVALID_ARGUMENT;
   const int n = tr->num_joints;
-  if (n > 0 && !q) return MASSID_ERROR_INVALID_ARGUMENT;
+  if ((n > 0 && !q) || (tr->dynamic && n > 0 && !qd != !qdd)) return MASSID_ERROR_INVALID_ARGUMENT;
   const bool motion = tr->dynamic && qd && qdd;
   if (!std::isfinite(t) || !finite(gravity, 3) || !finite(measured, 6) || !finite(q, n) ||
       (motion && (!finite(qd, n) || !finite(qdd, n))) ||
@@ -509,7 +509,9 @@ int massid_tracker_update_upstream(massid_tracker* tracker, double t, const doub
                                    const double* qdd, const double measured[6],
                                    massid_tracker_estimate* estimate) {
   try {
-    if (!tracker) return MASSID_ERROR_INVALID_ARGUMENT;
+    if (!tracker || (tracker->dynamic && tracker->identified.model().num_upstream_joints() > 0 &&
+                     !qdu != !qddu))
+      return MASSID_ERROR_INVALID_ARGUMENT;
     // The sensor frame's motion from the upstream joints' rates for dynamic
     // parameters given them, as compensate takes it (static ones never read it).
     const bool moving = tracker->dynamic && qdu && qddu;

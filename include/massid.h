@@ -298,8 +298,8 @@ MASSID_C_API const char* massid_tracker_payload_link(const massid_tracker* track
 
 /* One sample, as massid_predict_motion_sensor takes it:
  *   t: time, s, increasing from sample to sample (the offsets drift with it);
- *   q, qd, qdd: [num_joints] the joints below the sensor (qd and qdd: NULL
- *   for static parameters, or to take the joints at rest); gravity: [3] in
+ *   q, qd, qdd: [num_joints] the joints below the sensor (qd and qdd read
+ *   for dynamic parameters only; both NULL: the joints at rest); gravity: [3] in
  *   the sensor frame; sensor_motion: [9] as massid_predict_motion_sensor's,
  *   NULL at rest (read for dynamic parameters only); measured: [6] the
  *   sensor's wrench, fx .. mz;
@@ -307,10 +307,10 @@ MASSID_C_API const char* massid_tracker_payload_link(const massid_tracker* track
  *   massid_tracker_get_estimate reads it too).
  * The parameters' clock delay (massid_predictor_delay) is the caller's: pass
  * the joint state of t - delay, as the CLI does. Returns MASSID_OK,
- * MASSID_ERROR_INVALID_ARGUMENT (a NULL pointer), MASSID_ERROR_NOT_FINITE
- * (the tracker is left as it was), MASSID_ERROR_TIME_ORDER (t not after the
- * previous sample's: ignored), MASSID_ERROR_SENSOR_MOTION or
- * MASSID_ERROR_INTERNAL. No allocation. */
+ * MASSID_ERROR_INVALID_ARGUMENT (a NULL pointer, qd without qdd or the
+ * reverse), MASSID_ERROR_NOT_FINITE (the tracker is left as it was), MASSID_ERROR_TIME_ORDER (t not
+ * after the previous sample's: ignored), MASSID_ERROR_SENSOR_MOTION or MASSID_ERROR_INTERNAL. No
+ * allocation. */
 MASSID_C_API int massid_tracker_update(massid_tracker* tracker, double t, const double* q,
                                        const double* qd, const double* qdd, const double gravity[3],
                                        const double sensor_motion[9], const double measured[6],
@@ -319,8 +319,8 @@ MASSID_C_API int massid_tracker_update(massid_tracker* tracker, double t, const 
 /* massid_tracker_update for a sensor below movable joints, as
  * massid_predict_motion_upstream takes them: qu [num_upstream_joints] their
  * positions and root_gravity [3] (root frame) give gravity in the sensor
- * frame; for dynamic parameters qdu, qddu (NULL: the sensor frame at rest)
- * its motion. The CLI's columns of a wrist sensor's log. Same return codes;
+ * frame; for dynamic parameters qdu, qddu (both NULL: the sensor frame at
+ * rest) its motion. The CLI's columns of a wrist sensor's log. Same return codes;
  * no allocation. */
 MASSID_C_API int massid_tracker_update_upstream(massid_tracker* tracker, double t, const double* qu,
                                                 const double* qdu, const double* qddu,

@@ -68,14 +68,18 @@ TrackInputs track_inputs(const IdentifiedModel& identified, const py::object& t,
   const Model& model = identified.model();
   TrackInputs in;
   const py::object ndim = py::module_::import("numpy").attr("ndim");
-  in.t =
-      ndim(t).cast<int>() == 0 ? Eigen::VectorXd::Constant(1, t.cast<double>()) : to_vector(t, "t");
+  in.t = to_vector(ndim(t).cast<int>() == 0 ? py::object(py::make_tuple(t)) : t, "t");
   const Eigen::Index n = in.rows();
   const int nj = model.num_joints(), nu = model.num_upstream_joints();
   if (q.is_none() && nj > 0)
     throw InputError(fmt::format("q is needed: {}", track_joint_list("q", model.joints)));
   in.q = q.is_none() ? RowMatrix(n, 0) : track_rows(q, n, nj, track_joint_list("q", model.joints));
   in.wrench = track_rows(wrench, n, 6, "wrench (fx, fy, fz, mx, my, mz)");
+  if (!identified.dynamic() && (!qd.is_none() || !qdd.is_none() || !sensor_motion.is_none() ||
+                                !qd_upstream.is_none() || !qdd_upstream.is_none()))
+    throw InputError(
+        "static (first-moment) parameters track from q and gravity alone: qd, qdd, "
+        "sensor_motion, qd_upstream and qdd_upstream go with dynamic parameters");
   const MotionArrays motion = motion_arrays(model, n, qd, qdd, sensor_motion);
   if (motion.present) {
     in.qd = motion.qd;

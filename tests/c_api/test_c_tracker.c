@@ -301,6 +301,9 @@ static void test_tracker_errors(void) {
   CHECK_CODE(massid_tracker_update_upstream(tr, 0.002, NULL, NULL, NULL, root_gravity, NULL, NULL,
                                             NULL, w, &e),
              MASSID_ERROR_INVALID_ARGUMENT);
+  CHECK_CODE(massid_tracker_update_upstream(tr, 0.002, q, zero, NULL, root_gravity, NULL, NULL,
+                                            NULL, w, &e),
+             MASSID_ERROR_INVALID_ARGUMENT); /* qdu without qddu */
   CHECK_CODE(massid_tracker_update(tr, 0.002, NULL, NULL, NULL, NULL, NULL, w, &e),
              MASSID_ERROR_INVALID_ARGUMENT);
   CHECK_CODE(massid_tracker_update(NULL, 0.002, NULL, NULL, NULL, g, NULL, w, &e),

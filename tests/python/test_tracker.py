@@ -176,6 +176,8 @@ def test_wrong_shapes_and_time_give_clear_errors(massid: Any, logs: Path) -> Non
     # Parameters identified at one gravity (the base's, level) take it when none is given.
     level = massid.Tracker(str(UR), str(logs / "base.json"))
     assert (level.update(0.0, q, w, q, q).comp == base.update(0.0, q, w, q, q, g).comp).all()
+    with pytest.raises(massid.InputError, match=r"t: element \[0\] is nan"):
+        base.update(np.nan, q, w, q, q, g)
     with pytest.raises(massid.InputError, match=r"t: one time"):
         base.update(np.zeros(2), q, w, q, q, g)
     with pytest.raises(massid.InputError, match=r"wrench \(fx, fy, fz, mx, my, mz\) has 3 rows "
