@@ -352,11 +352,7 @@ int run_compensate(const CompensateCommand& c) {
     // tracker's default.
     options.track = true;
     options.tracker.payload_link = c.payload_link;
-    Wrench& noise = options.tracker.noise;
-    for (int k = 0; k < 6; ++k)
-      if (params.residual_rms[k] > 0) noise[k] = params.residual_rms[k];
-    if (c.sigma_force > 0) noise.head<3>().setConstant(c.sigma_force);
-    if (c.sigma_moment > 0) noise.tail<3>().setConstant(c.sigma_moment);
+    options.tracker.noise = tracker_noise(params.residual_rms, c.sigma_force, c.sigma_moment);
   }
   if (!c.root_gravity.empty())
     options.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");

@@ -1,7 +1,8 @@
 // The C interface (include/massid.h): a thin adapter over the identified
 // model every door shares (identified_model.hpp): loading as `massid predict`
 // does, predicting the mechanism's wrench (static or dynamic parameters)
-// without the offset.
+// without the offset; and over the library's Tracker (tracker.hpp), as
+// `massid compensate --track` uses it.
 // Every entry point catches everything: no exception crosses the C boundary.
 #include <Eigen/Core>
 #include <cmath>
@@ -22,6 +23,7 @@
 #include "massid/io/params_file.hpp"
 #include "massid/io/urdf.hpp"
 #include "massid/live/identified_model.hpp"
+#include "massid/live/tracker.hpp"
 
 namespace {
 
@@ -69,6 +71,9 @@ struct massid_predictor {
   // root gravity into the sensor frame (upstream_kinematics).
   massid::IdentifiedModel identified;
   std::string sensor_link;
+  // The params file's residual RMS per axis (the tracker's default noise,
+  // tracker_noise).
+  Wrench residual_rms = Wrench::Zero();
   // The workspace, mutable: written by every predict call through the C API's
   // const handle (a clone copies it: each handle has its own).
   mutable massid::IdentifiedModelData data;
@@ -79,6 +84,23 @@ struct massid_predictor {
   }
   int num_joints() const { return static_cast<int>(joint_names.size()); }
   const massid::Model& model() const { return identified.model(); }
+};
+
+// A tracker (massid::Tracker) and the joints' count its update checks.
+struct massid_tracker {
+  massid::IdentifiedModel identified;  // shared with the predictor it was made from
+  massid::Tracker tracker;
+  int num_joints = 0;
+  bool dynamic = false, sensor_moving = false;
+  bool started = false;  // an update went through; last_t its time
+  double last_t = 0.0;
+
+  massid_tracker(const massid_predictor& p, const massid::TrackerOptions& options)
+      : identified(p.identified),
+        tracker(p.identified, options),
+        num_joints(p.num_joints()),
+        dynamic(p.identified.dynamic()),
+        sensor_moving(p.identified.sensor_moving()) {}
 };
 
 namespace {
@@ -96,7 +118,9 @@ std::unique_ptr<massid_predictor> load(const char* urdf_path, const char* params
     throw LoadError{MASSID_ERROR_FILE, e.what()};
   }
   try {
-    return std::make_unique<massid_predictor>(massid::IdentifiedModel::load(urdf_path, params));
+    auto p = std::make_unique<massid_predictor>(massid::IdentifiedModel::load(urdf_path, params));
+    p->residual_rms = params.residual_rms;
+    return p;
   } catch (const massid::InputError& e) {
     int code = MASSID_ERROR_FILE;
     try {
@@ -150,16 +174,17 @@ int predict_motion(const massid_predictor* p, const double* q, const double* qd,
 // Gravity [3] in the sensor frame and, when sensor_motion is given, the sensor
 // frame's motion [9] (wx..wz, dwx..dwz, ax..az) from the joints above the
 // sensor link (Model::upstream) and gravity in the root frame.
-int sensor_frame(const massid_predictor* p, const double* qu, const double* qdu, const double* qddu,
-                 const double* root_gravity, double* gravity, double* sensor_motion) {
-  if (!p || !root_gravity) return MASSID_ERROR_INVALID_ARGUMENT;
-  const int nu = p->model().num_upstream_joints();
+int sensor_frame(const massid::Model* model, const double* qu, const double* qdu,
+                 const double* qddu, const double* root_gravity, double* gravity,
+                 double* sensor_motion) {
+  if (!model || !root_gravity) return MASSID_ERROR_INVALID_ARGUMENT;
+  const int nu = model->num_upstream_joints();
   const bool moving = sensor_motion != nullptr;
   if (nu > 0 && (!qu || (moving && (!qdu || !qddu)))) return MASSID_ERROR_INVALID_ARGUMENT;
   if (!finite(root_gravity, 3) || !finite(qu, nu) ||
       (moving && (!finite(qdu, nu) || !finite(qddu, nu))))
     return MASSID_ERROR_NOT_FINITE;
-  massid::upstream_sensor_frame(p->model(), joint_array(qu, nu),
+  massid::upstream_sensor_frame(*model, joint_array(qu, nu),
                                 moving ? joint_array(qdu, nu) : nullptr,
                                 moving ? joint_array(qddu, nu) : nullptr,
                                 Eigen::Vector3d(root_gravity), gravity, sensor_motion);
@@ -191,6 +216,9 @@ const char* massid_error_string(int code) {
     case MASSID_ERROR_SENSOR_MOTION:
       return "the parameters were identified with the sensor frame at rest and cannot predict "
              "it moving: identify from a log with the sensor's motion";
+    case MASSID_ERROR_TIME_ORDER:
+      return "the tracker's time t does not increase past the previous sample's: the sample is "
+             "ignored";
     default:
       return "unknown massid status code";
   }
@@ -325,7 +353,8 @@ int massid_predict_upstream(const massid_predictor* p, const double* qu,
                             const double root_gravity[3], const double* q, double wrench[6]) {
   try {
     double gravity[3];
-    const int code = sensor_frame(p, qu, nullptr, nullptr, root_gravity, gravity, nullptr);
+    const int code = sensor_frame(p ? &p->model() : nullptr, qu, nullptr, nullptr, root_gravity,
+                                  gravity, nullptr);
     if (code != MASSID_OK) {
       fill_nan(wrench);
       return code;
@@ -343,7 +372,8 @@ int massid_predict_motion_upstream(const massid_predictor* p, const double* qu, 
                                    double wrench[6]) {
   try {
     double gravity[3], sensor_motion[9];
-    const int code = sensor_frame(p, qu, qdu, qddu, root_gravity, gravity, sensor_motion);
+    const int code = sensor_frame(p ? &p->model() : nullptr, qu, qdu, qddu, root_gravity, gravity,
+                                  sensor_motion);
     if (code != MASSID_OK) {
       fill_nan(wrench);
       return code;
@@ -352,6 +382,166 @@ int massid_predict_motion_upstream(const massid_predictor* p, const double* qu, 
   } catch (...) {
     fill_nan(wrench);
     return MASSID_ERROR_INTERNAL;
+  }
+}
+
+// ---------------------------------------------------------------- tracking
+
+int massid_tracker_create(const massid_predictor* p, const char* payload_link,
+                          const double noise[6], massid_tracker** out, char* error,
+                          size_t error_size) {
+  copy_message("", error, error_size);
+  if (out) *out = nullptr;
+  if (!p || !out) {
+    copy_message(!out ? "massid_tracker_create: out is NULL" : "massid_tracker_create: p is NULL",
+                 error, error_size);
+    return MASSID_ERROR_INVALID_ARGUMENT;
+  }
+  try {
+    massid::TrackerOptions options;
+    if (payload_link) options.payload_link = payload_link;
+    if (noise) {
+      if (!finite(noise, 6)) {
+        copy_message("massid_tracker_create: noise holds a NaN or infinite value", error,
+                     error_size);
+        return MASSID_ERROR_NOT_FINITE;
+      }
+      options.noise = Eigen::Map<const Wrench>(noise);
+    } else {
+      options.noise = massid::tracker_noise(p->residual_rms);
+    }
+    *out = new massid_tracker(*p, options);
+    return MASSID_OK;
+  } catch (const massid::InputError& e) {  // the payload link
+    copy_message(e.what(), error, error_size);
+    return MASSID_ERROR_INVALID_ARGUMENT;
+  } catch (const massid::ArgumentError& e) {  // the noise
+    copy_message(e.what(), error, error_size);
+    return MASSID_ERROR_INVALID_ARGUMENT;
+  } catch (const std::bad_alloc&) {
+    copy_message("massid: out of memory while making the tracker", error, error_size);
+  } catch (const std::exception& e) {
+    copy_message(e.what(), error, error_size);
+  } catch (...) {
+    copy_message("massid: unknown internal error while making the tracker", error, error_size);
+  }
+  return MASSID_ERROR_INTERNAL;
+}
+
+void massid_tracker_free(massid_tracker* tracker) { delete tracker; }
+
+const char* massid_tracker_payload_link(const massid_tracker* tracker) {
+  return tracker ? tracker->tracker.payload_link_name().c_str() : nullptr;
+}
+
+namespace {
+
+// The library's estimate in the C struct.
+void copy_estimate(const massid::TrackerEstimate& e, massid_tracker_estimate* out) {
+  if (!out) return;
+  out->payload_m = e.mass;
+  out->payload_m_std = e.mass_std;
+  out->payload_c_std = e.com_std;
+  for (int k = 0; k < 3; ++k) {
+    out->payload_c[k] = e.com[k];
+    out->payload_c_stds[k] = e.com_stds[k];
+  }
+  const int upper[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+  for (int k = 0; k < 6; ++k) out->payload_inertia[k] = e.inertia(upper[k][0], upper[k][1]);
+  out->inertia_determined = e.inertia_determined ? 1 : 0;
+  for (int k = 0; k < 6; ++k) {
+    out->offset[k] = e.offset[k];
+    out->offset_std[k] = e.offset_std[k];
+    out->comp[k] = e.compensated[k];
+  }
+  out->event = e.event == massid::TrackerEvent::Change    ? MASSID_EVENT_CHANGE
+               : e.event == massid::TrackerEvent::Contact ? MASSID_EVENT_CONTACT
+                                                          : MASSID_EVENT_NONE;
+  out->d2 = e.d2;
+}
+
+// The update both entry points share, the sensor frame given.
+int tracker_update(massid_tracker* tr, double t, const double* q, const double* qd,
+                   const double* qdd, const double* gravity, const double* sensor_motion,
+                   const double* measured, massid_tracker_estimate* estimate) {
+  if (!tr || !gravity || !measured) return MASSID_ERROR_INVALID_ARGUMENT;
+  const int n = tr->num_joints;
+  if ((n > 0 && !q) || (tr->dynamic && n > 0 && !qd != !qdd)) return MASSID_ERROR_INVALID_ARGUMENT;
+  const bool motion = tr->dynamic && qd && qdd;
+  if (!std::isfinite(t) || !finite(gravity, 3) || !finite(measured, 6) || !finite(q, n) ||
+      (motion && (!finite(qd, n) || !finite(qdd, n))) ||
+      (tr->dynamic && sensor_motion && !finite(sensor_motion, 9)))
+    return MASSID_ERROR_NOT_FINITE;
+  if (tr->dynamic && sensor_motion && !tr->sensor_moving)
+    for (int k = 0; k < 9; ++k)
+      if (sensor_motion[k] != 0.0) return MASSID_ERROR_SENSOR_MOTION;
+  if (tr->started && !(t > tr->last_t)) return MASSID_ERROR_TIME_ORDER;
+  massid::FrameMotion frame;
+  if (tr->dynamic && sensor_motion) {
+    frame.omega = Eigen::Vector3d(sensor_motion);
+    frame.omega_dot = Eigen::Vector3d(sensor_motion + 3);
+    frame.accel = Eigen::Vector3d(sensor_motion + 6);
+  }
+  copy_estimate(
+      tr->tracker.update(t, joint_array(q, n), motion ? qd : nullptr, motion ? qdd : nullptr,
+                         Eigen::Vector3d(gravity), frame, Eigen::Map<const Wrench>(measured)),
+      estimate);
+  tr->started = true;
+  tr->last_t = t;
+  return MASSID_OK;
+}
+
+}  // namespace
+
+int massid_tracker_update(massid_tracker* tracker, double t, const double* q, const double* qd,
+                          const double* qdd, const double gravity[3], const double sensor_motion[9],
+                          const double measured[6], massid_tracker_estimate* estimate) {
+  try {
+    return tracker_update(tracker, t, q, qd, qdd, gravity, sensor_motion, measured, estimate);
+  } catch (...) {
+    return MASSID_ERROR_INTERNAL;
+  }
+}
+
+int massid_tracker_update_upstream(massid_tracker* tracker, double t, const double* qu,
+                                   const double* qdu, const double* qddu,
+                                   const double root_gravity[3], const double* q, const double* qd,
+                                   const double* qdd, const double measured[6],
+                                   massid_tracker_estimate* estimate) {
+  try {
+    if (!tracker || (tracker->dynamic && tracker->identified.model().num_upstream_joints() > 0 &&
+                     !qdu != !qddu))
+      return MASSID_ERROR_INVALID_ARGUMENT;
+    // The sensor frame's motion from the upstream joints' rates for dynamic
+    // parameters given them, as compensate takes it (static ones never read it).
+    const bool moving = tracker->dynamic && qdu && qddu;
+    double gravity[3], sensor_motion[9];
+    const int code = sensor_frame(&tracker->identified.model(), qu, qdu, qddu, root_gravity,
+                                  gravity, moving ? sensor_motion : nullptr);
+    if (code != MASSID_OK) return code;
+    return tracker_update(tracker, t, q, qd, qdd, gravity, moving ? sensor_motion : nullptr,
+                          measured, estimate);
+  } catch (...) {
+    return MASSID_ERROR_INTERNAL;
+  }
+}
+
+int massid_tracker_get_estimate(const massid_tracker* tracker, massid_tracker_estimate* estimate) {
+  if (!tracker || !estimate) return MASSID_ERROR_INVALID_ARGUMENT;
+  copy_estimate(tracker->tracker.estimate(), estimate);
+  return MASSID_OK;
+}
+
+const char* massid_tracker_event_name(int event) {
+  switch (event) {
+    case MASSID_EVENT_NONE:
+      return massid::tracker_event_name(massid::TrackerEvent::None);
+    case MASSID_EVENT_CHANGE:
+      return massid::tracker_event_name(massid::TrackerEvent::Change);
+    case MASSID_EVENT_CONTACT:
+      return massid::tracker_event_name(massid::TrackerEvent::Contact);
+    default:
+      return nullptr;
   }
 }
 

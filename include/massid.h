@@ -3,7 +3,9 @@
  *
  * Loads a URDF and a params file (massid identify -o PARAMS.json, static or
  * --dynamic) and predicts the wrench the mechanism exerts on the sensor, at
- * rest or in motion, into arrays the caller owns. Pure C (C99 and later, and
+ * rest or in motion, into arrays the caller owns; tracks a payload and the
+ * sensor's drifting offsets online (massid_tracker_*, as `massid compensate
+ * --track`). Pure C (C99 and later, and
  * C++); for C programs, Simulink/LabVIEW targets and foreign-function
  * interfaces (Python ctypes, Julia ccall, ...).
  *
@@ -27,14 +29,17 @@
  * fills wrench with NaN (when wrench is not NULL), so that a caller that does
  * not check the code does not act on a stale value.
  *
- * Allocation: only massid_predictor_load/open/clone allocate (the model, the
- * compiled predictor and its workspace). The predict calls and every query
- * never allocate, never lock and never throw.
+ * Allocation: only massid_predictor_load/open/clone and massid_tracker_create
+ * allocate (the model, the compiled predictor and its workspace). The predict
+ * calls, the tracker updates and every query never allocate, never lock and
+ * never throw.
  *
  * Thread safety: a handle holds its own workspace, which every predict call
  * writes, so one handle must not be used by two threads at once: give each
  * thread its own handle (massid_predictor_clone copies one without reading
- * the files again). Different handles are independent. The queries
+ * the files again). Different handles are independent; a tracker is a handle
+ * of its own (one thread at a time), independent of the predictor it was made
+ * from. The queries
  * (num_joints, joint_name, offset, ...) only read what loading wrote and may
  * run alongside anything but massid_predictor_free. massid_error_string and
  * massid_version return static strings. The library has no global state.
@@ -79,7 +84,10 @@ typedef enum massid_status {
    * rest: they do not hold what its motion shows (the sensor link's inertia,
    * the inertia about axes the joints never turned about). Identify from a log
    * with the sensor's motion (wx .. az columns, or joints above the sensor). */
-  MASSID_ERROR_SENSOR_MOTION = -7
+  MASSID_ERROR_SENSOR_MOTION = -7,
+  /* A tracker update whose time t does not increase past the previous
+   * update's (massid_tracker_update*): the sample is ignored. */
+  MASSID_ERROR_TIME_ORDER = -8
 } massid_status;
 
 /* What a return code means: a static, NUL-terminated English sentence; an
@@ -219,6 +227,116 @@ MASSID_C_API int massid_predict_motion_upstream(const massid_predictor* p, const
                                                 const double root_gravity[3], const double* q,
                                                 const double* qd, const double* qdd,
                                                 double wrench[6]);
+
+/* ---------------------------------------------------------------- tracking
+ *
+ * The payload and the sensor's drifting offsets, tracked online one sample at
+ * a time, as `massid compensate --track` does (docs/tracking.md; the library's
+ * massid::Tracker, the same code): a rigid payload on a link (zero at the
+ * start) and the sensor's six offsets (starting from the params file's, or
+ * zero), a change of payload (an object grasped or put down) and rows that
+ * carry an external wrench (contact) detected. The same samples give the same
+ * numbers, to the bit, as the CLI's columns. */
+
+/* A tracker: its own copy of the predictor's model and its own workspace. */
+typedef struct massid_tracker massid_tracker;
+
+/* massid_tracker_estimate.event */
+typedef enum massid_tracker_event {
+  MASSID_EVENT_NONE = 0,   /* the CLI's event column empty */
+  MASSID_EVENT_CHANGE = 1, /* "change": a payload change detected on this sample */
+  MASSID_EVENT_CONTACT = 2 /* "contact": the sample carries an external wrench */
+} massid_tracker_event;
+
+/* The estimate after a sample: the CLI's columns payload_m .. event and
+ * fx_comp .. mz_comp (interface.md, "Tracking"). Physically consistent: mass
+ * >= 0, the inertia positive semi-definite and within the triangle
+ * inequalities. */
+typedef struct massid_tracker_estimate {
+  double payload_m;          /* payload_m: mass, kg */
+  double payload_c[3];       /* payload_cx, _cy, _cz: centre of mass in the link's frame, m
+                                (0 while the mass is not seen) */
+  double payload_m_std;      /* payload_m_std, kg */
+  double payload_c_std;      /* payload_c_std: the largest of payload_c_stds, m */
+  double payload_c_stds[3];  /* std of each centre-of-mass coordinate, m */
+  double payload_inertia[6]; /* payload_ixx, _ixy, _ixz, _iyy, _iyz, _izz: about the centre of
+                                mass, the link's axes, kg m^2; zeros while undetermined */
+  int inertia_determined;    /* 1 when the motion determines the inertia (the CLI writes
+                                payload_ixx .. izz), 0 while not (it leaves them empty) */
+  double offset[6];          /* offset_fx .. offset_mz: the sensor offsets, N and N m */
+  double offset_std[6];      /* their std */
+  int event;                 /* massid_tracker_event */
+  double d2;                 /* the sample's innovation chi^2 (6 degrees of freedom) */
+  double comp[6];            /* fx_comp .. mz_comp: measured - predicted(mechanism and
+                                payload) - offset: about zero in free motion, the external
+                                wrench in contact */
+} massid_tracker_estimate;
+
+/* A tracker for the model and parameters of p (p may be freed afterwards):
+ *   payload_link: the payload's link, a measured link of the model; NULL or
+ *   "" for the default (as the CLI's --payload-link): the measured link
+ *   farthest from the sensor;
+ *   noise: [6] the sensor noise, std per axis (fx .. mz; N, N m), all > 0;
+ *   NULL for what the CLI takes: the params file's residual RMS per axis
+ *   where it has one, else 0.05 N and 0.003 N m;
+ *   error, error_size: as massid_predictor_open's (the message names the
+ *   model's measured links for a wrong payload_link).
+ * Returns MASSID_OK (*out the tracker, free it with massid_tracker_free),
+ * MASSID_ERROR_INVALID_ARGUMENT (NULL p or out, a payload_link that is no
+ * measured link, a noise not > 0), MASSID_ERROR_NOT_FINITE or
+ * MASSID_ERROR_INTERNAL; *out is NULL on failure. Allocates. */
+MASSID_C_API int massid_tracker_create(const massid_predictor* p, const char* payload_link,
+                                       const double noise[6], massid_tracker** out, char* error,
+                                       size_t error_size);
+
+/* Frees the tracker; NULL is allowed. */
+MASSID_C_API void massid_tracker_free(massid_tracker* tracker);
+
+/* The payload's link (URDF name), valid until the tracker is freed; NULL when
+ * tracker is NULL. */
+MASSID_C_API const char* massid_tracker_payload_link(const massid_tracker* tracker);
+
+/* One sample, as massid_predict_motion_sensor takes it:
+ *   t: time, s, increasing from sample to sample (the offsets drift with it);
+ *   q, qd, qdd: [num_joints] the joints below the sensor (qd and qdd read
+ *   for dynamic parameters only; both NULL: the joints at rest); gravity: [3] in
+ *   the sensor frame; sensor_motion: [9] as massid_predict_motion_sensor's,
+ *   NULL at rest (read for dynamic parameters only); measured: [6] the
+ *   sensor's wrench, fx .. mz;
+ *   estimate: out, the estimate after the sample (may be NULL;
+ *   massid_tracker_get_estimate reads it too).
+ * The parameters' clock delay (massid_predictor_delay) is the caller's: pass
+ * the joint state of t - delay, as the CLI does. Returns MASSID_OK,
+ * MASSID_ERROR_INVALID_ARGUMENT (a NULL pointer, qd without qdd or the
+ * reverse), MASSID_ERROR_NOT_FINITE (the tracker is left as it was), MASSID_ERROR_TIME_ORDER (t not
+ * after the previous sample's: ignored), MASSID_ERROR_SENSOR_MOTION or MASSID_ERROR_INTERNAL. No
+ * allocation. */
+MASSID_C_API int massid_tracker_update(massid_tracker* tracker, double t, const double* q,
+                                       const double* qd, const double* qdd, const double gravity[3],
+                                       const double sensor_motion[9], const double measured[6],
+                                       massid_tracker_estimate* estimate);
+
+/* massid_tracker_update for a sensor below movable joints, as
+ * massid_predict_motion_upstream takes them: qu [num_upstream_joints] their
+ * positions and root_gravity [3] (root frame) give gravity in the sensor
+ * frame; for dynamic parameters qdu, qddu (both NULL: the sensor frame at
+ * rest) its motion. The CLI's columns of a wrist sensor's log. Same return codes;
+ * no allocation. */
+MASSID_C_API int massid_tracker_update_upstream(massid_tracker* tracker, double t, const double* qu,
+                                                const double* qdu, const double* qddu,
+                                                const double root_gravity[3], const double* q,
+                                                const double* qd, const double* qdd,
+                                                const double measured[6],
+                                                massid_tracker_estimate* estimate);
+
+/* *estimate: the estimate after the last good update (zero payload and the
+ * starting offsets before any). MASSID_ERROR_INVALID_ARGUMENT for NULL. */
+MASSID_C_API int massid_tracker_get_estimate(const massid_tracker* tracker,
+                                             massid_tracker_estimate* estimate);
+
+/* "", "change" or "contact" (the CLI's event column) for a
+ * massid_tracker_event; NULL for another value. */
+MASSID_C_API const char* massid_tracker_event_name(int event);
 
 #ifdef __cplusplus
 } /* extern "C" */

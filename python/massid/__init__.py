@@ -17,6 +17,11 @@ In motion (ten parameters per link, the inertia about each link origin)::
     ident = massid.identify("robot.urdf", data, dynamic=True)  # or a log with t only
     wrench = ident.predictor()(q, gravity, qd, qdd)
 
+Online, a payload and the sensor's drifting offsets (massid compensate --track)::
+
+    tracker = massid.Tracker(massid.Predictor("robot.urdf", "params.json"))
+    estimate = tracker.update(t, q, wrench, qd, qdd, gravity)  # estimate.payload_m, ...
+
 Conventions (as the CLI): SI units; wrenches [fx, fy, fz, mx, my, mz] in the
 sensor frame, the wrench the mechanism exerts on the sensor; gravity in the
 sensor frame. Errors raise InputError / IdentifiabilityError with the CLI's
@@ -40,6 +45,8 @@ from ._massid import (  # noqa: F401  (the public API)
     PhysicalSummary,
     Plan,
     Predictor,
+    Tracker,
+    TrackerEstimate,
     __version__,
     base_parameters,
     column_roles,
@@ -90,6 +97,8 @@ __all__ = [
     "PhysicalSummary",
     "Plan",
     "Predictor",
+    "Tracker",
+    "TrackerEstimate",
     "__version__",
     "base_parameters",
     "column_roles",

@@ -185,6 +185,71 @@ class Predictor:
         cutoff: Optional[float] = None,
     ) -> np.ndarray: ...
 
+class TrackerEstimate:
+    """The tracker's estimate after a sample: compensate --track's columns, physically
+    consistent (mass >= 0, inertia PSD and within the triangle inequalities)."""
+
+    payload_m: float  # mass, kg
+    payload_c: np.ndarray  # [3] centre of mass, the payload link's frame, m
+    payload_m_std: float
+    payload_c_std: float  # the largest of payload_c_stds, m
+    payload_c_stds: np.ndarray  # [3]
+    payload_inertia: Optional[np.ndarray]  # [3, 3] about the com, kg m^2; None while undetermined
+    offset: np.ndarray  # [6] the sensor offsets fx..mz
+    offset_std: np.ndarray  # [6]
+    event: str  # '', 'change' or 'contact'
+    comp: np.ndarray  # [6] fx_comp..mz_comp: measured - predicted(mechanism, payload) - offset
+    d2: float  # the sample's innovation chi^2, 6 dof
+
+class Tracker:
+    """A payload on a link and the sensor's drifting offsets, online (massid compensate
+    --track's tracker, the same numbers to the bit; docs/tracking.md)."""
+
+    def __init__(
+        self,
+        predictor: Union[Predictor, PathType, Model],  # a Predictor, or a URDF / Model with params
+        params: Optional[Union[PathType, "Params", "Identification"]] = None,
+        *,
+        payload_link: Optional[str] = None,  # default: the measured link farthest from the sensor
+        sigma_force: Optional[float] = None,  # N per axis; default: the params' residual RMS
+        sigma_moment: Optional[float] = None,  # N m per axis; likewise
+    ) -> None: ...
+    payload_link: str
+    estimate: TrackerEstimate  # after the last sample
+    def update(
+        self,
+        t: float,  # s, increasing
+        q: Optional[npt.ArrayLike],  # [num_joints] (None without joints below the sensor)
+        wrench: npt.ArrayLike,  # [6] measured fx..mz
+        qd: Optional[npt.ArrayLike] = None,  # dynamic parameters; None: at rest
+        qdd: Optional[npt.ArrayLike] = None,
+        gravity: Optional[npt.ArrayLike] = None,  # [3] sensor frame; None: from q_upstream
+        *,
+        sensor_motion: Optional[npt.ArrayLike] = None,  # [9] as Predictor's
+        q_upstream: Optional[npt.ArrayLike] = None,  # the joints above the sensor link
+        qd_upstream: Optional[npt.ArrayLike] = None,
+        qdd_upstream: Optional[npt.ArrayLike] = None,
+        root_gravity: Optional[Sequence[float]] = None,  # default 0, 0, -9.80665
+    ) -> TrackerEstimate:
+        """One sample; the estimate after it."""
+    def track(
+        self,
+        t: npt.ArrayLike,  # [N]
+        q: Optional[npt.ArrayLike],  # [N, num_joints]
+        wrench: npt.ArrayLike,  # [N, 6]
+        qd: Optional[npt.ArrayLike] = None,
+        qdd: Optional[npt.ArrayLike] = None,
+        gravity: Optional[npt.ArrayLike] = None,  # [N, 3]
+        *,
+        sensor_motion: Optional[npt.ArrayLike] = None,  # [N, 9]
+        q_upstream: Optional[npt.ArrayLike] = None,
+        qd_upstream: Optional[npt.ArrayLike] = None,
+        qdd_upstream: Optional[npt.ArrayLike] = None,
+        root_gravity: Optional[Sequence[float]] = None,
+    ) -> dict[str, np.ndarray]:
+        """N samples, looped in C++: fx_comp..mz_comp, payload_m .. offset_mz ([N] float,
+        payload_ixx..izz NaN while undetermined) and event ([N] str), by name."""
+
 class PhysicalLink:
     name: str
     mass: float  # kg

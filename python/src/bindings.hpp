@@ -19,6 +19,7 @@
 #include "massid/identify/estimation.hpp"
 #include "massid/identify/identification.hpp"
 #include "massid/identify/motion_data.hpp"
+#include "massid/live/identified_model.hpp"
 
 namespace massid::python {
 
@@ -71,10 +72,15 @@ struct MotionArrays {
 MotionArrays motion_arrays(const Model& model, Eigen::Index rows, const py::handle& qd,
                            const py::handle& qdd, const py::handle& sensor_motion);
 
+// The identified model of a massid.Predictor, or of Predictor's (robot,
+// params) arguments, and its fit's residual RMS per axis (zero when unknown).
+std::pair<IdentifiedModel, Wrench> identified_of(const py::object& robot, const py::object& params);
+
 void bind_model(py::module_& m);     // Model, load_model, base_parameters, regressors
 void bind_motion(py::module_& m);    // fourier_trajectory
 void bind_predict(py::module_& m);   // Params, load_params, Predictor, predict, simulate
 void bind_identify(py::module_& m);  // Identification, identify
 void bind_design(py::module_& m);    // Plan, design
+void bind_track(py::module_& m);     // Tracker, TrackerEstimate
 
 }  // namespace massid::python

@@ -18,4 +18,5 @@ PYBIND11_MODULE(_massid, m) {
   massid::python::bind_identify(m);
   massid::python::bind_design(m);
   massid::python::bind_motion(m);
+  massid::python::bind_track(m);
 }

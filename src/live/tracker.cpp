@@ -47,6 +47,15 @@ int farthest_link(const Model& model) {
   return best;
 }
 
+Wrench tracker_noise(const Wrench& residual_rms, double sigma_force, double sigma_moment) {
+  Wrench noise = TrackerOptions{}.noise;
+  for (int k = 0; k < 6; ++k)
+    if (residual_rms[k] > 0) noise[k] = residual_rms[k];
+  if (sigma_force > 0) noise.head<3>().setConstant(sigma_force);
+  if (sigma_moment > 0) noise.tail<3>().setConstant(sigma_moment);
+  return noise;
+}
+
 const char* tracker_event_name(TrackerEvent event) {
   switch (event) {
     case TrackerEvent::Change:

@@ -20,69 +20,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "c_test_support.h"
 #include "massid.h"
-
-/* ---------------------------------------------------------------- allocations */
-
-static long g_allocations = 0;
-
-#if defined(MASSID_TEST_COUNT_ALLOCATIONS)
-/* glibc's own allocator; the library's malloc calls (operator new included)
- * resolve to these definitions, which count and forward. */
-extern void* __libc_malloc(size_t);
-extern void* __libc_calloc(size_t, size_t);
-extern void* __libc_realloc(void*, size_t);
-extern void* __libc_memalign(size_t, size_t);
-extern void __libc_free(void*);
-
-void* malloc(size_t n) {
-  ++g_allocations;
-  return __libc_malloc(n);
-}
-void* calloc(size_t n, size_t size) {
-  ++g_allocations;
-  return __libc_calloc(n, size);
-}
-void* realloc(void* p, size_t n) {
-  ++g_allocations;
-  return __libc_realloc(p, n);
-}
-void* aligned_alloc(size_t alignment, size_t n) {
-  ++g_allocations;
-  return __libc_memalign(alignment, n);
-}
-int posix_memalign(void** out, size_t alignment, size_t n) {
-  ++g_allocations;
-  *out = __libc_memalign(alignment, n);
-  return *out ? 0 : 12; /* ENOMEM */
-}
-void free(void* p) { __libc_free(p); }
-#endif
-
-/* ---------------------------------------------------------------- checks */
-
-static int g_failures = 0;
-static int g_checks = 0;
-
-#define CHECK(cond)                                                            \
-  do {                                                                         \
-    ++g_checks;                                                                \
-    if (!(cond)) {                                                             \
-      ++g_failures;                                                            \
-      fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-    }                                                                          \
-  } while (0)
-
-#define CHECK_CODE(expr, code)                                                                \
-  do {                                                                                        \
-    const int got_ = (expr);                                                                  \
-    ++g_checks;                                                                               \
-    if (got_ != (code)) {                                                                     \
-      ++g_failures;                                                                           \
-      fprintf(stderr, "%s:%d: %s returned %d (%s), expected %d\n", __FILE__, __LINE__, #expr, \
-              got_, massid_error_string(got_), (code));                                       \
-    }                                                                                         \
-  } while (0)
 
 /* |got - want| <= tol * max(1, max |want|) for each of the six components. */
 static void check_wrench(const double got[6], const double want[6], double tol, const char* what,
