@@ -100,14 +100,13 @@ def trajectory(t, windows, seed):
 
 
 def write_csv(path, columns):
+    """Columns (arrays of one length) as a CSV; NaN as an empty field."""
     names = list(columns)
-    n = len(next(iter(columns.values())))
+    data = np.column_stack([np.asarray(columns[k], dtype=float) + 0.0 for k in names])  # no -0
+    row = ",".join(["%.15g"] * len(names)) + "\n"  # 15 digits: exact enough, readable
     with open(path, "w") as f:
         f.write(",".join(names) + "\n")
-        cols = [columns[k] for k in names]
-        for i in range(n):
-            f.write(",".join("" if (isinstance(c[i], float) and np.isnan(c[i])) else repr(float(c[i]))
-                             for c in cols) + "\n")
+        f.writelines((row % tuple(r)).replace("nan", "") for r in data.tolist())
 
 
 def read_wrench(path):
