@@ -1935,14 +1935,14 @@ def _error_panel(ax: Any, t: np.ndarray, err: np.ndarray, std: Optional[np.ndarr
 
 
 _TRACK_WIDTH = 11.5
-_TRACK_MARGINS = (0.85, 0.2, 0.5, 0.75)  # left, right, bottom, top (title and legend), inches
+_TRACK_MARGINS = (1.05, 0.2, 0.5, 0.75)  # left, right, bottom, top (title and legend), inches
 
 
 def _track_figure(figs: _Figures, rows: int, cols: int, height: float, title: str) -> tuple[Any, Any]:
     """A figure of rows x cols time panels (shared time axis) under a title line and a legend
     line: fixed margins, so that the legend never covers a panel."""
     fig = figs.new(_TRACK_WIDTH, height, margins=_TRACK_MARGINS)
-    fig.subplots_adjust(wspace=0.32 if cols > 1 else 0.2, hspace=0.12)
+    fig.subplots_adjust(wspace=0.4 if cols > 1 else 0.2, hspace=0.12)
     axs = fig.subplots(rows, cols, sharex=True, squeeze=False)
     fig.text(_TRACK_MARGINS[0] / _TRACK_WIDTH, 1 - 0.1 / height, title, ha="left", va="top",
              fontsize=10.5)
