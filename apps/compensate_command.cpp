@@ -12,6 +12,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -362,7 +363,13 @@ int run_compensate(const CompensateCommand& c) {
     throw InputError("--payload-link, --sigma-force and --sigma-moment go with --track");
   if (!c.track && !c.report.empty())
     throw InputError("compensate --report draws a tracked log: it goes with --track");
-  if (!c.report.empty()) check_report_tools();  // before any work
+  if (!c.report.empty()) {  // before any work: the report comes at the end of the stream
+    const std::filesystem::path dir = std::filesystem::absolute(c.report).parent_path();
+    if (::access(dir.c_str(), W_OK) != 0)
+      throw InputError(fmt::format("--report {}: cannot write into {} ({})", c.report, dir.string(),
+                                   std::strerror(errno)));
+    check_report_tools();
+  }
   const ParamsFile params = read_params(c.params);
   const IdentifiedModel identified = IdentifiedModel::load(c.urdf, params);
   CompensatorOptions options;

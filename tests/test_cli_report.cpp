@@ -100,6 +100,13 @@ TEST_F(CliReport, CompensateTrackReportChecksPythonFirstAndNeedsTrack) {
   EXPECT_EQ(r.code, 0) << r;
   EXPECT_NE(r.out.find("payload_m"), std::string::npos) << r;
   unsetenv("MASSID_PYTHON");
+  // A report that could not be written at the end of the stream is refused at its start.
+  r = run({"compensate", kPumaUrdf, path("params.json"), "--track", "--report",
+           path("no/such/dir/track.html")},
+          log);
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_NE(r.err.find("/no/such/dir (No such file or directory)"), std::string::npos) << r;
+  EXPECT_EQ(r.out, "");
   r = run({"compensate", kPumaUrdf, path("params.json"), "--report", path("track.html")}, log);
   EXPECT_EQ(r.code, 2) << r;
   EXPECT_NE(r.err.find("compensate --report draws a tracked log: it goes with --track"),

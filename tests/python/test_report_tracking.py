@@ -94,6 +94,18 @@ def test_report_sections_and_figures(tracked):
     assert "no band" in html  # the log has no offset std columns
 
 
+def test_report_loads_cleanly_in_a_browser(tracked, chromium):
+    import browser
+
+    d, _, _ = tracked
+    r = browser.load_page(d / "track.html", width=1280, chromium=chromium)
+    assert r.errors == [] and r.broken_images == []
+    assert len(r.images) == 6
+    assert all(im["naturalWidth"] > 200 and im["naturalHeight"] > 200 for im in r.images)
+    assert r.title == "massid tracking — stdin"
+    assert r.scroll_width <= 1280  # no horizontal scrolling at 1280 px
+
+
 def test_summary_against_the_csv(tracked):
     d, _, _ = tracked
     html = (d / "track.html").read_text()
