@@ -1674,6 +1674,8 @@ TRUTH_OF = ("payload_m", "payload_cx", "payload_cy", "payload_cz", *INERTIA_COLU
 #: Optional std columns of the offsets (drawn as bands when a log has them).
 OFFSET_STD_COLUMNS = tuple(f"offset_{a}_std" for a in AXES)
 EVENTS = ("", "change", "contact")
+#: A tracked log's CSV is converted this many rows at a time (its text held for one block).
+CSV_BLOCK_ROWS = 50000
 #: A line along time shows at most about this many points (a min/max envelope beyond).
 MAX_LINE_POINTS = 8000
 _CONTACT_COLOR = "#f4a261"
@@ -1769,10 +1771,39 @@ def _read_tracked_csv(path: str, time: str, required: Sequence[str]) -> TrackedL
                                                          or h in OFFSET_STD_COLUMNS)]
         index = [header.index(h) for h in names]
         ev = header.index("event")
-        columns: list[list[float]] = [[] for _ in names]
-        events: list[str] = []
-        lines: list[int] = []
+        # Parsed in blocks of rows (numpy converts a block's column at once): the rows'
+        # text is held for one block only.
+        columns: list[list[np.ndarray]] = [[] for _ in names]
+        events: list[np.ndarray] = []
+        lines: list[np.ndarray] = []
         width = len(header)
+        block: list[list[str]] = []
+        block_lines: list[int] = []
+
+        def convert() -> None:
+            for col, j in zip(columns, index):
+                try:  # an empty field: unknown (NaN)
+                    col.append(np.array([float(r[j]) if r[j] else math.nan for r in block]))
+                except ValueError:  # blanks, or a field that is not a number
+                    values = []
+                    for r, line_no in zip(block, block_lines):
+                        text = r[j].strip()
+                        try:
+                            values.append(float(text) if text else math.nan)
+                        except ValueError:
+                            raise massid.InputError(f"{path}:{line_no}:{j + 1}: '{text}' is not a "
+                                                    f"number (column {header[j]})") from None
+                    col.append(np.array(values))
+            e = np.array([r[ev].strip() for r in block], dtype=object)
+            bad = np.flatnonzero(~np.isin(e, EVENTS))
+            if bad.size:
+                raise massid.InputError(f"{path}:{block_lines[bad[0]]}:{ev + 1}: event "
+                                        f"'{e[bad[0]]}': expected '', 'change' or 'contact'")
+            events.append(e)
+            lines.append(np.asarray(block_lines))
+            block.clear()
+            block_lines.clear()
+
         for line_no, raw in enumerate(f, header_line + 1):
             text = raw.rstrip("\r\n")
             if not text.strip() or text.lstrip().startswith("#"):
@@ -1781,29 +1812,20 @@ def _read_tracked_csv(path: str, time: str, required: Sequence[str]) -> TrackedL
             if len(fields) != width:
                 raise massid.InputError(f"{path}:{line_no}: {len(fields)} fields, the header has "
                                         f"{width}")
-            for col, j in zip(columns, index):
-                field_text = fields[j].strip()
-                if not field_text:
-                    col.append(math.nan)
-                    continue
-                try:
-                    col.append(float(field_text))
-                except ValueError:
-                    raise massid.InputError(f"{path}:{line_no}:{j + 1}: '{field_text}' is not a "
-                                            f"number (column {header[j]})") from None
-            e = fields[ev].strip()
-            if e not in EVENTS:
-                raise massid.InputError(f"{path}:{line_no}:{ev + 1}: event '{e}': expected "
-                                        "'', 'change' or 'contact'")
-            events.append(e)
-            lines.append(line_no)
-    values = {name: np.asarray(col, dtype=float) for name, col in zip(names, columns)}
+            block.append(fields)
+            block_lines.append(line_no)
+            if len(block) == CSV_BLOCK_ROWS:
+                convert()
+        if block:
+            convert()
     if not events:
         raise massid.InputError(f"{path}: no rows after the header")
+    values = {name: np.concatenate(col) for name, col in zip(names, columns)}
+    event, line = np.concatenate(events), np.concatenate(lines)
     bad_t = np.flatnonzero(~np.isfinite(values[time]))
     if bad_t.size:
-        raise massid.InputError(f"{path}:{lines[bad_t[0]]}:{header.index(time) + 1}: no time")
-    return TrackedLog(path, time, values, np.asarray(events, dtype=object), np.asarray(lines))
+        raise massid.InputError(f"{path}:{line[bad_t[0]]}:{header.index(time) + 1}: no time")
+    return TrackedLog(path, time, values, event, line)
 
 
 def contact_episodes(event: Sequence[str]) -> list[tuple[int, int]]:
@@ -2110,7 +2132,7 @@ def _tracking_html(log: TrackedLog, title: Optional[str], figs: _Figures) -> str
     t = log.t
     doc = _Doc(title or f"massid tracking — {os.path.basename(log.source)}")
     duration = float(t[-1] - t[0])
-    dt, _, _ = _sample_period(t)
+    dt, _, unit = _sample_period(t)
     changes = np.flatnonzero(log.event == "change")
     episodes = contact_episodes(log.event)
     contact_rows = int(np.sum(log.event == "contact"))
@@ -2121,7 +2143,8 @@ def _tracking_html(log: TrackedLog, title: Optional[str], figs: _Figures) -> str
     doc.add(f"<h1>{_e(doc.title)}</h1>")
     doc.add('<p class="sub">'
             f"<span>log: <b>{_e(log.source)}</b></span>"
-            f"<span><b>{n}</b> rows, {_fmt(duration, 4)} s at {_fmt(1 / dt, 4)} Hz</span>"
+            f"<span><b>{n}</b> rows, {_fmt(duration, 4)} s"
+            + (f" at {_fmt(1 / dt, 4)} Hz" if unit == "Hz" else "") + "</span>"
             f"<span>massid {_e(_version())}</span></p>")
     doc.add('<nav><a href="#summary">summary</a><a href="#events">events</a>'
             '<a href="#mass">mass</a><a href="#com">centre of mass</a>'

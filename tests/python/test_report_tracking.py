@@ -223,6 +223,28 @@ def test_python_function_on_columns(tmp_path, massid):
     assert "with ± 1 std" in html
 
 
+def test_the_csv_read_in_blocks_is_the_csv(tracked, monkeypatch, massid):
+    """The CSV is converted in blocks of rows: blocks of 7 give what one block gives, and
+    the same as the csv module (an empty field NaN)."""
+    from massid import report
+
+    d, _, _ = tracked
+    whole = report.read_tracked_log(d / "out.csv")
+    monkeypatch.setattr(report, "CSV_BLOCK_ROWS", 7)
+    blocks = report.read_tracked_log(d / "out.csv")
+    assert list(blocks.values) == list(whole.values)
+    for name, v in whole.values.items():
+        np.testing.assert_array_equal(blocks.values[name], v)
+    np.testing.assert_array_equal(blocks.event, whole.event)
+    np.testing.assert_array_equal(blocks.lines, np.arange(2, len(whole) + 2))
+    with open(d / "out.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    for name in ("payload_m", "payload_ixx", "true_payload_cx", "offset_mz", "t"):
+        expected = [float(r[name]) if r[name] else math.nan for r in rows]
+        np.testing.assert_array_equal(blocks.values[name], expected)
+    assert list(blocks.event) == [r["event"] for r in rows]
+
+
 def test_principal_moments_of_a_rotated_body(massid):
     from massid import report
 
