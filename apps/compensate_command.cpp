@@ -12,8 +12,10 @@
 #include <cmath>
 #include <csignal>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -27,6 +29,7 @@
 #include "massid/live/compensator.hpp"
 #include "massid/live/identified_model.hpp"
 #include "options.hpp"
+#include "python_report.hpp"
 
 namespace massid::cli {
 
@@ -68,6 +71,9 @@ void add_compensate_command(CLI::App& app, CompensateCommand& c) {
                 "With --track: the sensor's moment noise, N m per axis (default: the params "
                 "file's residual RMS)")
       ->check(CLI::PositiveNumber);
+  s->add_option("--report", c.report,
+                "With --track: at the end of the stream, write an HTML report of the tracked log "
+                "(estimates, events, compensated wrench; needs Python with matplotlib)");
   add_columns_option(s, c.columns);
 }
 
@@ -283,6 +289,14 @@ class ContactLog {
 template <class Lines>
 int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
                const CompensatorOptions& options, Lines& lines) {
+  // --report: the output is spooled as it is written, and drawn at the end.
+  std::optional<TrackReport> report;
+  if (!c.report.empty()) {
+    std::string time = "t";
+    for (const auto& [role, name] : options.columns.bind)
+      if (role == "t") time = name;
+    report.emplace(c.report, lines.name(), time);
+  }
   // The header: the first line that is neither blank nor a comment.
   std::string_view line;
   int number = 0;
@@ -300,7 +314,9 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
   std::istringstream notes(comp.note());
   for (std::string note; std::getline(notes, note);) std::cerr << "massid: note: " << note << "\n";
   std::cerr << std::flush;
-  if (!write_all(1, comp.output_header().data(), comp.output_header().size())) return 0;
+  if (report) report->write(comp.output_header());
+  if (!write_all(1, comp.output_header().data(), comp.output_header().size()))
+    return report ? report->render() : 0;
 
   LatencyHistogram latency, tracker_latency;
   ContactLog contact;
@@ -318,6 +334,7 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
     if (out.empty()) continue;  // a comment
     latency.record(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
     if (comp.tracker()) tracker_latency.record(comp.tracker_update_ns());
+    if (report) report->write(out);                    // outside the timed part
     if (!write_all(1, out.data(), out.size())) break;  // the reader is gone
     lines.reply(out);
     if constexpr (Lines::kEnds) contact.add(number, comp.compensated(), comp.measured());
@@ -335,7 +352,7 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
         "percentile {:.3f} us, max {:.3f} us\n",
         tracker_latency.percentile(0.5) * 1e-3, tracker_latency.percentile(0.999) * 1e-3,
         static_cast<double>(tracker_latency.max()) * 1e-3);
-  return 0;
+  return report ? report->render() : 0;
 }
 
 }  // namespace
@@ -344,6 +361,15 @@ int run_compensate(const CompensateCommand& c) {
   if (c.reply && c.udp_port < 0) throw InputError("--reply goes with --udp PORT");
   if (!c.track && (!c.payload_link.empty() || c.sigma_force > 0 || c.sigma_moment > 0))
     throw InputError("--payload-link, --sigma-force and --sigma-moment go with --track");
+  if (!c.track && !c.report.empty())
+    throw InputError("compensate --report draws a tracked log: it goes with --track");
+  if (!c.report.empty()) {  // before any work: the report comes at the end of the stream
+    const std::filesystem::path dir = std::filesystem::absolute(c.report).parent_path();
+    if (::access(dir.c_str(), W_OK) != 0)
+      throw InputError(fmt::format("--report {}: cannot write into {} ({})", c.report, dir.string(),
+                                   std::strerror(errno)));
+    check_report_tools();
+  }
   const ParamsFile params = read_params(c.params);
   const IdentifiedModel identified = IdentifiedModel::load(c.urdf, params);
   CompensatorOptions options;

@@ -4,6 +4,8 @@
 // input columns plus fx_comp..mz_comp (compensator.hpp). A bad line is named
 // on stderr and skipped; end of input, an empty datagram or "end", SIGINT or
 // SIGTERM end the stream (exit 0); --stats then prints the added latency.
+// With --track --report, the HTML report of the tracked log is drawn then
+// (python_report.hpp's TrackReport).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -24,6 +26,7 @@ struct CompensateCommand {
   bool track = false;                // --track: the payload and the offsets (tracker.hpp)
   std::string payload_link;          // --payload-link LINK ("" = the farthest measured link)
   double sigma_force = 0.0, sigma_moment = 0.0;  // --sigma-force/--sigma-moment (0: the params')
+  std::string report;  // --report REPORT.html (with --track): drawn at the end of the stream
 };
 
 void add_compensate_command(CLI::App& app, CompensateCommand& cmd);

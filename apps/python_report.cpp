@@ -53,7 +53,9 @@ std::vector<std::string> child_environment() {
 }
 
 // Runs the interpreter with args; -1 when it cannot be started (errno kept).
-int spawn_python(const std::vector<std::string>& args, bool quiet) {
+// quiet: its output goes to /dev/null; to_stderr: its stdout goes to our
+// stderr (compensate's stdout is the data).
+int spawn_python(const std::vector<std::string>& args, bool quiet, bool to_stderr = false) {
   std::vector<std::string> argv_s{interpreter()};
   argv_s.insert(argv_s.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -71,6 +73,8 @@ int spawn_python(const std::vector<std::string>& args, bool quiet) {
   if (quiet) {
     posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  } else if (to_stderr) {
+    posix_spawn_file_actions_adddup2(&actions, 2, 1);
   }
   pid_t pid = 0;
   const int err = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), envp.data());
@@ -128,30 +132,76 @@ void check_report_tools() {
   }
 }
 
-int run_report(const std::vector<std::string>& args) {
+int run_report(const std::vector<std::string>& args, bool to_stderr) {
   std::vector<std::string> full{"-m", "massid.report"};
   full.insert(full.end(), args.begin(), args.end());
-  const int code = spawn_python(full, false);
+  const int code = spawn_python(full, false, to_stderr);
   if (code == -1)
     throw InputError(
         fmt::format("--report: '{}' cannot be run ({})", interpreter(), std::strerror(errno)));
   return code == 2 || code == 3 ? code : (code == 0 ? 0 : 1);
 }
 
-int run_identify_report(const Identification& ident, const std::string& report) {
-  std::string record =
-      (std::filesystem::temp_directory_path() / "massid-identification-XXXXXX").string();
-  const int fd = mkstemp(record.data());
+namespace {
+
+// A new empty temporary file named after pattern (ending in XXXXXX); its open
+// descriptor.
+int temporary_file(std::string& path, const char* pattern) {
+  path = (std::filesystem::temp_directory_path() / pattern).string();
+  const int fd = mkstemp(path.data());
   if (fd < 0)
-    throw InputError(fmt::format("--report: cannot create a temporary file {} ({})", record,
+    throw InputError(fmt::format("--report: cannot create a temporary file {} ({})", path,
                                  std::strerror(errno)));
-  close(fd);
+  return fd;
+}
+
+}  // namespace
+
+int run_identify_report(const Identification& ident, const std::string& report) {
+  std::string record;
+  close(temporary_file(record, "massid-identification-XXXXXX"));
   struct Remove {
     const std::string& path;
     ~Remove() { std::remove(path.c_str()); }
   } remove{record};
   write_identification(record, ident, spell);  // as the command printed them
   return run_report({"draw-identify", record, "-o", report});
+}
+
+TrackReport::TrackReport(std::string report, std::string source, std::string time_column)
+    : report_(std::move(report)), source_(std::move(source)), time_(std::move(time_column)) {
+  const int fd = temporary_file(spool_, "massid-track-XXXXXX");
+  file_ = fdopen(fd, "w");
+  if (!file_) {
+    const int e = errno;
+    close(fd);
+    std::remove(spool_.c_str());
+    throw InputError(fmt::format("--report: cannot open the spool {} ({})", spool_, strerror(e)));
+  }
+  std::setvbuf(file_, nullptr, _IOFBF, 1 << 16);
+}
+
+TrackReport::~TrackReport() {
+  if (file_) std::fclose(file_);
+  std::remove(spool_.c_str());
+}
+
+void TrackReport::write(std::string_view text) {
+  if (!failed_ && std::fwrite(text.data(), 1, text.size(), file_) != text.size()) {
+    failed_ = true;
+    error_ = errno;
+  }
+}
+
+int TrackReport::render() {
+  if (std::fflush(file_) != 0 && !failed_) failed_ = true, error_ = errno;
+  std::fclose(file_);
+  file_ = nullptr;
+  if (failed_)
+    throw InputError(fmt::format(
+        "--report: writing the tracked rows to the spool {} failed ({}): no report written", spool_,
+        std::strerror(error_)));
+  return run_report({"track", spool_, "-o", report_, "--source", source_, "--time", time_}, true);
 }
 
 }  // namespace massid::cli

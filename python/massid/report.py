@@ -1,4 +1,4 @@
-"""Self-contained HTML reports of an identification or a prediction.
+"""Self-contained HTML reports of an identification, a prediction or a tracked log.
 
 One HTML file per report, readable offline and safe to mail: every figure is
 an embedded PNG (``data:`` URI), the style sheet is inline, and there is no
@@ -12,12 +12,14 @@ From Python::
     ident = massid.identify("robot.urdf", "data.csv")
     massid.report.write_identify_report("report.html", ident)
     massid.report.write_predict_report("pred.html", "robot.urdf", "params.json", "holdout.csv")
+    massid.report.write_tracking_report("track.html", "tracked.csv")  # compensate --track's CSV
 
 From the shell (the CLI's ``--report`` runs these)::
 
     python3 -m massid.report identify ROBOT DATA -o REPORT.html [identify options]
     python3 -m massid.report identify ROBOT LOG -o REPORT.html --dynamic [--cutoff HZ]
     python3 -m massid.report predict ROBOT PARAMS DATA -o REPORT.html [--cutoff HZ]
+    python3 -m massid.report track TRACKED.csv -o REPORT.html   # compensate --track's output
     python3 -m massid.report --check      # exit 0 when matplotlib is usable
 
 docs/report.md explains what each part shows and how to read it.
@@ -1657,6 +1659,659 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any, None], para
 
 
 # --------------------------------------------------------------------------
+# Report of a tracked log (massid compensate --track)
+
+#: The columns `massid compensate --track` writes after fx_comp..mz_comp (the spec's "Tracking").
+TRACK_COLUMNS = ("payload_m", "payload_cx", "payload_cy", "payload_cz", "payload_m_std",
+                 "payload_c_std", "payload_ixx", "payload_ixy", "payload_ixz", "payload_iyy",
+                 "payload_iyz", "payload_izz", *(f"offset_{a}" for a in AXES), "event")
+COMP_COLUMNS = tuple(f"{a}_comp" for a in AXES)
+INERTIA_COLUMNS = TRACK_COLUMNS[6:12]
+#: The estimates whose truth a log may carry, as an input column ``true_NAME`` that
+#: compensate passes through (true_fx_comp..true_mz_comp: the external wrench).
+TRUTH_OF = ("payload_m", "payload_cx", "payload_cy", "payload_cz", *INERTIA_COLUMNS,
+            *(f"offset_{a}" for a in AXES), *COMP_COLUMNS)
+#: Optional std columns of the offsets (drawn as bands when a log has them).
+OFFSET_STD_COLUMNS = tuple(f"offset_{a}_std" for a in AXES)
+EVENTS = ("", "change", "contact")
+#: A tracked log's CSV is converted this many rows at a time (its text held for one block).
+CSV_BLOCK_ROWS = 50000
+#: A line along time shows at most about this many points (a min/max envelope beyond).
+MAX_LINE_POINTS = 8000
+_CONTACT_COLOR = "#f4a261"
+_CHANGE_COLOR = "#c62828"
+
+
+@dataclass
+class TrackedLog:
+    """The columns of a tracked log that its report uses.
+
+    ``values`` holds t, fx_comp..mz_comp, the payload and offset columns, and
+    the optional ``true_*`` and ``offset_*_std`` ones, as float arrays (an
+    empty field is NaN); ``event`` the event column ("", "change",
+    "contact"); ``lines`` each row's line in the file (1-based; the row's
+    index + 1 for columns given in memory).
+    """
+    source: str
+    time: str
+    values: dict[str, np.ndarray]
+    event: np.ndarray
+    lines: np.ndarray
+
+    @property
+    def t(self) -> np.ndarray:
+        return self.values[self.time]
+
+    def __len__(self) -> int:
+        return int(self.event.size)
+
+    def truth(self, name: str) -> Optional[np.ndarray]:
+        """The true value of an estimate column along the log (None when the log has no
+        ``true_NAME`` column, or only empty fields in it)."""
+        v = self.values.get("true_" + name)
+        return v if v is not None and np.isfinite(v).any() else None
+
+
+def read_tracked_log(log: Union[PathType, Mapping[str, Any]], time: str = "t") -> TrackedLog:
+    """Read what the report of a tracked log needs from ``massid compensate --track``'s output.
+
+    Args:
+        log: the CSV (the input's columns, fx_comp..mz_comp, then payload_m .. event),
+            or a dict of those columns (``event`` a sequence of strings).
+        time: the time column's name (``t``; compensate keeps the input's name).
+
+    Raises:
+        massid.InputError: a missing column (named), a field that is not a number
+            (file:line:column), an unknown event.
+    """
+    required = (time, *COMP_COLUMNS, *TRACK_COLUMNS)
+    if isinstance(log, Mapping):
+        missing = [c for c in required if c not in log]
+        if missing:
+            raise massid.InputError(f"the tracked log lacks column(s) {', '.join(missing)}: "
+                                    "is it the output of massid compensate --track?")
+        event = np.asarray([str(e) for e in log["event"]], dtype=object)
+        values = {}
+        for name, v in log.items():
+            if name == "event" or not (name in required or name.startswith("true_")
+                                       or name in OFFSET_STD_COLUMNS):
+                continue
+            values[name] = np.asarray(v, dtype=float).reshape(-1)
+            if values[name].size != event.size:
+                raise massid.InputError(f"the tracked log's column {name} has {values[name].size} "
+                                        f"values, event has {event.size}")
+        bad = sorted({e for e in event if e not in EVENTS})
+        if bad:
+            raise massid.InputError(f"the tracked log's event column holds {bad[0]!r}: expected "
+                                    "'', 'change' or 'contact'")
+        return TrackedLog("(columns)", time, values, event, np.arange(1, event.size + 1))
+    path = os.fspath(log)
+    try:
+        return _read_tracked_csv(path, time, required)
+    except UnicodeDecodeError as e:
+        raise massid.InputError(f"{path}: not a UTF-8 text CSV ({e.reason})") from None
+
+
+def _read_tracked_csv(path: str, time: str, required: Sequence[str]) -> TrackedLog:
+    with open(path, encoding="utf-8-sig", newline="") as f:
+        header: Optional[list[str]] = None
+        header_line = 0
+        for header_line, raw in enumerate(f, 1):
+            text = raw.strip()
+            if text and not text.startswith("#"):
+                header = [h.strip() for h in raw.rstrip("\r\n").split(",")]
+                break
+        if header is None:
+            raise massid.InputError(f"{path}: no header line")
+        missing = [c for c in required if c not in header]
+        if missing:
+            raise massid.InputError(f"{path}:{header_line}: no column(s) {', '.join(missing)}: is it "
+                                    "the output of massid compensate --track?")
+        names = [h for h in header if h != "event" and (h in required or h.startswith("true_")
+                                                         or h in OFFSET_STD_COLUMNS)]
+        index = [header.index(h) for h in names]
+        ev = header.index("event")
+        # Parsed in blocks of rows (numpy converts a block's column at once): the rows'
+        # text is held for one block only.
+        columns: list[list[np.ndarray]] = [[] for _ in names]
+        events: list[np.ndarray] = []
+        lines: list[np.ndarray] = []
+        width = len(header)
+        block: list[list[str]] = []
+        block_lines: list[int] = []
+
+        def convert() -> None:
+            for col, j in zip(columns, index):
+                try:  # an empty field: unknown (NaN)
+                    col.append(np.array([float(r[j]) if r[j] else math.nan for r in block]))
+                except ValueError:  # blanks, or a field that is not a number
+                    values = []
+                    for r, line_no in zip(block, block_lines):
+                        text = r[j].strip()
+                        try:
+                            values.append(float(text) if text else math.nan)
+                        except ValueError:
+                            raise massid.InputError(f"{path}:{line_no}:{j + 1}: '{text}' is not a "
+                                                    f"number (column {header[j]})") from None
+                    col.append(np.array(values))
+            e = np.array([r[ev].strip() for r in block], dtype=object)
+            bad = np.flatnonzero(~np.isin(e, EVENTS))
+            if bad.size:
+                raise massid.InputError(f"{path}:{block_lines[bad[0]]}:{ev + 1}: event "
+                                        f"'{e[bad[0]]}': expected '', 'change' or 'contact'")
+            events.append(e)
+            lines.append(np.asarray(block_lines))
+            block.clear()
+            block_lines.clear()
+
+        for line_no, raw in enumerate(f, header_line + 1):
+            text = raw.rstrip("\r\n")
+            if not text.strip() or text.lstrip().startswith("#"):
+                continue
+            fields = text.split(",")
+            if len(fields) != width:
+                raise massid.InputError(f"{path}:{line_no}: {len(fields)} fields, the header has "
+                                        f"{width}")
+            block.append(fields)
+            block_lines.append(line_no)
+            if len(block) == CSV_BLOCK_ROWS:
+                convert()
+        if block:
+            convert()
+    if not events:
+        raise massid.InputError(f"{path}: no rows after the header")
+    values = {name: np.concatenate(col) for name, col in zip(names, columns)}
+    event, line = np.concatenate(events), np.concatenate(lines)
+    bad_t = np.flatnonzero(~np.isfinite(values[time]))
+    if bad_t.size:
+        raise massid.InputError(f"{path}:{line[bad_t[0]]}:{header.index(time) + 1}: no time")
+    return TrackedLog(path, time, values, event, line)
+
+
+def contact_episodes(event: Sequence[str]) -> list[tuple[int, int]]:
+    """Runs of consecutive ``contact`` rows: (first row, last row), 0-based."""
+    flagged = np.asarray([e == "contact" for e in event], dtype=bool)
+    if not flagged.any():
+        return []
+    d = np.diff(np.concatenate(([0], flagged.astype(np.int8), [0])))
+    return list(zip(np.flatnonzero(d == 1).tolist(), (np.flatnonzero(d == -1) - 1).tolist()))
+
+
+def principal_moments(inertia: np.ndarray) -> np.ndarray:
+    """[n x 3] principal moments (descending) of rows ixx, ixy, ixz, iyy, iyz, izz; NaN where a
+    row is undetermined (an empty field)."""
+    inertia = np.asarray(inertia, dtype=float).reshape(-1, 6)
+    out = np.full((inertia.shape[0], 3), np.nan)
+    ok = np.isfinite(inertia).all(axis=1)
+    if ok.any():
+        i = inertia[ok]
+        m = np.stack([i[:, [0, 1, 2]], i[:, [1, 3, 4]], i[:, [2, 4, 5]]], axis=1)
+        out[ok] = np.linalg.eigvalsh(m)[:, ::-1]
+    return out
+
+
+def _envelope_index(y: np.ndarray, limit: int = MAX_LINE_POINTS) -> np.ndarray:
+    """Indices of y to draw: all of them, or per block the smallest and the largest (the
+    line then looks as the full one does)."""
+    n = y.size
+    if n <= limit:
+        return np.arange(n)
+    b = math.ceil(n / (limit // 2))
+    m = n // b * b
+    blocks = y[:m].reshape(-1, b)
+    lo = np.argmin(np.where(np.isnan(blocks), np.inf, blocks), axis=1)
+    hi = np.argmax(np.where(np.isnan(blocks), -np.inf, blocks), axis=1)
+    base = np.arange(blocks.shape[0]) * b
+    return np.unique(np.concatenate((base + lo, base + hi, np.arange(m, n))))
+
+
+def _event_spans(log: TrackedLog) -> tuple[list[tuple[float, float]], np.ndarray]:
+    """Contact spans (time from, to) as drawn, and the change times."""
+    t = log.t
+    dt = float(np.median(np.diff(t))) if t.size > 1 else 0.0
+    spans = [(float(t[a]), float(t[b]) + dt) for a, b in contact_episodes(log.event)]
+    # Many short spans (noise flagged here and there): merge those closer than 0.1 % of the log.
+    if len(spans) > 200:
+        gap = 1e-3 * float(t[-1] - t[0])
+        merged = [spans[0]]
+        for a, b in spans[1:]:
+            if a - merged[-1][1] <= gap:
+                merged[-1] = (merged[-1][0], b)
+            else:
+                merged.append((a, b))
+        spans = merged
+    return spans, t[log.event == "change"]
+
+
+def _draw_events(ax: Any, events: tuple[list[tuple[float, float]], np.ndarray]) -> None:
+    spans, changes = events
+    for k, (a, b) in enumerate(spans):
+        ax.axvspan(a, b, color=_CONTACT_COLOR, alpha=0.3, lw=0, label="contact" if k == 0 else None)
+    for k, tc in enumerate(changes):
+        ax.axvline(tc, color=_CHANGE_COLOR, lw=1.0, ls="--", label="change" if k == 0 else None)
+
+
+def _limits(*arrays: Optional[np.ndarray], pad: float = 0.08) -> Optional[tuple[float, float]]:
+    """y limits that hold the finite values of the arrays (not the bands)."""
+    v = np.concatenate([np.asarray(a, dtype=float).reshape(-1) for a in arrays if a is not None])
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return None
+    lo, hi = float(v.min()), float(v.max())
+    span = hi - lo if hi > lo else max(abs(hi), 1e-9)
+    return lo - pad * span, hi + pad * span
+
+
+def _error_limit(err: np.ndarray, std: Optional[np.ndarray]) -> Optional[float]:
+    """A half-range for an error panel: four times the typical std, or the bulk of the
+    errors if larger; the moments right after a change (an error of the whole new load,
+    a std of a still undetermined estimate) leave the panel."""
+    known = np.isfinite(err)
+    e = np.abs(err[known])
+    if e.size == 0:
+        return None
+    lim = 1.5 * float(np.percentile(e, 75))
+    if std is not None:
+        s = std[known & np.isfinite(std)]
+        if s.size:
+            lim = max(lim, 4 * float(np.median(s)))
+    else:
+        lim = max(lim, 1.1 * float(np.percentile(e, 98)))
+    return lim if lim > 0 else None
+
+
+def _estimate_panel(ax: Any, t: np.ndarray, est: np.ndarray, std: Optional[np.ndarray],
+                    truth: Optional[np.ndarray], events: Any, label: str, color: str = "C0") -> None:
+    """An estimate along time with its ±1 std band and its truth, over the events."""
+    _draw_events(ax, events)
+    idx = _envelope_index(est)
+    if std is not None:
+        ax.fill_between(t[idx], (est - std)[idx], (est + std)[idx], color=color, alpha=0.22, lw=0,
+                        label="± 1 std", rasterized=True)
+    ax.plot(t[idx], est[idx], "-", lw=1.0, color=color, label="estimate", rasterized=True)
+    if truth is not None:
+        j = _envelope_index(truth)
+        ax.plot(t[j], truth[j], "--", lw=1.1, color="k", alpha=0.8, label="truth")
+    lim = _limits(est, truth)
+    if lim is not None:
+        ax.set_ylim(*lim)
+    ax.set_ylabel(label)
+
+
+def _error_panel(ax: Any, t: np.ndarray, err: np.ndarray, std: Optional[np.ndarray], events: Any,
+                 label: str) -> None:
+    """Estimate − truth with ±1 and ±3 std bands."""
+    _draw_events(ax, events)
+    idx = _envelope_index(err)
+    if std is not None:
+        std = np.where(np.isfinite(err), std, np.nan)  # no band where the truth is unknown
+        for k, alpha in ((3, 0.12), (1, 0.25)):
+            ax.fill_between(t[idx], -k * std[idx], k * std[idx], color="C2", alpha=alpha, lw=0,
+                            label=f"± {k} std", rasterized=True)
+    ax.plot(t[idx], err[idx], "-", lw=0.9, color="C3", label="estimate − truth", rasterized=True)
+    ax.axhline(0.0, color="k", lw=0.6)
+    lim = _error_limit(err, std)
+    if lim is not None:
+        ax.set_ylim(-lim, lim)
+    ax.set_ylabel(label)
+
+
+_TRACK_WIDTH = 11.5
+_TRACK_MARGINS = (1.05, 0.2, 0.5, 0.75)  # left, right, bottom, top (title and legend), inches
+
+
+def _track_figure(figs: _Figures, rows: int, cols: int, height: float, title: str) -> tuple[Any, Any]:
+    """A figure of rows x cols time panels (shared time axis) under a title line and a legend
+    line: fixed margins, so that the legend never covers a panel."""
+    fig = figs.new(_TRACK_WIDTH, height, margins=_TRACK_MARGINS)
+    fig.subplots_adjust(wspace=0.4 if cols > 1 else 0.2, hspace=0.12)
+    axs = fig.subplots(rows, cols, sharex=True, squeeze=False)
+    fig.text(_TRACK_MARGINS[0] / _TRACK_WIDTH, 1 - 0.1 / height, title, ha="left", va="top",
+             fontsize=10.5)
+    return fig, axs
+
+
+def _legend(fig: Any, axes: Iterable[Any], xlabel: str) -> None:
+    """The time label under the bottom panels; one legend for the figure, on its own line
+    under the title (right-aligned)."""
+    axes = [ax for ax in axes if ax.get_visible()]
+    handles: dict[str, Any] = {}
+    for ax in axes:
+        for h, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, h)
+    if handles:
+        height = fig.get_figheight()
+        fig.legend(list(handles.values()), list(handles), loc="upper right",
+                   bbox_to_anchor=(1 - _TRACK_MARGINS[1] / _TRACK_WIDTH, 1 - 0.3 / height),
+                   ncol=min(len(handles), 8), frameon=False, borderaxespad=0.0)
+    bottom = max(ax.get_subplotspec().rowspan.stop for ax in axes) if axes else 0
+    for ax in axes:
+        if ax.get_subplotspec().rowspan.stop == bottom:
+            ax.set_xlabel(xlabel)
+
+
+def _track_mass_figure(figs: _Figures, log: TrackedLog, events: Any) -> str:
+    t, m, s = log.t, log.values["payload_m"], log.values["payload_m_std"]
+    truth = log.truth("payload_m")
+    fig, axs = _track_figure(figs, 2 if truth is not None else 1, 1,
+                             5.6 if truth is not None else 3.4, "payload mass")
+    _estimate_panel(axs[0, 0], t, m, s, truth, events, "payload_m [kg]")
+    if truth is not None:
+        _error_panel(axs[1, 0], t, m - truth, s, events, "payload_m − truth [kg]")
+    _legend(fig, axs.flat, f"{log.time} [s]")
+    return figs.png(fig)
+
+
+def _track_com_figure(figs: _Figures, log: TrackedLog, events: Any) -> str:
+    t, s = log.t, log.values["payload_c_std"]
+    truths = [log.truth(f"payload_c{c}") for c in "xyz"]
+    with_truth = any(x is not None for x in truths)
+    fig, axs = _track_figure(figs, 3, 2 if with_truth else 1, 7.5,
+                             "payload centre of mass in the payload link's frame"
+                             + (": estimate (left), estimate − truth (right)" if with_truth else ""))
+    for k, c in enumerate("xyz"):
+        est = log.values[f"payload_c{c}"]
+        _estimate_panel(axs[k, 0], t, est, s, truths[k], events, f"payload_c{c} [m]")
+        if with_truth:
+            if truths[k] is not None:
+                _error_panel(axs[k, 1], t, est - truths[k], s, events, f"c{c} − truth [m]")
+            else:
+                axs[k, 1].set_visible(False)
+    _legend(fig, axs.flat, f"{log.time} [s]")
+    return figs.png(fig)
+
+
+def _track_inertia_figure(figs: _Figures, log: TrackedLog, events: Any,
+                          moments: np.ndarray) -> str:
+    t = log.t
+    truth_cols = [log.values.get("true_" + c) for c in INERTIA_COLUMNS]
+    truth = (principal_moments(np.column_stack(truth_cols))
+             if all(c is not None for c in truth_cols) else None)
+    fig, axs = _track_figure(figs, 1, 1, 3.8, "payload principal moments about its centre of "
+                                              "mass, where the tracker wrote the inertia")
+    ax = axs[0, 0]
+    _draw_events(ax, events)
+    for k in range(3):
+        idx = _envelope_index(moments[:, k])
+        ax.plot(t[idx], moments[idx, k], "-", lw=1.0, color=f"C{k}", label=f"I{k + 1}",
+                rasterized=True)
+        if truth is not None and np.isfinite(truth[:, k]).any():
+            ax.plot(t, truth[:, k], "--", lw=1.1, color=f"C{k}", alpha=0.9,
+                    label="truth" if k == 0 else None)
+    lim = _limits(moments, truth)
+    if lim is not None:
+        ax.set_ylim(*lim)
+    ax.set_ylabel("principal moment [kg m²]")
+    _legend(fig, [ax], f"{log.time} [s]")
+    return figs.png(fig)
+
+
+def _track_offset_figure(figs: _Figures, log: TrackedLog, events: Any, errors: bool) -> str:
+    t = log.t
+    fig, axs = _track_figure(figs, 2, 3, 5.6, "sensor offsets: estimate − truth" if errors
+                             else "sensor offsets")
+    for k, a in enumerate(AXES):
+        ax = axs.flat[k]
+        est = log.values[f"offset_{a}"]
+        std = log.values.get(f"offset_{a}_std")
+        truth = log.truth(f"offset_{a}")
+        if errors:
+            if truth is None:
+                ax.set_visible(False)
+                continue
+            _error_panel(ax, t, est - truth, std, events, f"{a} − truth [{UNITS[k]}]")
+        else:
+            _estimate_panel(ax, t, est, std, truth, events, f"offset_{a} [{UNITS[k]}]")
+    _legend(fig, axs.flat, f"{log.time} [s]")
+    return figs.png(fig)
+
+
+def _track_comp_figure(figs: _Figures, log: TrackedLog, events: Any) -> str:
+    t = log.t
+    fig, axs = _track_figure(figs, 6, 1, 9.5, "compensated wrench: the external wrench "
+                                              "(contact) and the noise")
+    for k, a in enumerate(AXES):
+        ax = axs[k, 0]
+        _draw_events(ax, events)
+        y = log.values[f"{a}_comp"]
+        idx = _envelope_index(y)
+        ax.plot(t[idx], y[idx], "-", lw=0.7, color="0.35", label="compensated", rasterized=True)
+        truth = log.truth(f"{a}_comp")
+        if truth is not None:
+            j = _envelope_index(truth)
+            ax.plot(t[j], truth[j], "--", lw=1.0, color="C1", label="true external wrench")
+        ax.set_ylabel(f"{a}_comp [{UNITS[k]}]")
+    _legend(fig, axs.flat, f"{log.time} [s]")
+    return figs.png(fig)
+
+
+@dataclass
+class _FinalRow:
+    name: str
+    unit: str
+    value: float
+    std: float = math.nan
+    truth: float = math.nan
+
+
+def _final_rows(rows: Sequence[_FinalRow], period: int) -> list[str]:
+    body = []
+    for r in rows:
+        err = r.value - r.truth
+        z = err / r.std if math.isfinite(err) and r.std > 0 else math.nan
+        body.append(f'<tr id="p{period}-{_e(r.name)}"><td class="l">{_e(r.name)}</td>'
+                    f'<td class="mono value">{_fmt(r.value, 6)}</td>'
+                    f'<td class="mono std">{_fmt(r.std, 3)}</td>'
+                    f'<td class="mono truth">{_fmt(r.truth, 6)}</td>'
+                    f'<td class="mono error">{_fmt(err, 3)}</td>'
+                    f'<td class="mono z">{_fmt(z, 3)}</td><td class="l">{_e(r.unit)}</td></tr>')
+    return body
+
+
+def payload_periods(event: Sequence[str]) -> list[tuple[int, int, Optional[int]]]:
+    """The log cut at its change rows: (first row, end row (excluded), the period's last row
+    that is neither change nor contact, or None), 0-based. A period's estimates are read on
+    that row: the tracker's last word on a load before the next change (the rows of a run
+    before its change are contact)."""
+    event = np.asarray(event, dtype=object)
+    cuts = [0, *np.flatnonzero(event == "change").tolist(), event.size]
+    out = []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        free = np.flatnonzero(event[a:b] == "")
+        out.append((a, b, int(a + free[-1]) if free.size else None))
+    return out
+
+
+def _count_row(key: str, label: str, value: Any, note: str = "") -> str:
+    return (f'<tr id="count-{key}"><td class="l">{_e(label)}</td><td class="mono">{value}</td>'
+            f'<td class="l">{note}</td></tr>')
+
+
+def _tracking_html(log: TrackedLog, title: Optional[str], figs: _Figures) -> str:
+    n = len(log)
+    t = log.t
+    doc = _Doc(title or f"massid tracking — {os.path.basename(log.source)}")
+    duration = float(t[-1] - t[0])
+    dt, _, unit = _sample_period(t)
+    changes = np.flatnonzero(log.event == "change")
+    episodes = contact_episodes(log.event)
+    contact_rows = int(np.sum(log.event == "contact"))
+    last = n - 1
+    moments = principal_moments(np.column_stack([log.values[c] for c in INERTIA_COLUMNS]))
+    determined = np.isfinite(moments).all(axis=1)
+
+    doc.add(f"<h1>{_e(doc.title)}</h1>")
+    doc.add('<p class="sub">'
+            f"<span>log: <b>{_e(log.source)}</b></span>"
+            f"<span><b>{n}</b> rows, {_fmt(duration, 4)} s"
+            + (f" at {_fmt(1 / dt, 4)} Hz" if unit == "Hz" else "") + "</span>"
+            f"<span>massid {_e(_version())}</span></p>")
+    doc.add('<nav><a href="#summary">summary</a><a href="#events">events</a>'
+            '<a href="#mass">mass</a><a href="#com">centre of mass</a>'
+            + ('<a href="#inertia">principal moments</a>' if determined.any() else "")
+            + '<a href="#offsets">offsets</a><a href="#compensated">compensated wrench</a></nav>')
+
+    # Summary: the final estimates, the events.
+    m, ms = float(log.values["payload_m"][last]), float(log.values["payload_m_std"][last])
+    true_m = log.truth("payload_m")
+    cards = [
+        _card("payload mass at the end", f"{_fmt(m, 4)} kg",
+              f"± {_e(format_std(ms))} kg (one std)"
+              + (f"; truth {_e(_fmt(true_m[last], 4))} kg" if true_m is not None
+                 and math.isfinite(true_m[last]) else "")),
+        _card("changes", str(changes.size),
+              _e("rows where a new payload was detected (grasp, release)")),
+        _card("contact rows", str(contact_rows),
+              _e(f"in {len(episodes)} episode(s): rows that carry an external wrench and "
+                 "teach the tracker nothing"), "fair" if contact_rows else ""),
+    ]
+    doc.add('<h2 id="summary">Summary</h2>')
+    doc.add(f'<div class="cards">{"".join(cards)}</div>')
+    inertia_truth = [log.values.get("true_" + c) for c in INERTIA_COLUMNS]
+    body = []
+    periods = payload_periods(log.event)
+    for j, (a, _, r) in enumerate(periods):
+        where = "before the first change" if j == 0 else f"from the change at {_fmt(t[a], 6)} s"
+        if r is None:
+            body.append(f'<tr class="section"><td colspan="7">{_e(where)}: no row without an '
+                        "event</td></tr>")
+            continue
+        body.append(f'<tr class="section"><td colspan="7">{_e(where)}: the estimates on its last '
+                    f"free row, t = {_fmt(t[r], 6)} s (line {int(log.lines[r])})</td></tr>")
+        rows = [_FinalRow("payload_m", "kg", float(log.values["payload_m"][r]),
+                          float(log.values["payload_m_std"][r]), _at(true_m, r))]
+        for c in "xyz":
+            rows.append(_FinalRow(f"payload_c{c}", "m", float(log.values[f"payload_c{c}"][r]),
+                                  float(log.values["payload_c_std"][r]),
+                                  _at(log.truth(f"payload_c{c}"), r)))
+        if determined[r]:
+            tm = (principal_moments(np.column_stack([c[r:r + 1] for c in inertia_truth]))[0]
+                  if all(c is not None for c in inertia_truth) else np.full(3, np.nan))
+            for k in range(3):
+                rows.append(_FinalRow(f"I{k + 1}", "kg m²", float(moments[r, k]), truth=float(tm[k])))
+        for k, ax in enumerate(AXES):
+            rows.append(_FinalRow(f"offset_{ax}", UNITS[k], float(log.values[f"offset_{ax}"][r]),
+                                  _at(log.values.get(f"offset_{ax}_std"), r),
+                                  _at(log.truth(f"offset_{ax}"), r)))
+        body += _final_rows(rows, j)
+    doc.add("<p>The log cut at its change rows into payload periods; each period's estimates "
+            "on its last row without an event (the tracker's last word on that load), with "
+            "the std the tracker wrote (payload_m_std; payload_c_std, the largest of the three "
+            "coordinates'; the offsets' where the log has offset_*_std columns) and the truth "
+            "from the log's true_* columns where it has them (docs/report.md). I1 ≥ I2 ≥ I3: "
+            "the principal moments, on rows where the inertia is written.</p>")
+    doc.add('<table class="final"><tr><th class="l">estimate</th><th>value</th><th>± std</th>'
+            '<th>truth</th><th>value − truth</th><th>/ std</th><th class="l">unit</th></tr>'
+            + "".join(body) + "</table>")
+
+    # Events.
+    doc.add('<h2 id="events">Events</h2>')
+    counts = [_count_row("rows", "rows", n),
+              _count_row("change", "change rows", changes.size,
+                         _e("the payload restarts there, the offsets are kept")),
+              _count_row("contact", "contact rows", contact_rows),
+              _count_row("episodes", "contact episodes", len(episodes),
+                         _e("runs of consecutive contact rows"))]
+    true_ext = [log.values.get(f"true_{a}_comp") for a in AXES]
+    if all(x is not None for x in true_ext):
+        touching = np.any(np.abs(np.column_stack(true_ext)) > 0, axis=1)
+        flagged = log.event == "contact"
+        counts.append(_count_row("true-contact", "true contact rows flagged",
+                                 f"{int(np.sum(flagged & touching))} of {int(touching.sum())}",
+                                 _e("rows where the true external wrench is not zero")))
+        counts.append(_count_row("free-flagged", "free rows flagged",
+                                 f"{int(np.sum(flagged & ~touching))} of {int((~touching).sum())}",
+                                 _e("rows without an external wrench, flagged contact")))
+    doc.add('<table class="counts">' + "".join(counts) + "</table>")
+    def span(a: int, b: int) -> str:
+        return str(int(log.lines[a])) if a == b else f"{int(log.lines[a])}–{int(log.lines[b])}"
+
+    listed = sorted([(int(i), int(i), "change") for i in changes[:20]]
+                    + [(a, b, "contact") for a, b in episodes[:20]])
+    listed = [f'<tr><td class="l">{kind}</td><td class="mono">{_fmt(t[a], 6)}</td>'
+              f'<td class="mono">{_fmt(t[b], 6)}</td><td class="mono">{b - a + 1}</td>'
+              f'<td class="mono">{span(a, b)}</td></tr>' for a, b, kind in listed]
+    if listed:
+        doc.add('<table class="events"><tr><th class="l">event</th><th>from [s]</th><th>to [s]</th>'
+                '<th>rows</th><th>lines</th></tr>' + "".join(listed) + "</table>")
+        if changes.size > 20 or len(episodes) > 20:
+            doc.add("<p>(the first 20 changes and contact episodes)</p>")
+    doc.add("<p>In every figure below, a change is a red dashed line and contact rows are "
+            "shaded orange. The rows of a run before its change is declared are written as "
+            "contact (docs/tracking.md): a change comes after a short shaded span.</p>")
+
+    events = _event_spans(log)
+    doc.add('<h2 id="mass">Payload mass</h2>')
+    doc.figure(_track_mass_figure(figs, log, events), "payload mass along time",
+               "The payload's mass with its ± 1 std band (payload_m_std)"
+               + (", the truth (dashed) and, below, the error with ± 1 and ± 3 std bands (the "
+                  "error panel is cut at the bulk of the errors: the moments around a change "
+                  "leave it)" if true_m is not None else "") + ".")
+    doc.add('<h2 id="com">Payload centre of mass</h2>')
+    doc.figure(_track_com_figure(figs, log, events), "payload centre of mass along time",
+               "The centre of mass in the payload link's frame with ± payload_c_std (the largest "
+               "std of the three coordinates: a wide band until the motion has turned the "
+               "payload). Written as 0 while the mass is not beyond three std.")
+    if determined.any():
+        doc.add('<h2 id="inertia">Payload principal moments</h2>')
+        doc.figure(_track_inertia_figure(figs, log, events, moments),
+                   "payload principal moments along time",
+                   "The principal moments of the payload's inertia about its centre of mass "
+                   "(eigenvalues of payload_ixx..izz, largest first), on the rows where the "
+                   "tracker writes them (determined by the motion); the tracker writes no std "
+                   "for them.")
+    doc.add('<h2 id="offsets">Sensor offsets</h2>')
+    has_std = all(c in log.values for c in OFFSET_STD_COLUMNS)
+    doc.figure(_track_offset_figure(figs, log, events, errors=False), "sensor offsets along time",
+               "The offsets' estimates" + (" with ± 1 std" if has_std else
+                                           " (the log has no offset std columns: no band)")
+               + (" and their truth (dashed)." if log.truth("offset_fx") is not None else "."))
+    if any(log.truth(f"offset_{a}") is not None for a in AXES):
+        doc.figure(_track_offset_figure(figs, log, events, errors=True),
+                   "offset errors along time",
+                   "Offset estimate − truth" + (" with ± 1 and ± 3 std." if has_std else "."))
+    doc.add('<h2 id="compensated">Compensated wrench</h2>')
+    doc.figure(_track_comp_figure(figs, log, events), "compensated wrench along time",
+               "fx_comp..mz_comp: measured − predicted (mechanism and payload) − offset; the "
+               "noise in free motion, the external wrench in contact"
+               + (" (its truth dashed)." if log.truth("fx_comp") is not None else "."))
+    return doc.render()
+
+
+def _at(v: Optional[np.ndarray], i: int) -> float:
+    return float(v[i]) if v is not None else math.nan
+
+
+def write_tracking_report(path: PathType, log: Union[PathType, Mapping[str, Any]], *,
+                          title: Optional[str] = None, time: str = "t",
+                          source: Optional[str] = None) -> None:
+    """Write the HTML report of a tracked log (``massid compensate --track``'s output).
+
+    Args:
+        path: the HTML file to write (atomically).
+        log: the tracked log's CSV, or a dict of its columns (``event`` as strings).
+            Input columns ``true_NAME`` (NAME one of payload_m, payload_cx..cz,
+            payload_ixx..izz, offset_fx..mz, fx_comp..mz_comp), which compensate
+            passes through, are drawn as the truth; ``offset_fx_std..offset_mz_std``,
+            if present, as the offsets' std bands.
+        title: the page title; default "massid tracking — LOG".
+        time: the time column's name.
+        source: the log's name as the report shows it (default: its path).
+
+    Raises:
+        massid.InputError: the log is not a tracked log (a missing column, a bad field).
+        MatplotlibMissing: matplotlib is not installed.
+        OSError: a file cannot be read or written.
+    """
+    tracked = read_tracked_log(log, time)
+    if source:
+        tracked.source = source
+    with _Figures() as figs:
+        text = _tracking_html(tracked, title, figs)
+    _massid._write_file_atomically(path, text)
+
+
+# --------------------------------------------------------------------------
 # Files and the command line
 
 
@@ -1678,10 +2333,11 @@ def _parse_fixed(items: Optional[Iterable[str]]) -> Optional[dict[str, float]]:
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="python3 -m massid.report",
-        description="Write a self-contained HTML report of a massid identification or prediction.")
+        description="Write a self-contained HTML report of a massid identification, a prediction or "
+                    "a tracked log.")
     p.add_argument("--check", action="store_true",
                    help="only check that matplotlib can be imported (exit 0), then stop")
-    sub = p.add_subparsers(dest="command", metavar="{identify,predict,draw-identify}")
+    sub = p.add_subparsers(dest="command", metavar="{identify,predict,draw-identify,track}")
     ident = sub.add_parser("identify", help="identify, then write the report")
     ident.add_argument("robot", help="URDF file")
     ident.add_argument("data", help="data CSV")
@@ -1706,6 +2362,13 @@ def _parser() -> argparse.ArgumentParser:
                                "entry: massid.load_identification), without fitting again")
     draw.add_argument("record", help="the identification record the CLI wrote")
     draw.add_argument("-o", "--output", required=True, help="the HTML report to write")
+    track = sub.add_parser("track", help="the report of a tracked log (massid compensate --track's "
+                                         "output CSV)")
+    track.add_argument("log", help="the tracked log CSV")
+    track.add_argument("-o", "--output", required=True, help="the HTML report to write")
+    track.add_argument("--time", default="t", metavar="NAME", help="the time column (default t)")
+    track.add_argument("--title", help="the page title")
+    track.add_argument("--source", metavar="NAME", help="the log's name as the report shows it")
     pred = sub.add_parser("predict", help="predict, then write the report")
     pred.add_argument("robot", help="URDF file")
     pred.add_argument("params", help="params JSON from massid identify")
@@ -1770,7 +2433,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             _matplotlib()
             return 0
         if args.command is None:
-            parser.error("a command is needed: identify or predict (or --check)")
+            parser.error("a command is needed: identify, predict or track (or --check)")
         _matplotlib()  # fail before any work when it is missing
         # The fit's warnings are listed in the report; the CLI that spawns this
         # has printed them already, so they are not printed twice.
@@ -1786,6 +2449,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 sigma_force=args.sigma_force, sigma_moment=args.sigma_moment,
                 checks=not args.no_checks, **motion)
             write_identify_report(args.output, ident)
+        elif args.command == "track":
+            write_tracking_report(args.output, args.log, title=args.title, time=args.time,
+                                  source=args.source)
         elif args.command == "draw-identify":
             write_identify_report(args.output, massid.load_identification(args.record))
         else:
