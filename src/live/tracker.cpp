@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/simd_clones.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/regressor.hpp"
 
@@ -24,16 +25,150 @@ using Vector10 = Eigen::Matrix<double, 10, 1>;
 
 constexpr int kPayload = 10;  // m, mx, my, mz, ixx, ixy, ixz, iyy, iyz, izz
 constexpr int kOffset = 10;   // the offsets' first index in the state
+constexpr int kState = 16;
+// LINK's regressor's force rows are zero in the inertia columns (always), its
+// moment rows too at rest (omega = omega_dot = 0): the first kRestColumns
+// columns (m, h) are all there is then.
+constexpr int kRestColumns = 4;
 
 // The rows kept: LINK's regressor and the measured wrench less the
 // mechanism's prediction, flagged when beyond the gate.
 struct TrackerRow {
   Matrix6x10 Y = Matrix6x10::Zero();
   Wrench z = Wrench::Zero();
+  bool moving = false;  // Y's inertia columns are not all zero
   bool flagged = false;
 };
 
+// A column of the state's 16 values in four V4 (simd_clones.hpp), named so
+// that they stay in registers.
+struct TrackerColumn {
+  detail::V4 a, b, c, d;
+};
+[[gnu::always_inline]] inline void tracker_load(TrackerColumn& v, const double* p) {
+  detail::load4(v.a, p);
+  detail::load4(v.b, p + 4);
+  detail::load4(v.c, p + 8);
+  detail::load4(v.d, p + 12);
+}
+[[gnu::always_inline]] inline void tracker_store(double* p, const TrackerColumn& v) {
+  detail::store4(p, v.a);
+  detail::store4(p + 4, v.b);
+  detail::store4(p + 8, v.c);
+  detail::store4(p + 12, v.d);
+}
+// v += s u (u a column in memory); tracker_sub: v -= s u.
+[[gnu::always_inline]] inline void tracker_add(TrackerColumn& v, double s, const double* u) {
+  TrackerColumn w;
+  tracker_load(w, u);
+  v.a += w.a * s;
+  v.b += w.b * s;
+  v.c += w.c * s;
+  v.d += w.d * s;
+}
+[[gnu::always_inline]] inline void tracker_sub(TrackerColumn& v, double s, const double* u) {
+  TrackerColumn w;
+  tracker_load(w, u);
+  v.a -= w.a * s;
+  v.b -= w.b * s;
+  v.c -= w.c * s;
+  v.d -= w.d * s;
+}
+
+// Column `i` of P H^T for H = [Y | I6]: P's offset column plus Y's row i on
+// P's payload columns (only the columns Y can have non-zero in that row).
+[[gnu::always_inline]] inline void tracker_pht_column(const double* P, const double* Y, bool moving,
+                                                      int i, double* out) {
+  TrackerColumn acc;
+  tracker_load(acc, P + kState * (kOffset + i));
+  const int columns = i >= 3 && moving ? kPayload : kRestColumns;
+  for (int k = 0; k < columns; ++k) tracker_add(acc, Y[6 * k + i], P + kState * k);
+  tracker_store(out, acc);
+}
+
 }  // namespace
+
+// The filter's arithmetic on one row, on raw arrays (column-major, as Eigen
+// stores them): x [16], P [16 x 16] symmetric, Y [6 x 10], z [6], R [6] (the
+// noise's variances). tracker_innovation() forms the innovation e = z - H x, P H^T
+// [16 x 6] (PHt), the Cholesky factor L [6 x 6] of S = H P H^T + R (lower,
+// column-major) and w = L^-1 e, and returns d^2 = e^T S^-1 e = |w|^2.
+// tracker_correct() then turns PHt into G = P H^T L^-T in place and applies the
+// update in its symmetric form: x += G w (= K e), P -= G G^T
+// (= P H^T S^-1 H P), exactly symmetric as P was. An AVX2 copy where the CPU
+// has it (same bits).
+namespace detail {
+
+MASSID_AVX2_CLONES
+double tracker_innovation(const double* x, const double* P, const double* Y, bool moving,
+                          const double* z, const double* R, double* PHt, double* L, double* w) {
+  double e[6];
+  for (int i = 0; i < 6; ++i) {
+    const int columns = i >= 3 && moving ? kPayload : kRestColumns;
+    double yx = 0.0;
+    for (int k = 0; k < columns; ++k) yx += Y[6 * k + i] * x[k];
+    e[i] = (z[i] - yx) - x[kOffset + i];
+  }
+  for (int i = 0; i < 6; ++i) tracker_pht_column(P, Y, moving, i, PHt + kState * i);
+  // S's lower triangle, then its Cholesky factor in place.
+  for (int j = 0; j < 6; ++j)
+    for (int i = j; i < 6; ++i) {
+      const int columns = i >= 3 && moving ? kPayload : kRestColumns;
+      const double* c = PHt + kState * j;
+      double s = c[kOffset + i];
+      for (int k = 0; k < columns; ++k) s += Y[6 * k + i] * c[k];
+      L[6 * j + i] = i == j ? s + R[i] : s;
+    }
+  for (int j = 0; j < 6; ++j) {
+    double d = L[6 * j + j];
+    for (int k = 0; k < j; ++k) d -= L[6 * k + j] * L[6 * k + j];
+    d = std::sqrt(d);
+    L[6 * j + j] = d;
+    for (int i = j + 1; i < 6; ++i) {
+      double s = L[6 * j + i];
+      for (int k = 0; k < j; ++k) s -= L[6 * k + i] * L[6 * k + j];
+      L[6 * j + i] = s / d;
+    }
+  }
+  double d2 = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    double s = e[i];
+    for (int k = 0; k < i; ++k) s -= L[6 * k + i] * w[k];
+    w[i] = s / L[6 * i + i];
+    d2 += w[i] * w[i];
+  }
+  return d2;
+}
+
+MASSID_AVX2_CLONES
+void tracker_correct(double* x, double* P, double* G, const double* L, const double* w) {
+  // G = P H^T L^-T, column by column (forward substitution along each row).
+  for (int j = 0; j < 6; ++j) {
+    TrackerColumn g;
+    tracker_load(g, G + kState * j);
+    for (int k = 0; k < j; ++k) tracker_sub(g, L[6 * k + j], G + kState * k);
+    const double inv = 1.0 / L[6 * j + j];
+    g.a *= inv;
+    g.b *= inv;
+    g.c *= inv;
+    g.d *= inv;
+    tracker_store(G + kState * j, g);
+  }
+  // x += G w
+  TrackerColumn v;
+  tracker_load(v, x);
+  for (int j = 0; j < 6; ++j) tracker_add(v, w[j], G + kState * j);
+  tracker_store(x, v);
+  // P -= G G^T, column by column: P(r, c) -= sum_j G(r, j) G(c, j), the same
+  // products in the same order for (c, r).
+  for (int c = 0; c < kState; ++c) {
+    tracker_load(v, P + kState * c);
+    for (int j = 0; j < 6; ++j) tracker_sub(v, G[kState * j + c], G + kState * j);
+    tracker_store(P + kState * c, v);
+  }
+}
+
+}  // namespace detail
 
 int farthest_link(const Model& model) {
   int best = 0, best_depth = -1;
@@ -88,37 +223,25 @@ struct Tracker::Impl {
 
   TrackerRow& row(long long i) { return ring[static_cast<std::size_t>(i % kTrackerRing)]; }
 
-  // A row's innovation e, P H^T and the factor of S = H P H^T + R.
-  using Innovation = Eigen::LLT<Eigen::Matrix<double, 6, 6>>;
-  void innovation(const TrackerRow& r, Wrench& e, Eigen::Matrix<double, 16, 6>& PHt,
-                  Innovation& llt) const {
-    e = r.z - r.Y * x.head<kPayload>() - x.tail<6>();
-    PHt.noalias() = P.leftCols<kPayload>() * r.Y.transpose();
-    PHt += P.rightCols<6>();
-    Eigen::Matrix<double, 6, 6> S = r.Y * PHt.topRows<kPayload>() + PHt.bottomRows<6>();
-    S.diagonal() += noise_var;
-    llt.compute(S);
+  // The work of one row (tracker_innovation, tracker_correct).
+  struct Gain {
+    Eigen::Matrix<double, kState, 6> PHt;  // P H^T, then G = P H^T L^-T
+    Eigen::Matrix<double, 6, 6> L;
+    Wrench w;
+  };
+  Gain gain;
+
+  // d^2 = e^T S^-1 e of a row against the current state (gain filled).
+  double innovation(const TrackerRow& r) {
+    return detail::tracker_innovation(x.data(), P.data(), r.Y.data(), r.moving, r.z.data(),
+                                      noise_var.data(), gain.PHt.data(), gain.L.data(),
+                                      gain.w.data());
   }
 
   // The Kalman filter's update with a row.
   void learn(const TrackerRow& r) {
-    Wrench e;
-    Eigen::Matrix<double, 16, 6> PHt;
-    Innovation llt;
-    innovation(r, e, PHt, llt);
-    const Eigen::Matrix<double, 6, 16> Kt = llt.solve(PHt.transpose());  // K^T
-    x.noalias() += Kt.transpose() * e;
-    P.noalias() -= PHt * Kt;
-    P = 0.5 * (P + P.transpose()).eval();
-  }
-
-  // d^2 = e^T S^-1 e of a row against the current state.
-  double chi2(const TrackerRow& r) const {
-    Wrench e;
-    Eigen::Matrix<double, 16, 6> PHt;
-    Innovation llt;
-    innovation(r, e, PHt, llt);
-    return e.dot(llt.solve(e));
+    innovation(r);
+    detail::tracker_correct(x.data(), P.data(), gain.PHt.data(), gain.L.data(), gain.w.data());
   }
 
   // A fresh rigid payload change fitted to the last `window` rows (the
@@ -285,8 +408,9 @@ const TrackerEstimate& Tracker::update(double t, const double* q, const double* 
   ++m.count;
   TrackerRow& r = m.row(m.count);
   r.Y = link_regressor(m.kin, m.link);
+  r.moving = (r.Y.rightCols<kPayload - kRestColumns>().array() != 0.0).any();
   r.z = measured - predicted;
-  m.estimate.d2 = m.chi2(r);
+  m.estimate.d2 = m.innovation(r);
   r.flagged = m.estimate.d2 > o.gate;
   m.estimate.event = TrackerEvent::None;
   if (r.flagged) {
