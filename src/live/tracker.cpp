@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -75,6 +76,19 @@ struct TrackerColumn {
   v.d -= w.d * s;
 }
 
+// A vector of 6 (a wrench, a column of Y or S) as rows 0-3 and 4-5.
+using TrackerQuad = detail::V4;
+using TrackerPair = double __attribute__((vector_size(16)));
+[[gnu::always_inline]] inline void tracker_load6(TrackerQuad& a, TrackerPair& b, const double* p) {
+  detail::load4(a, p);
+  std::memcpy(&b, p + 4, sizeof b);
+}
+[[gnu::always_inline]] inline void tracker_store6(double* p, const TrackerQuad& a,
+                                                  const TrackerPair& b) {
+  detail::store4(p, a);
+  std::memcpy(p + 4, &b, sizeof b);
+}
+
 // Column `i` of P H^T for H = [Y | I6]: P's offset column plus Y's row i on
 // P's payload columns (only the columns Y can have non-zero in that row).
 [[gnu::always_inline]] inline void tracker_pht_column(const double* P, const double* Y, bool moving,
@@ -90,81 +104,115 @@ struct TrackerColumn {
 
 // The filter's arithmetic on one row, on raw arrays (column-major, as Eigen
 // stores them): x [16], P [16 x 16] symmetric, Y [6 x 10], z [6], R [6] (the
-// noise's variances). tracker_innovation() forms the innovation e = z - H x, P H^T
-// [16 x 6] (PHt), the Cholesky factor L [6 x 6] of S = H P H^T + R (lower,
-// column-major) and w = L^-1 e, and returns d^2 = e^T S^-1 e = |w|^2.
-// tracker_correct() then turns PHt into G = P H^T L^-T in place and applies the
-// update in its symmetric form: x += G w (= K e), P -= G G^T
+// noise's variances). tracker_innovation() forms the innovation e = z - H x,
+// P H^T [16 x 6] (PHt), the factors S = H P H^T + R = L D L^T (L [6 x 6]
+// unit lower below its diagonal, D on it, column-major; inv = D^-1) and
+// v = L^-1 e, and returns d^2 = e^T S^-1 e = v^T D^-1 v. tracker_correct()
+// then turns PHt into G = P H^T L^-T D^-1/2 in place and applies the update
+// in its symmetric form: x += G D^-1/2 v (= K e), P -= G G^T
 // (= P H^T S^-1 H P), exactly symmetric as P was. An AVX2 copy where the CPU
 // has it (same bits).
 namespace detail {
 
 MASSID_AVX2_CLONES
 double tracker_innovation(const double* x, const double* P, const double* Y, bool moving,
-                          const double* z, const double* R, double* PHt, double* L, double* w) {
-  double e[6];
-  for (int i = 0; i < 6; ++i) {
-    const int columns = i >= 3 && moving ? kPayload : kRestColumns;
-    double yx = 0.0;
-    for (int k = 0; k < columns; ++k) yx += Y[6 * k + i] * x[k];
-    e[i] = (z[i] - yx) - x[kOffset + i];
+                          const double* z, const double* R, double* PHt, double* L, double* inv,
+                          double* v) {
+  // Y's columns (6 values each) as rows 0-3 and 4-5; the force rows of the
+  // inertia columns are zero, so all columns are taken alike.
+  const int columns = moving ? kPayload : kRestColumns;
+  TrackerQuad e4, z4;
+  TrackerPair e2, z2;
+  tracker_load6(e4, e2, z);
+  tracker_load6(z4, z2, x + kOffset);
+  e4 -= z4;
+  e2 -= z2;
+  for (int k = 0; k < columns; ++k) {
+    tracker_load6(z4, z2, Y + 6 * k);
+    e4 -= z4 * x[k];
+    e2 -= z2 * x[k];
   }
   for (int i = 0; i < 6; ++i) tracker_pht_column(P, Y, moving, i, PHt + kState * i);
-  // S's lower triangle, then its Cholesky factor in place.
-  for (int j = 0; j < 6; ++j)
-    for (int i = j; i < 6; ++i) {
-      const int columns = i >= 3 && moving ? kPayload : kRestColumns;
-      const double* c = PHt + kState * j;
-      double s = c[kOffset + i];
-      for (int k = 0; k < columns; ++k) s += Y[6 * k + i] * c[k];
-      L[6 * j + i] = i == j ? s + R[i] : s;
-    }
+  // S = H P H^T + R, column by column, into L.
   for (int j = 0; j < 6; ++j) {
+    const double* c = PHt + kState * j;
+    TrackerQuad s4;
+    TrackerPair s2;
+    tracker_load6(s4, s2, c + kOffset);
+    for (int k = 0; k < columns; ++k) {
+      tracker_load6(z4, z2, Y + 6 * k);
+      s4 += z4 * c[k];
+      s2 += z2 * c[k];
+    }
+    tracker_store6(L + 6 * j, s4, s2);
+    L[6 * j + j] += R[j];
+  }
+  // S = L D L^T in place: L unit lower (below the diagonal), D on the
+  // diagonal, its reciprocals in inv (no square root on the dependent chain).
+  for (int j = 0; j < 6; ++j) {
+    double t[6];  // L(j, k) D(k)
     double d = L[6 * j + j];
-    for (int k = 0; k < j; ++k) d -= L[6 * k + j] * L[6 * k + j];
-    d = std::sqrt(d);
+    for (int k = 0; k < j; ++k) {
+      t[k] = L[6 * k + j] * L[6 * k + k];
+      d -= L[6 * k + j] * t[k];
+    }
     L[6 * j + j] = d;
+    inv[j] = 1.0 / d;
     for (int i = j + 1; i < 6; ++i) {
       double s = L[6 * j + i];
-      for (int k = 0; k < j; ++k) s -= L[6 * k + i] * L[6 * k + j];
-      L[6 * j + i] = s / d;
+      for (int k = 0; k < j; ++k) s -= L[6 * k + i] * t[k];
+      L[6 * j + i] = s * inv[j];
     }
   }
+  // v = L^-1 e, d^2 = v^T D^-1 v
+  double ev[6];
+  tracker_store6(ev, e4, e2);
   double d2 = 0.0;
   for (int i = 0; i < 6; ++i) {
-    double s = e[i];
-    for (int k = 0; k < i; ++k) s -= L[6 * k + i] * w[k];
-    w[i] = s / L[6 * i + i];
-    d2 += w[i] * w[i];
+    double s = ev[i];
+    for (int k = 0; k < i; ++k) s -= L[6 * k + i] * v[k];
+    v[i] = s;
+    d2 += s * s * inv[i];
   }
   return d2;
 }
 
 MASSID_AVX2_CLONES
-void tracker_correct(double* x, double* P, double* G, const double* L, const double* w) {
-  // G = P H^T L^-T, column by column (forward substitution along each row).
-  for (int j = 0; j < 6; ++j) {
+void tracker_correct(double* x, double* P, double* G, const double* L, const double* inv,
+                     const double* v) {
+  // G = P H^T L^-T D^-1/2: the forward substitution along each row, then
+  // column j scaled by D(j)^-1/2; w = D^-1/2 v.
+  for (int j = 1; j < 6; ++j) {
     TrackerColumn g;
     tracker_load(g, G + kState * j);
     for (int k = 0; k < j; ++k) tracker_sub(g, L[6 * k + j], G + kState * k);
-    const double inv = 1.0 / L[6 * j + j];
-    g.a *= inv;
-    g.b *= inv;
-    g.c *= inv;
-    g.d *= inv;
     tracker_store(G + kState * j, g);
   }
-  // x += G w
-  TrackerColumn v;
-  tracker_load(v, x);
-  for (int j = 0; j < 6; ++j) tracker_add(v, w[j], G + kState * j);
-  tracker_store(x, v);
+  TrackerColumn a;
+  tracker_load(a, x);
+  for (int j = 0; j < 6; ++j) {
+    const double r = std::sqrt(inv[j]);
+    TrackerColumn g;
+    tracker_load(g, G + kState * j);
+    g.a *= r;
+    g.b *= r;
+    g.c *= r;
+    g.d *= r;
+    tracker_store(G + kState * j, g);
+    // x += G w
+    const double w = v[j] * r;
+    a.a += g.a * w;
+    a.b += g.b * w;
+    a.c += g.c * w;
+    a.d += g.d * w;
+  }
+  tracker_store(x, a);
   // P -= G G^T, column by column: P(r, c) -= sum_j G(r, j) G(c, j), the same
   // products in the same order for (c, r).
   for (int c = 0; c < kState; ++c) {
-    tracker_load(v, P + kState * c);
-    for (int j = 0; j < 6; ++j) tracker_sub(v, G[kState * j + c], G + kState * j);
-    tracker_store(P + kState * c, v);
+    tracker_load(a, P + kState * c);
+    for (int j = 0; j < 6; ++j) tracker_sub(a, G[kState * j + c], G + kState * j);
+    tracker_store(P + kState * c, a);
   }
 }
 
@@ -226,8 +274,9 @@ struct Tracker::Impl {
   // The work of one row (tracker_innovation, tracker_correct).
   struct Gain {
     Eigen::Matrix<double, kState, 6> PHt;  // P H^T, then G = P H^T L^-T
-    Eigen::Matrix<double, 6, 6> L;
-    Wrench w;
+    Eigen::Matrix<double, 6, 6> L;         // L and D
+    Wrench inv;                            // D^-1
+    Wrench v;                              // L^-1 e
   };
   Gain gain;
 
@@ -235,13 +284,14 @@ struct Tracker::Impl {
   double innovation(const TrackerRow& r) {
     return detail::tracker_innovation(x.data(), P.data(), r.Y.data(), r.moving, r.z.data(),
                                       noise_var.data(), gain.PHt.data(), gain.L.data(),
-                                      gain.w.data());
+                                      gain.inv.data(), gain.v.data());
   }
 
   // The Kalman filter's update with a row.
   void learn(const TrackerRow& r) {
     innovation(r);
-    detail::tracker_correct(x.data(), P.data(), gain.PHt.data(), gain.L.data(), gain.w.data());
+    detail::tracker_correct(x.data(), P.data(), gain.PHt.data(), gain.L.data(), gain.inv.data(),
+                            gain.v.data());
   }
 
   // A fresh rigid payload change fitted to the last `window` rows (the
