@@ -59,10 +59,14 @@ Eigen::Matrix<double, 6, 10> link_regressor(const KinematicsData& data, int l) {
   const Eigen::Matrix<double, 6, 10> B =
       body_regressor(data.omega[l], data.omega_dot[l], data.accel[l]);
   const Eigen::Matrix3d& R = data.rotation[l];
-  const Eigen::Matrix<double, 3, 10> f = R * B.topRows<3>();
+  // The force f = R B_f is zero in the inertia columns (B's force rows are),
+  // and so is its moment p x f: only the first four columns are formed.
+  const Eigen::Matrix<double, 3, 4> f = R * B.topLeftCorner<3, 4>();
   Eigen::Matrix<double, 6, 10> Y;
-  Y.topRows<3>() = -f;
-  Y.bottomRows<3>() = -(R * B.bottomRows<3>() + skew(data.position[l]) * f);
+  Y.topLeftCorner<3, 4>() = -f;
+  Y.topRightCorner<3, 6>().setZero();
+  Y.bottomLeftCorner<3, 4>() = -(R * B.bottomLeftCorner<3, 4>() + skew(data.position[l]) * f);
+  Y.bottomRightCorner<3, 6>() = -(R * B.bottomRightCorner<3, 6>());
   return Y;
 }
 

@@ -89,14 +89,21 @@ using TrackerPair = double __attribute__((vector_size(16)));
   std::memcpy(p + 4, &b, sizeof b);
 }
 
-// Column `i` of P H^T for H = [Y | I6]: P's offset column plus Y's row i on
-// P's payload columns (only the columns Y can have non-zero in that row).
-[[gnu::always_inline]] inline void tracker_pht_column(const double* P, const double* Y, bool moving,
-                                                      int i, double* out) {
+// A symmetric 3 x 3 matrix is positive definite: its leading minors are
+// positive (Sylvester).
+bool tracker_positive_definite(const Eigen::Matrix3d& A) {
+  return A(0, 0) > 0.0 && A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0) > 0.0 && A.determinant() > 0.0;
+}
+
+// Column `i` of P H^T for H = [Y | I6]: P's offset column plus Y's row i
+// on P's first `Columns` columns (those Y can have non-zero in that row).
+template <int Columns>
+[[gnu::always_inline]] inline void tracker_pht_column(const double* P, const double* Y, int i,
+                                                      double* out) {
   TrackerColumn acc;
   tracker_load(acc, P + kState * (kOffset + i));
-  const int columns = i >= 3 && moving ? kPayload : kRestColumns;
-  for (int k = 0; k < columns; ++k) tracker_add(acc, Y[6 * k + i], P + kState * k);
+#pragma GCC unroll 10
+  for (int k = 0; k < Columns; ++k) tracker_add(acc, Y[6 * k + i], P + kState * k);
   tracker_store(out, acc);
 }
 
@@ -114,32 +121,39 @@ using TrackerPair = double __attribute__((vector_size(16)));
 // has it (same bits).
 namespace detail {
 
-MASSID_AVX2_CLONES
-double tracker_innovation(const double* x, const double* P, const double* Y, bool moving,
-                          const double* z, const double* R, double* PHt, double* L, double* inv,
-                          double* v) {
+// tracker_innovation for Y's first `Columns` columns: 10 in motion, 4 at rest.
+template <int Columns>
+[[gnu::always_inline]] inline double tracker_innovation_columns(const double* x, const double* P,
+                                                                const double* Y, const double* z,
+                                                                const double* R, double* PHt,
+                                                                double* L, double* inv, double* v) {
   // Y's columns (6 values each) as rows 0-3 and 4-5; the force rows of the
   // inertia columns are zero, so all columns are taken alike.
-  const int columns = moving ? kPayload : kRestColumns;
   TrackerQuad e4, z4;
   TrackerPair e2, z2;
   tracker_load6(e4, e2, z);
   tracker_load6(z4, z2, x + kOffset);
   e4 -= z4;
   e2 -= z2;
-  for (int k = 0; k < columns; ++k) {
+#pragma GCC unroll 10
+  for (int k = 0; k < Columns; ++k) {
     tracker_load6(z4, z2, Y + 6 * k);
     e4 -= z4 * x[k];
     e2 -= z2 * x[k];
   }
-  for (int i = 0; i < 6; ++i) tracker_pht_column(P, Y, moving, i, PHt + kState * i);
-  // S = H P H^T + R, column by column, into L.
+#pragma GCC unroll 16
+  for (int i = 0; i < 3; ++i) tracker_pht_column<kRestColumns>(P, Y, i, PHt + kState * i);
+#pragma GCC unroll 16
+  for (int i = 3; i < 6; ++i) tracker_pht_column<Columns>(P, Y, i, PHt + kState * i);
+    // S = H P H^T + R, column by column, into L.
+#pragma GCC unroll 16
   for (int j = 0; j < 6; ++j) {
     const double* c = PHt + kState * j;
     TrackerQuad s4;
     TrackerPair s2;
     tracker_load6(s4, s2, c + kOffset);
-    for (int k = 0; k < columns; ++k) {
+#pragma GCC unroll 10
+    for (int k = 0; k < Columns; ++k) {
       tracker_load6(z4, z2, Y + 6 * k);
       s4 += z4 * c[k];
       s2 += z2 * c[k];
@@ -149,17 +163,21 @@ double tracker_innovation(const double* x, const double* P, const double* Y, boo
   }
   // S = L D L^T in place: L unit lower (below the diagonal), D on the
   // diagonal, its reciprocals in inv (no square root on the dependent chain).
+#pragma GCC unroll 16
   for (int j = 0; j < 6; ++j) {
     double t[6];  // L(j, k) D(k)
     double d = L[6 * j + j];
+#pragma GCC unroll 16
     for (int k = 0; k < j; ++k) {
       t[k] = L[6 * k + j] * L[6 * k + k];
       d -= L[6 * k + j] * t[k];
     }
     L[6 * j + j] = d;
     inv[j] = 1.0 / d;
+#pragma GCC unroll 16
     for (int i = j + 1; i < 6; ++i) {
       double s = L[6 * j + i];
+#pragma GCC unroll 16
       for (int k = 0; k < j; ++k) s -= L[6 * k + i] * t[k];
       L[6 * j + i] = s * inv[j];
     }
@@ -168,8 +186,10 @@ double tracker_innovation(const double* x, const double* P, const double* Y, boo
   double ev[6];
   tracker_store6(ev, e4, e2);
   double d2 = 0.0;
+#pragma GCC unroll 16
   for (int i = 0; i < 6; ++i) {
     double s = ev[i];
+#pragma GCC unroll 16
     for (int k = 0; k < i; ++k) s -= L[6 * k + i] * v[k];
     v[i] = s;
     d2 += s * s * inv[i];
@@ -178,18 +198,29 @@ double tracker_innovation(const double* x, const double* P, const double* Y, boo
 }
 
 MASSID_AVX2_CLONES
+double tracker_innovation(const double* x, const double* P, const double* Y, bool moving,
+                          const double* z, const double* R, double* PHt, double* L, double* inv,
+                          double* v) {
+  return moving ? tracker_innovation_columns<kPayload>(x, P, Y, z, R, PHt, L, inv, v)
+                : tracker_innovation_columns<kRestColumns>(x, P, Y, z, R, PHt, L, inv, v);
+}
+
+MASSID_AVX2_CLONES
 void tracker_correct(double* x, double* P, double* G, const double* L, const double* inv,
                      const double* v) {
   // G = P H^T L^-T D^-1/2: the forward substitution along each row, then
   // column j scaled by D(j)^-1/2; w = D^-1/2 v.
+#pragma GCC unroll 16
   for (int j = 1; j < 6; ++j) {
     TrackerColumn g;
     tracker_load(g, G + kState * j);
+#pragma GCC unroll 16
     for (int k = 0; k < j; ++k) tracker_sub(g, L[6 * k + j], G + kState * k);
     tracker_store(G + kState * j, g);
   }
   TrackerColumn a;
   tracker_load(a, x);
+#pragma GCC unroll 16
   for (int j = 0; j < 6; ++j) {
     const double r = std::sqrt(inv[j]);
     TrackerColumn g;
@@ -209,8 +240,10 @@ void tracker_correct(double* x, double* P, double* G, const double* L, const dou
   tracker_store(x, a);
   // P -= G G^T, column by column: P(r, c) -= sum_j G(r, j) G(c, j), the same
   // products in the same order for (c, r).
+#pragma GCC unroll 16
   for (int c = 0; c < kState; ++c) {
     tracker_load(a, P + kState * c);
+#pragma GCC unroll 16
     for (int j = 0; j < 6; ++j) tracker_sub(a, G[kState * j + c], G + kState * j);
     tracker_store(P + kState * c, a);
   }
@@ -360,12 +393,22 @@ void Tracker::Impl::write_estimate(const Wrench& z, const Matrix6x10& Y) {
     I << x[4], x[5], x[6], x[5], x[7], x[8], x[6], x[8], x[9];
     const Eigen::Vector3d& c = out.com;
     I -= out.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(I);
-    const Eigen::Vector3d l = eig.eigenvalues();
-    const Eigen::Vector3d d = (Eigen::Vector3d::Constant(0.5 * l.sum()) - l).cwiseMax(0.0);
-    const Eigen::Vector3d lp = Eigen::Vector3d::Constant(d.sum()) - d;
-    out.inertia = eig.eigenvectors() * lp.asDiagonal() * eig.eigenvectors().transpose();
+    // The second moments D = tr(I)/2 - I (eigenvalues d before the clamp):
+    // positive definite, nothing is clamped and I is its own projection;
+    // negative definite, everything is, and it is zero; else the eigen path.
+    const Eigen::Matrix3d D = Eigen::Matrix3d::Identity() * (0.5 * I.trace()) - I;
+    if (tracker_positive_definite(D)) {
+      out.inertia = I;
+    } else if (tracker_positive_definite(-D)) {
+      out.inertia.setZero();
+    } else {
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(I);
+      const Eigen::Vector3d l = eig.eigenvalues();
+      const Eigen::Vector3d d = (Eigen::Vector3d::Constant(0.5 * l.sum()) - l).cwiseMax(0.0);
+      const Eigen::Vector3d lp = Eigen::Vector3d::Constant(d.sum()) - d;
+      out.inertia = eig.eigenvectors() * lp.asDiagonal() * eig.eigenvectors().transpose();
+    }
   } else {
     out.inertia.setZero();
   }
