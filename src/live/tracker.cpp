@@ -335,13 +335,25 @@ struct Tracker::Impl {
     Vector10 b = Vector10::Zero();
     double ee = 0.0;
     const Wrench w = noise_var.cwiseInverse();
+    // A = sum Y^T W Y and b = sum Y^T W e, axis by axis as outer products of
+    // Y's rows on the columns they can have non-zero.
     for (long long i = count - n + 1; i <= count; ++i) {
       const TrackerRow& r = row(i);
       const Wrench e = r.z - r.Y * x.head<kPayload>() - x.tail<6>();
-      const Matrix6x10 WY = w.asDiagonal() * r.Y;
-      A.noalias() += r.Y.transpose() * WY;
-      b.noalias() += WY.transpose() * e;
-      ee += e.dot(w.asDiagonal() * e);
+      for (int k = 0; k < 6; ++k) {
+        ee += e[k] * (w[k] * e[k]);
+        if (k < 3 || !r.moving) {
+          const Eigen::Vector4d y = r.Y.row(k).head<kRestColumns>().transpose();
+          const Eigen::Vector4d u = w[k] * y;
+          A.topLeftCorner<kRestColumns, kRestColumns>().noalias() += y * u.transpose();
+          b.head<kRestColumns>() += u * e[k];
+        } else {
+          const Vector10 y = r.Y.row(k).transpose();
+          const Vector10 u = w[k] * y;
+          A.noalias() += y * u.transpose();
+          b += u * e[k];
+        }
+      }
     }
     Matrix10 Ar = A;
     Ar.diagonal() += prior_var.cwiseInverse();
