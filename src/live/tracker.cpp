@@ -414,12 +414,24 @@ void Tracker::Impl::write_estimate(const Wrench& z, const Matrix6x10& Y) {
     } else if (tracker_positive_definite(-D)) {
       out.inertia.setZero();
     } else {
+      // One or two of d (descending, l ascending) clamp: D+ = D - d_2 P_2 or
+      // d_0 P_0, the eigenprojections P_k = prod_{j != k} (I - l_j) / (l_k -
+      // l_j) (Frobenius; no eigenvectors). The clamped |d| is at most the gap
+      // divided by, so the error stays at round-off of |I|.
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-      eig.computeDirect(I);
+      eig.computeDirect(I, Eigen::EigenvaluesOnly);
       const Eigen::Vector3d l = eig.eigenvalues();
-      const Eigen::Vector3d d = (Eigen::Vector3d::Constant(0.5 * l.sum()) - l).cwiseMax(0.0);
-      const Eigen::Vector3d lp = Eigen::Vector3d::Constant(d.sum()) - d;
-      out.inertia = eig.eigenvectors() * lp.asDiagonal() * eig.eigenvectors().transpose();
+      const Eigen::Vector3d d = Eigen::Vector3d::Constant(0.5 * l.sum()) - l;
+      const Eigen::Matrix3d One = Eigen::Matrix3d::Identity();
+      Eigen::Matrix3d Dp;
+      if (d[0] <= 0.0) {
+        Dp.setZero();
+      } else if (d[1] >= 0.0) {
+        Dp = D - d[2] * ((I - l[0] * One) * (I - l[1] * One)) / ((l[2] - l[0]) * (l[2] - l[1]));
+      } else {
+        Dp = d[0] * ((I - l[1] * One) * (I - l[2] * One)) / ((l[0] - l[1]) * (l[0] - l[2]));
+      }
+      out.inertia = Dp.trace() * One - Dp;
     }
   } else {
     out.inertia.setZero();
