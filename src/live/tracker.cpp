@@ -238,15 +238,26 @@ void tracker_correct(double* x, double* P, double* G, const double* L, const dou
     a.d += g.d * w;
   }
   tracker_store(x, a);
-  // P -= G G^T, column by column: P(r, c) -= sum_j G(r, j) G(c, j), the same
-  // products in the same order for (c, r).
+  // P -= G G^T: P(r, c) -= sum_j G(r, j) G(c, j), on and below the
+  // diagonal's blocks of four rows, then mirrored (the same products in the
+  // same order as (c, r) would take: the same bits).
 #pragma GCC unroll 16
   for (int c = 0; c < kState; ++c) {
-    tracker_load(a, P + kState * c);
-#pragma GCC unroll 16
-    for (int j = 0; j < 6; ++j) tracker_sub(a, G[kState * j + c], G + kState * j);
-    tracker_store(P + kState * c, a);
+    for (int q = c / 4; q < 4; ++q) {
+      double* p = P + kState * c + 4 * q;
+      detail::V4 b;
+      detail::load4(b, p);
+#pragma GCC unroll 6
+      for (int j = 0; j < 6; ++j) {
+        detail::V4 g;
+        detail::load4(g, G + kState * j + 4 * q);
+        b -= g * G[kState * j + c];
+      }
+      detail::store4(p, b);
+    }
   }
+  for (int c = 4; c < kState; ++c)
+    for (int r = 0; r < c / 4 * 4; ++r) P[kState * c + r] = P[kState * r + c];
 }
 
 }  // namespace detail
