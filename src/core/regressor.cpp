@@ -1,23 +1,8 @@
 #include "massid/core/regressor.hpp"
 
 #include "core/argument_checks.hpp"
-#include "core/cross_matrix.hpp"
 
 namespace massid {
-namespace {
-
-using detail::skew;
-
-// L(v) with I v = L(v) [ixx, ixy, ixz, iyy, iyz, izz].
-Eigen::Matrix<double, 3, 6> inertia_map(const Eigen::Vector3d& v) {
-  Eigen::Matrix<double, 3, 6> L;
-  L << v.x(), v.y(), v.z(), 0, 0, 0,  //
-      0, v.x(), 0, v.y(), v.z(), 0,   //
-      0, 0, v.x(), 0, v.y(), v.z();
-  return L;
-}
-}  // namespace
-
 std::string standard_parameter_name(const Model& model, int index) {
   return ParameterLayout::first_moments().name(model, index);
 }
@@ -46,27 +31,54 @@ void standard_regressor(const Model& model, const KinematicsData& data, const Ei
 
 Eigen::Matrix<double, 6, 10> body_regressor(const Eigen::Vector3d& w, const Eigen::Vector3d& dw,
                                             const Eigen::Vector3d& a) {
-  Eigen::Matrix<double, 6, 10> B = Eigen::Matrix<double, 6, 10>::Zero();
-  const Eigen::Matrix3d W = skew(w);
-  B.block<3, 1>(0, kMass) = a;                                    // m a
-  B.block<3, 3>(0, kMx) = skew(dw) + W * W;                       // dw x h + w x (w x h)
-  B.block<3, 3>(3, kMx) = -skew(a);                               // h x a
-  B.block<3, 6>(3, kIxx) = inertia_map(dw) + W * inertia_map(w);  // I dw + w x (I w)
+  // m a; dw x h + w x (w x h) = (skew(dw) + W W) h; h x a = -skew(a) h;
+  // I dw + w x (I w) = (L(dw) + W L(w)) [ixx..izz] (I v = L(v) [ixx..izz]),
+  // W = skew(w); written out
+  // term by term: every entry is a sum of at most two non-zero products, so
+  // these are the values the matrix products give.
+  const double wx = w.x(), wy = w.y(), wz = w.z(), dx = dw.x(), dy = dw.y(), dz = dw.z();
+  Eigen::Matrix<double, 6, 10> B;
+  B.col(kMass) << a.x(), a.y(), a.z(), 0.0, 0.0, 0.0;
+  B.col(kMx) << -(wz * wz) - wy * wy, dz + wx * wy, -dy + wx * wz, 0.0, -a.z(), a.y();
+  B.col(kMx + 1) << -dz + wy * wx, -(wz * wz) - wx * wx, dx + wy * wz, a.z(), 0.0, -a.x();
+  B.col(kMx + 2) << dy + wz * wx, -dx + wz * wy, -(wy * wy) - wx * wx, -a.y(), a.x(), 0.0;
+  B.col(kIxx) << 0.0, 0.0, 0.0, dx, wz * wx, -(wy * wx);
+  B.col(kIxx + 1) << 0.0, 0.0, 0.0, dy + -(wz * wx), dx + wz * wy, -(wy * wy) + wx * wx;
+  B.col(kIxx + 2) << 0.0, 0.0, 0.0, dz + wy * wx, wz * wz - wx * wx, dx + -(wy * wz);
+  B.col(kIxx + 3) << 0.0, 0.0, 0.0, -(wz * wy), dy, wx * wy;
+  B.col(kIxx + 4) << 0.0, 0.0, 0.0, -(wz * wz) + wy * wy, dz + -(wx * wy), dy + wx * wz;
+  B.col(kIxx + 5) << 0.0, 0.0, 0.0, wy * wz, -(wx * wz), dz;
   return B;
 }
+
+namespace {
+// R b, summed as Eigen's 3 x 3 products sum (rows 0 and 1 left to right, row
+// 2 from the right): link_regressor's values as they were.
+inline Eigen::Vector3d rotate(const Eigen::Matrix3d& R, double b0, double b1, double b2) {
+  return Eigen::Vector3d((R(0, 0) * b0 + R(0, 1) * b1) + R(0, 2) * b2,
+                         (R(1, 0) * b0 + R(1, 1) * b1) + R(1, 2) * b2,
+                         R(2, 0) * b0 + (R(2, 1) * b1 + R(2, 2) * b2));
+}
+}  // namespace
 
 Eigen::Matrix<double, 6, 10> link_regressor(const KinematicsData& data, int l) {
   const Eigen::Matrix<double, 6, 10> B =
       body_regressor(data.omega[l], data.omega_dot[l], data.accel[l]);
   const Eigen::Matrix3d& R = data.rotation[l];
-  // The force f = R B_f is zero in the inertia columns (B's force rows are),
-  // and so is its moment p x f: only the first four columns are formed.
-  const Eigen::Matrix<double, 3, 4> f = R * B.topLeftCorner<3, 4>();
+  const Eigen::Vector3d& p = data.position[l];
+  // Column by column: the force f = R B_f, zero in the inertia columns (B's
+  // force rows are), and the moment R B_n + p x f.
   Eigen::Matrix<double, 6, 10> Y;
-  Y.topLeftCorner<3, 4>() = -f;
-  Y.topRightCorner<3, 6>().setZero();
-  Y.bottomLeftCorner<3, 4>() = -(R * B.bottomLeftCorner<3, 4>() + skew(data.position[l]) * f);
-  Y.bottomRightCorner<3, 6>() = -(R * B.bottomRightCorner<3, 6>());
+  for (int c = 0; c < kIxx; ++c) {
+    const Eigen::Vector3d f = rotate(R, B(0, c), B(1, c), B(2, c));
+    const Eigen::Vector3d n = rotate(R, B(3, c), B(4, c), B(5, c));
+    Y.block<3, 1>(0, c) = -f;
+    Y.block<3, 1>(3, c) = -(n + p.cross(f));
+  }
+  for (int c = kIxx; c < 10; ++c) {
+    Y.block<3, 1>(0, c).setZero();
+    Y.block<3, 1>(3, c) = -rotate(R, B(3, c), B(4, c), B(5, c));
+  }
   return Y;
 }
 
