@@ -53,11 +53,12 @@ Eigen::Matrix<double, 6, 10> body_regressor(const Eigen::Vector3d& w, const Eige
 
 namespace {
 // R b, summed as Eigen's 3 x 3 products sum (rows 0 and 1 left to right, row
-// 2 from the right): link_regressor's values as they were.
-inline Eigen::Vector3d rotate(const Eigen::Matrix3d& R, double b0, double b1, double b2) {
-  return Eigen::Vector3d((R(0, 0) * b0 + R(0, 1) * b1) + R(0, 2) * b2,
-                         (R(1, 0) * b0 + R(1, 1) * b1) + R(1, 2) * b2,
-                         R(2, 0) * b0 + (R(2, 1) * b1 + R(2, 2) * b2));
+// 2 from the right): link_regressor's values as they were. Scalars
+// throughout: a vector load of values just stored one by one stalls.
+inline void rotate(const Eigen::Matrix3d& R, double b0, double b1, double b2, double* out) {
+  out[0] = (R(0, 0) * b0 + R(0, 1) * b1) + R(0, 2) * b2;
+  out[1] = (R(1, 0) * b0 + R(1, 1) * b1) + R(1, 2) * b2;
+  out[2] = R(2, 0) * b0 + (R(2, 1) * b1 + R(2, 2) * b2);
 }
 }  // namespace
 
@@ -65,19 +66,30 @@ Eigen::Matrix<double, 6, 10> link_regressor(const KinematicsData& data, int l) {
   const Eigen::Matrix<double, 6, 10> B =
       body_regressor(data.omega[l], data.omega_dot[l], data.accel[l]);
   const Eigen::Matrix3d& R = data.rotation[l];
-  const Eigen::Vector3d& p = data.position[l];
+  const double px = data.position[l].x(), py = data.position[l].y(), pz = data.position[l].z();
   // Column by column: the force f = R B_f, zero in the inertia columns (B's
   // force rows are), and the moment R B_n + p x f.
   Eigen::Matrix<double, 6, 10> Y;
   for (int c = 0; c < kIxx; ++c) {
-    const Eigen::Vector3d f = rotate(R, B(0, c), B(1, c), B(2, c));
-    const Eigen::Vector3d n = rotate(R, B(3, c), B(4, c), B(5, c));
-    Y.block<3, 1>(0, c) = -f;
-    Y.block<3, 1>(3, c) = -(n + p.cross(f));
+    double f[3], n[3];
+    rotate(R, B(0, c), B(1, c), B(2, c), f);
+    rotate(R, B(3, c), B(4, c), B(5, c), n);
+    Y(0, c) = -f[0];
+    Y(1, c) = -f[1];
+    Y(2, c) = -f[2];
+    Y(3, c) = -(n[0] + (py * f[2] - pz * f[1]));
+    Y(4, c) = -(n[1] + (pz * f[0] - px * f[2]));
+    Y(5, c) = -(n[2] + (px * f[1] - py * f[0]));
   }
   for (int c = kIxx; c < 10; ++c) {
-    Y.block<3, 1>(0, c).setZero();
-    Y.block<3, 1>(3, c) = -rotate(R, B(3, c), B(4, c), B(5, c));
+    double n[3];
+    rotate(R, B(3, c), B(4, c), B(5, c), n);
+    Y(0, c) = 0.0;
+    Y(1, c) = 0.0;
+    Y(2, c) = 0.0;
+    Y(3, c) = -n[0];
+    Y(4, c) = -n[1];
+    Y(5, c) = -n[2];
   }
   return Y;
 }
