@@ -299,9 +299,9 @@ TEST(Tracker, UpdateIsTheTextbookKalmanFilterToRoundOff) {
   o.lag = 0;
   o.gate = 1e300;  // nothing flagged: every row learnt as it comes
   Tracker tracker(model, o);
-  Eigen::VectorXd x = tracker.state();
-  Eigen::MatrixXd P = tracker.covariance();
-  const Eigen::VectorXd walk = o.offset_walk.cwiseAbs2(), noise = o.noise.cwiseAbs2();
+  Eigen::Matrix<double, 16, 1> x = tracker.state();
+  Eigen::Matrix<double, 16, 16> P = tracker.covariance();
+  const Wrench walk = o.offset_walk.cwiseAbs2(), noise = o.noise.cwiseAbs2();
   IdentifiedModelData data(model);
   KinematicsData kin(model.model());
   const Samples& s = log.samples;
@@ -323,22 +323,23 @@ TEST(Tracker, UpdateIsTheTextbookKalmanFilterToRoundOff) {
     const Eigen::Matrix<double, 6, 10> Y = link_regressor(kin, tracker.payload_link());
     moving += !Y.rightCols<6>().isZero(0.0);
     const Wrench z = w - model.predict(data, &none_value, &none_value, &none_value, g, sensor);
-    Eigen::MatrixXd H(6, 16);
-    H << Y, Eigen::MatrixXd::Identity(6, 6);
-    const Eigen::VectorXd r = z - H * x;
-    const Eigen::MatrixXd S = H * P * H.transpose() + Eigen::MatrixXd(noise.asDiagonal());
-    const Eigen::MatrixXd K = P * H.transpose() * S.inverse();
-    const Eigen::MatrixXd A = Eigen::MatrixXd::Identity(16, 16) - K * H;
+    Eigen::Matrix<double, 6, 16> H;
+    H << Y, Eigen::Matrix<double, 6, 6>::Identity();
+    const Wrench r = z - H * x;
+    const Eigen::Matrix<double, 6, 6> S =
+        H * P * H.transpose() + Eigen::Matrix<double, 6, 6>(noise.asDiagonal());
+    const Eigen::Matrix<double, 16, 6> K = P * H.transpose() * S.inverse();
+    const Eigen::Matrix<double, 16, 16> A = Eigen::Matrix<double, 16, 16>::Identity() - K * H;
     const double d2 = r.dot(S.inverse() * r);
     x += K * r;
     P = A * P * A.transpose() + K * noise.asDiagonal() * K.transpose();
     worst_d2 = std::max(worst_d2, std::abs(e.d2 - d2) / std::max(1.0, d2));
     if (i % 97 != 0 && i + 1 != s.size()) continue;
     ++checked;
-    const Eigen::VectorXd tx = tracker.state();
-    const Eigen::MatrixXd tP = tracker.covariance();
+    const Eigen::Matrix<double, 16, 1> tx = tracker.state();
+    const Eigen::Matrix<double, 16, 16> tP = tracker.covariance();
     EXPECT_EQ(tP, tP.transpose()) << "t = " << s.time[i];  // exactly symmetric
-    const Eigen::VectorXd sd = P.diagonal().cwiseSqrt();
+    const Eigen::Matrix<double, 16, 1> sd = P.diagonal().cwiseSqrt();
     for (int a = 0; a < 16; ++a) {
       worst_x = std::max(worst_x, std::abs(tx[a] - x[a]) / sd[a]);
       for (int b = 0; b < 16; ++b)
