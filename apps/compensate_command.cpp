@@ -322,7 +322,7 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
   ContactLog contact;
   long skipped = 0;
   while (lines.next(line, number)) {
-    const Clock::time_point t0 = Clock::now();
+    const Clock::time_point t0 = c.stats ? Clock::now() : Clock::time_point{};
     std::string_view out;
     try {
       out = comp.compensate(line, number);
@@ -332,8 +332,11 @@ int run_stream(const CompensateCommand& c, const IdentifiedModel& identified,
       continue;
     }
     if (out.empty()) continue;  // a comment
-    latency.record(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
-    if (comp.tracker()) tracker_latency.record(comp.tracker_update_ns());
+    if (c.stats) {
+      latency.record(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
+      if (comp.tracker()) tracker_latency.record(comp.tracker_update_ns());
+    }
     if (report) report->write(out);                    // outside the timed part
     if (!write_all(1, out.data(), out.size())) break;  // the reader is gone
     lines.reply(out);
@@ -377,6 +380,7 @@ int run_compensate(const CompensateCommand& c) {
     // The sensor noise: given, else the fit's residual RMS per axis, else the
     // tracker's default.
     options.track = true;
+    options.time_tracker = c.stats;
     options.tracker.payload_link = c.payload_link;
     options.tracker.noise = tracker_noise(params.residual_rms, c.sigma_force, c.sigma_moment);
   }

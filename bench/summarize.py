@@ -46,6 +46,14 @@ def main(path):
         cell = f"{ns(b):7.0f} ns {ns(b) / ns(mine):5.1f}x" if b else "-"
         print(f"  {robot:<10} {ns(mine):8.0f} ns {cell:>16}")
 
+    print("\ntracker update per sample, 10 + 6 unknowns (BM_TrackerUpdate; target <= 1 us)")
+    print(f"  {'sensor':<8} {'rest':>10} {'motion':>10} {'40 s log':>10}")
+    for sensor in ("wrist", "base"):
+        cells = [runs.get(f"BM_TrackerUpdate/{sensor}_{kind}") for kind in ("rest", "motion", "log")]
+        if any(cells):
+            print(f"  {sensor:<8} " + " ".join(f"{ns(b):7.0f} ns" if b else f"{'-':>10}"
+                                                  for b in cells))
+
     print("\nall benchmarks")
     for name, b in runs.items():
         counters = {k: v for k, v in b.items()

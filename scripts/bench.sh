@@ -6,13 +6,15 @@
 # Last, `massid identify` against the numpy pipeline (bench/numpy_identify.py)
 # on one 300 000-row log (86 MB, about 30 s for numpy), and `massid identify
 # --dynamic` against bench/numpy_identify_dynamic.py on a 100 000-row motion
-# log, skipped when no python3 has numpy.
+# log, skipped when no python3 has numpy. Then the tracker's update per row
+# (massid_tracker_rows, bench/tracker_rows.cpp) against a numpy Kalman filter
+# on the same rows (bench/numpy_tracker.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh
 BUILD=${BUILD_DIR:-build/release}
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMASSID_TESTS=OFF -DMASSID_BENCH=ON >/dev/null
-cmake --build "$BUILD" -j "$(nproc)" --target massid_bench massid >/dev/null
+cmake --build "$BUILD" -j "$(nproc)" --target massid_bench massid massid_tracker_rows >/dev/null
 "$BUILD/bench/massid_bench" --benchmark_format=json --benchmark_out="$BUILD/bench.json" \
   --benchmark_out_format=json "$@" >/dev/null
 python3 bench/summarize.py "$BUILD/bench.json"
@@ -71,3 +73,12 @@ dynamic_pair() {  # NAME "what" [make_dynamic_log.py options]
 }
 dynamic_pair dynamic "velocities given"
 dynamic_pair positions "positions only" --no-derivatives
+
+# The tracker (issue 28): Tracker::update per row on the tracked wrist log
+# (10 + 6 unknowns), whole, against the numpy Kalman filter a user would write,
+# timed on the same rows (formed by massid and saved); the anchor checks that
+# it ends where massid's plain filter does.
+echo
+echo "tracker update per row, 20 000 rows of the tracked wrist log:"
+"$BUILD/bench/massid_tracker_rows" "$TMP/tracker" | sed 's/^/  /'
+"$PY" bench/numpy_tracker.py "$TMP/tracker.json" | sed 's/^/  /'

@@ -23,6 +23,7 @@
 #include "massid/identify/motion_data.hpp"
 #include "massid/io/read_samples.hpp"
 #include "massid/io/urdf.hpp"
+#include "massid/live/compensator.hpp"
 #include "massid/live/tracker.hpp"
 #include "test_support.hpp"
 #include "tracker_support.hpp"
@@ -291,6 +292,103 @@ TEST(Tracker, PayloadLinkDefaultsToTheFarthestAndUnknownLinksAreNamed) {
     const std::string m = e.what();
     EXPECT_NE(m.find("'gripper'"), std::string::npos) << m;
     EXPECT_NE(m.find("tool"), std::string::npos) << m;
+  }
+}
+
+// The update's arithmetic (the structured kernels: H = [Y | I6] with Y's zero
+// columns skipped, S = L D L^T, P -= G G^T) against the textbook Kalman
+// filter in dense Eigen, Joseph form, on a tracked log at rest and in motion:
+// with no gate and no lag the tracker is that filter, row for row. State,
+// covariance and d^2 to round-off.
+TEST(Tracker, UpdateIsTheTextbookKalmanFilterToRoundOff) {
+  const TrackerLog log = tracker_log(true, 4);
+  const IdentifiedModel model = tracker_identified(log);
+  TrackerOptions o;
+  o.lag = 0;
+  o.gate = 1e300;  // nothing flagged: every row learnt as it comes
+  Tracker tracker(model, o);
+  Eigen::Matrix<double, 16, 1> x = tracker.state();
+  Eigen::Matrix<double, 16, 16> P = tracker.covariance();
+  const Wrench walk = o.offset_walk.cwiseAbs2(), noise = o.noise.cwiseAbs2();
+  IdentifiedModelData data(model);
+  KinematicsData kin(model.model());
+  const Samples& s = log.samples;
+  const Eigen::VectorXd none(0);
+  int checked = 0, moving = 0;
+  double worst_x = 0, worst_P = 0, worst_d2 = 0;
+  for (int i = 0; i < s.size(); ++i) {
+    const auto m = s.sensor_motion.row(i);
+    const FrameMotion sensor{m.segment<3>(0).transpose(), m.segment<3>(3).transpose(),
+                             m.segment<3>(6).transpose()};
+    const Eigen::Vector3d g = s.gravity.row(i).transpose();
+    const Wrench w = s.wrench.row(i).transpose();
+    const double none_value = 0.0;
+    const TrackerEstimate& e =
+        tracker.update(s.time[i], &none_value, &none_value, &none_value, g, sensor, w);
+    // The textbook: the offsets' random walk, then the row.
+    if (i > 0) P.diagonal().tail(6) += walk * (s.time[i] - s.time[i - 1]);
+    forward_kinematics(model.model(), kin, none, none, none, g, sensor);
+    const Eigen::Matrix<double, 6, 10> Y = link_regressor(kin, tracker.payload_link());
+    moving += !Y.rightCols<6>().isZero(0.0);
+    const Wrench z = w - model.predict(data, &none_value, &none_value, &none_value, g, sensor);
+    Eigen::Matrix<double, 6, 16> H;
+    H << Y, Eigen::Matrix<double, 6, 6>::Identity();
+    const Wrench r = z - H * x;
+    const Eigen::Matrix<double, 6, 6> S =
+        H * P * H.transpose() + Eigen::Matrix<double, 6, 6>(noise.asDiagonal());
+    const Eigen::Matrix<double, 16, 6> K = P * H.transpose() * S.inverse();
+    const Eigen::Matrix<double, 16, 16> A = Eigen::Matrix<double, 16, 16>::Identity() - K * H;
+    const double d2 = r.dot(S.inverse() * r);
+    x += K * r;
+    P = A * P * A.transpose() + K * noise.asDiagonal() * K.transpose();
+    worst_d2 = std::max(worst_d2, std::abs(e.d2 - d2) / std::max(1.0, d2));
+    if (i % 97 != 0 && i + 1 != s.size()) continue;
+    ++checked;
+    const Eigen::Matrix<double, 16, 1> tx = tracker.state();
+    const Eigen::Matrix<double, 16, 16> tP = tracker.covariance();
+    EXPECT_EQ(tP, tP.transpose()) << "t = " << s.time[i];  // exactly symmetric
+    const Eigen::Matrix<double, 16, 1> sd = P.diagonal().cwiseSqrt();
+    for (int a = 0; a < 16; ++a) {
+      worst_x = std::max(worst_x, std::abs(tx[a] - x[a]) / sd[a]);
+      for (int b = 0; b < 16; ++b)
+        worst_P = std::max(worst_P, std::abs(tP(a, b) - P(a, b)) / (sd[a] * sd[b]));
+    }
+  }
+  std::cout << fmt::format(
+      "tracker against the textbook filter: {} rows ({} in motion), worst state {:.2g} std, "
+      "covariance {:.2g}, d2 {:.2g}\n",
+      s.size(), moving, worst_x, worst_P, worst_d2);
+  EXPECT_GT(moving, s.size() / 3);
+  EXPECT_LT(moving, s.size());
+  EXPECT_GT(checked, 200);
+  EXPECT_LT(worst_x, 1e-7);
+  EXPECT_LT(worst_P, 1e-7);
+  EXPECT_LT(worst_d2, 1e-7);
+}
+
+// The Compensator times the tracker's update only when asked (--stats):
+// without it no tracked line reads the clock and tracker_update_ns() stays 0.
+TEST(Tracker, CompensatorTimesTheUpdateOnlyWithStats) {
+  const TrackerLog log = tracker_log(true, 6);
+  const IdentifiedModel identified = tracker_identified(log);
+  const std::string csv = tracker_csv(log, load_urdf(test::examples()[1].urdf));
+  for (const bool timed : {false, true}) {
+    CompensatorOptions o;
+    o.track = true;
+    o.time_tracker = timed;
+    std::size_t at = csv.find('\n');
+    Compensator comp(identified, std::string_view(csv).substr(0, at), "test", o);
+    long long total = 0;
+    for (int k = 0; k < 200; ++k) {
+      const std::size_t next = csv.find('\n', at + 1);
+      comp.compensate(std::string_view(csv).substr(at + 1, next - at - 1), k + 2);
+      total += comp.tracker_update_ns();
+      at = next;
+    }
+    if (timed)
+      EXPECT_GT(total, 0);
+    else
+      EXPECT_EQ(total, 0);
   }
 }
 

@@ -9,15 +9,6 @@
 namespace massid::detail {
 namespace {
 
-// Four doubles: one AVX register, or two SSE2 registers where AVX is absent
-// (GCC/Clang vector extensions); lane-wise, so the sums are the same either way.
-using V4 = double __attribute__((vector_size(32)));
-
-// (Loads through references: a function returning a V4 would have a
-// different ABI with and without AVX.)
-[[gnu::always_inline]] inline void load4(V4& x, const double* p) { std::memcpy(&x, p, sizeof x); }
-[[gnu::always_inline]] inline void store4(double* p, const V4& x) { std::memcpy(p, &x, sizeof x); }
-
 // Dot product in eight partial sums (lane i mod 8 while eight remain, then
 // i mod 4, the last few in lane 0), added as (s0 + s1) + (s2 + s3) after
 // folding lanes 4..7 onto 0..3: a fixed order, deterministic, no -ffast-math.

@@ -47,7 +47,8 @@ struct Compensator::Impl {
   std::string line_out;                 // the output line, reused (capacity kept)
   Wrench compensated = Wrench::Zero();  // the last good line's fx..mz_comp
   std::optional<Tracker> tracker;       // options.track
-  long long tracker_ns = 0;             // its last update's time
+  bool time_tracker = false;            // options.time_tracker
+  long long tracker_ns = 0;             // its last update's time (time_tracker)
   double last_t = 0.0;                  // the last good line's t (tracking)
   int lines_done = 0;
 
@@ -223,6 +224,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
             "rename it",
             where, name));
     m.tracker.emplace(identified, options.tracker);
+    m.time_tracker = options.time_tracker;
     notes.push_back(fmt::format(
         "tracking a payload on link '{}' and the sensor's offsets; sensor noise taken as {:.4g} "
         "N, {:.4g} N m",
@@ -311,14 +313,15 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
           "{}:{}: t = {} does not increase (the previous line's is {}): tracking needs time in "
           "order",
           c.source, line_no, t, m.last_t));
-    const auto t0 = std::chrono::steady_clock::now();
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point t0 = m.time_tracker ? Clock::now() : Clock::time_point{};
     m.compensated = m.tracker
                         ->update(t, js, c.qd >= 0 ? qd : nullptr, c.qdd >= 0 ? qdd : nullptr, g,
                                  sensor, measured)
                         .compensated;
-    m.tracker_ns =
-        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0)
-            .count();
+    if (m.time_tracker)
+      m.tracker_ns =
+          std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
     m.last_t = t;
   } else {
     // The mechanism's wrench; measured - predicted - offset (identified_model.hpp).

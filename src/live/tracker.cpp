@@ -6,9 +6,11 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
+#include "core/simd_clones.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/regressor.hpp"
 
@@ -24,16 +26,241 @@ using Vector10 = Eigen::Matrix<double, 10, 1>;
 
 constexpr int kPayload = 10;  // m, mx, my, mz, ixx, ixy, ixz, iyy, iyz, izz
 constexpr int kOffset = 10;   // the offsets' first index in the state
+constexpr int kState = 16;
+// LINK's regressor's force rows are zero in the inertia columns (always), its
+// moment rows too at rest (omega = omega_dot = 0): the first kRestColumns
+// columns (m, h) are all there is then.
+constexpr int kRestColumns = 4;
 
 // The rows kept: LINK's regressor and the measured wrench less the
 // mechanism's prediction, flagged when beyond the gate.
 struct TrackerRow {
   Matrix6x10 Y = Matrix6x10::Zero();
   Wrench z = Wrench::Zero();
+  bool moving = false;  // Y's inertia columns are not all zero
   bool flagged = false;
 };
 
+// A column of the state's 16 values in four V4 (simd_clones.hpp), named so
+// that they stay in registers.
+struct TrackerColumn {
+  detail::V4 a, b, c, d;
+};
+[[gnu::always_inline]] inline void tracker_load(TrackerColumn& v, const double* p) {
+  detail::load4(v.a, p);
+  detail::load4(v.b, p + 4);
+  detail::load4(v.c, p + 8);
+  detail::load4(v.d, p + 12);
+}
+[[gnu::always_inline]] inline void tracker_store(double* p, const TrackerColumn& v) {
+  detail::store4(p, v.a);
+  detail::store4(p + 4, v.b);
+  detail::store4(p + 8, v.c);
+  detail::store4(p + 12, v.d);
+}
+// v += s u (u a column in memory); tracker_sub: v -= s u.
+[[gnu::always_inline]] inline void tracker_add(TrackerColumn& v, double s, const double* u) {
+  TrackerColumn w;
+  tracker_load(w, u);
+  v.a += w.a * s;
+  v.b += w.b * s;
+  v.c += w.c * s;
+  v.d += w.d * s;
+}
+[[gnu::always_inline]] inline void tracker_sub(TrackerColumn& v, double s, const double* u) {
+  TrackerColumn w;
+  tracker_load(w, u);
+  v.a -= w.a * s;
+  v.b -= w.b * s;
+  v.c -= w.c * s;
+  v.d -= w.d * s;
+}
+
+// A vector of 6 (a wrench, a column of Y or S) as rows 0-3 and 4-5.
+using TrackerQuad = detail::V4;
+using TrackerPair = double __attribute__((vector_size(16)));
+[[gnu::always_inline]] inline void tracker_load6(TrackerQuad& a, TrackerPair& b, const double* p) {
+  detail::load4(a, p);
+  std::memcpy(&b, p + 4, sizeof b);
+}
+[[gnu::always_inline]] inline void tracker_store6(double* p, const TrackerQuad& a,
+                                                  const TrackerPair& b) {
+  detail::store4(p, a);
+  std::memcpy(p + 4, &b, sizeof b);
+}
+
+// A symmetric 3 x 3 matrix is positive definite: its leading minors are
+// positive (Sylvester).
+bool tracker_positive_definite(const Eigen::Matrix3d& A) {
+  return A(0, 0) > 0.0 && A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0) > 0.0 && A.determinant() > 0.0;
+}
+
+// Column `i` of P H^T for H = [Y | I6]: P's offset column plus Y's row i
+// on P's first `Columns` columns (those Y can have non-zero in that row).
+template <int Columns>
+[[gnu::always_inline]] inline void tracker_pht_column(const double* P, const double* Y, int i,
+                                                      double* out) {
+  TrackerColumn acc;
+  tracker_load(acc, P + kState * (kOffset + i));
+#pragma GCC unroll 10
+  for (int k = 0; k < Columns; ++k) tracker_add(acc, Y[6 * k + i], P + kState * k);
+  tracker_store(out, acc);
+}
+
 }  // namespace
+
+// The filter's arithmetic on one row, on raw arrays (column-major, as Eigen
+// stores them): x [16], P [16 x 16] symmetric, Y [6 x 10], z [6], R [6] (the
+// noise's variances). tracker_innovation() forms the innovation e = z - H x,
+// P H^T [16 x 6] (PHt), the factors S = H P H^T + R = L D L^T (L [6 x 6]
+// unit lower below its diagonal, D on it, column-major; inv = D^-1) and
+// v = L^-1 e, and returns d^2 = e^T S^-1 e = v^T D^-1 v. tracker_correct()
+// then turns PHt into G = P H^T L^-T D^-1/2 in place and applies the update
+// in its symmetric form: x += G D^-1/2 v (= K e), P -= G G^T
+// (= P H^T S^-1 H P), exactly symmetric as P was. An AVX2 copy where the CPU
+// has it (same bits).
+namespace detail {
+
+// tracker_innovation for Y's first `Columns` columns: 10 in motion, 4 at rest.
+template <int Columns>
+[[gnu::always_inline]] inline double tracker_innovation_columns(const double* x, const double* P,
+                                                                const double* Y, const double* z,
+                                                                const double* R, double* PHt,
+                                                                double* L, double* inv, double* v) {
+  // Y's columns (6 values each) as rows 0-3 and 4-5; the force rows of the
+  // inertia columns are zero, so all columns are taken alike.
+  TrackerQuad e4, z4;
+  TrackerPair e2, z2;
+  tracker_load6(e4, e2, z);
+  tracker_load6(z4, z2, x + kOffset);
+  e4 -= z4;
+  e2 -= z2;
+#pragma GCC unroll 10
+  for (int k = 0; k < Columns; ++k) {
+    tracker_load6(z4, z2, Y + 6 * k);
+    e4 -= z4 * x[k];
+    e2 -= z2 * x[k];
+  }
+#pragma GCC unroll 16
+  for (int i = 0; i < 3; ++i) tracker_pht_column<kRestColumns>(P, Y, i, PHt + kState * i);
+#pragma GCC unroll 16
+  for (int i = 3; i < 6; ++i) tracker_pht_column<Columns>(P, Y, i, PHt + kState * i);
+    // S = H P H^T + R, column by column, into L.
+#pragma GCC unroll 16
+  for (int j = 0; j < 6; ++j) {
+    const double* c = PHt + kState * j;
+    TrackerQuad s4;
+    TrackerPair s2;
+    tracker_load6(s4, s2, c + kOffset);
+#pragma GCC unroll 10
+    for (int k = 0; k < Columns; ++k) {
+      tracker_load6(z4, z2, Y + 6 * k);
+      s4 += z4 * c[k];
+      s2 += z2 * c[k];
+    }
+    tracker_store6(L + 6 * j, s4, s2);
+    L[6 * j + j] += R[j];
+  }
+  // S = L D L^T in place: L unit lower (below the diagonal), D on the
+  // diagonal, its reciprocals in inv (no square root on the dependent chain).
+#pragma GCC unroll 16
+  for (int j = 0; j < 6; ++j) {
+    double t[6];  // L(j, k) D(k)
+    double d = L[6 * j + j];
+#pragma GCC unroll 16
+    for (int k = 0; k < j; ++k) {
+      t[k] = L[6 * k + j] * L[6 * k + k];
+      d -= L[6 * k + j] * t[k];
+    }
+    L[6 * j + j] = d;
+    inv[j] = 1.0 / d;
+#pragma GCC unroll 16
+    for (int i = j + 1; i < 6; ++i) {
+      double s = L[6 * j + i];
+#pragma GCC unroll 16
+      for (int k = 0; k < j; ++k) s -= L[6 * k + i] * t[k];
+      L[6 * j + i] = s * inv[j];
+    }
+  }
+  // v = L^-1 e, d^2 = v^T D^-1 v
+  double ev[6];
+  tracker_store6(ev, e4, e2);
+  double d2 = 0.0;
+#pragma GCC unroll 16
+  for (int i = 0; i < 6; ++i) {
+    double s = ev[i];
+#pragma GCC unroll 16
+    for (int k = 0; k < i; ++k) s -= L[6 * k + i] * v[k];
+    v[i] = s;
+    d2 += s * s * inv[i];
+  }
+  return d2;
+}
+
+MASSID_AVX2_CLONES
+double tracker_innovation(const double* x, const double* P, const double* Y, bool moving,
+                          const double* z, const double* R, double* PHt, double* L, double* inv,
+                          double* v) {
+  return moving ? tracker_innovation_columns<kPayload>(x, P, Y, z, R, PHt, L, inv, v)
+                : tracker_innovation_columns<kRestColumns>(x, P, Y, z, R, PHt, L, inv, v);
+}
+
+MASSID_AVX2_CLONES
+void tracker_correct(double* x, double* P, double* G, const double* L, const double* inv,
+                     const double* v) {
+  // G = P H^T L^-T D^-1/2: the forward substitution along each row, then
+  // column j scaled by D(j)^-1/2; w = D^-1/2 v.
+#pragma GCC unroll 16
+  for (int j = 1; j < 6; ++j) {
+    TrackerColumn g;
+    tracker_load(g, G + kState * j);
+#pragma GCC unroll 16
+    for (int k = 0; k < j; ++k) tracker_sub(g, L[6 * k + j], G + kState * k);
+    tracker_store(G + kState * j, g);
+  }
+  TrackerColumn a;
+  tracker_load(a, x);
+#pragma GCC unroll 16
+  for (int j = 0; j < 6; ++j) {
+    const double r = std::sqrt(inv[j]);
+    TrackerColumn g;
+    tracker_load(g, G + kState * j);
+    g.a *= r;
+    g.b *= r;
+    g.c *= r;
+    g.d *= r;
+    tracker_store(G + kState * j, g);
+    // x += G w
+    const double w = v[j] * r;
+    a.a += g.a * w;
+    a.b += g.b * w;
+    a.c += g.c * w;
+    a.d += g.d * w;
+  }
+  tracker_store(x, a);
+  // P -= G G^T: P(r, c) -= sum_j G(r, j) G(c, j), on and below the
+  // diagonal's blocks of four rows, then mirrored (the same products in the
+  // same order as (c, r) would take: the same bits).
+#pragma GCC unroll 16
+  for (int c = 0; c < kState; ++c) {
+    for (int q = c / 4; q < 4; ++q) {
+      double* p = P + kState * c + 4 * q;
+      detail::V4 b;
+      detail::load4(b, p);
+#pragma GCC unroll 6
+      for (int j = 0; j < 6; ++j) {
+        detail::V4 g;
+        detail::load4(g, G + kState * j + 4 * q);
+        b -= g * G[kState * j + c];
+      }
+      detail::store4(p, b);
+    }
+  }
+  for (int c = 4; c < kState; ++c)
+    for (int r = 0; r < c / 4 * 4; ++r) P[kState * c + r] = P[kState * r + c];
+}
+
+}  // namespace detail
 
 int farthest_link(const Model& model) {
   int best = 0, best_depth = -1;
@@ -97,37 +324,27 @@ struct Tracker::Impl {
 
   TrackerRow& row(long long i) { return ring[static_cast<std::size_t>(i % kTrackerRing)]; }
 
-  // A row's innovation e, P H^T and the factor of S = H P H^T + R.
-  using Innovation = Eigen::LLT<Eigen::Matrix<double, 6, 6>>;
-  void innovation(const TrackerRow& r, Wrench& e, Eigen::Matrix<double, 16, 6>& PHt,
-                  Innovation& llt) const {
-    e = r.z - r.Y * x.head<kPayload>() - x.tail<6>();
-    PHt.noalias() = P.leftCols<kPayload>() * r.Y.transpose();
-    PHt += P.rightCols<6>();
-    Eigen::Matrix<double, 6, 6> S = r.Y * PHt.topRows<kPayload>() + PHt.bottomRows<6>();
-    S.diagonal() += noise_var;
-    llt.compute(S);
+  // The work of one row (tracker_innovation, tracker_correct).
+  struct Gain {
+    Eigen::Matrix<double, kState, 6> PHt;  // P H^T, then G = P H^T L^-T
+    Eigen::Matrix<double, 6, 6> L;         // L and D
+    Wrench inv;                            // D^-1
+    Wrench v;                              // L^-1 e
+  };
+  Gain gain;
+
+  // d^2 = e^T S^-1 e of a row against the current state (gain filled).
+  double innovation(const TrackerRow& r) {
+    return detail::tracker_innovation(x.data(), P.data(), r.Y.data(), r.moving, r.z.data(),
+                                      noise_var.data(), gain.PHt.data(), gain.L.data(),
+                                      gain.inv.data(), gain.v.data());
   }
 
   // The Kalman filter's update with a row.
   void learn(const TrackerRow& r) {
-    Wrench e;
-    Eigen::Matrix<double, 16, 6> PHt;
-    Innovation llt;
-    innovation(r, e, PHt, llt);
-    const Eigen::Matrix<double, 6, 16> Kt = llt.solve(PHt.transpose());  // K^T
-    x.noalias() += Kt.transpose() * e;
-    P.noalias() -= PHt * Kt;
-    P = 0.5 * (P + P.transpose()).eval();
-  }
-
-  // d^2 = e^T S^-1 e of a row against the current state.
-  double chi2(const TrackerRow& r) const {
-    Wrench e;
-    Eigen::Matrix<double, 16, 6> PHt;
-    Innovation llt;
-    innovation(r, e, PHt, llt);
-    return e.dot(llt.solve(e));
+    innovation(r);
+    detail::tracker_correct(x.data(), P.data(), gain.PHt.data(), gain.L.data(), gain.inv.data(),
+                            gain.v.data());
   }
 
   // A fresh rigid payload change fitted to the last `window` rows (the
@@ -138,13 +355,25 @@ struct Tracker::Impl {
     Vector10 b = Vector10::Zero();
     double ee = 0.0;
     const Wrench w = noise_var.cwiseInverse();
+    // A = sum Y^T W Y and b = sum Y^T W e, axis by axis as outer products of
+    // Y's rows on the columns they can have non-zero.
     for (long long i = count - n + 1; i <= count; ++i) {
       const TrackerRow& r = row(i);
       const Wrench e = r.z - r.Y * x.head<kPayload>() - x.tail<6>();
-      const Matrix6x10 WY = w.asDiagonal() * r.Y;
-      A.noalias() += r.Y.transpose() * WY;
-      b.noalias() += WY.transpose() * e;
-      ee += e.dot(w.asDiagonal() * e);
+      for (int k = 0; k < 6; ++k) {
+        ee += e[k] * (w[k] * e[k]);
+        if (k < 3 || !r.moving) {
+          const Eigen::Vector4d y = r.Y.row(k).head<kRestColumns>().transpose();
+          const Eigen::Vector4d u = w[k] * y;
+          A.topLeftCorner<kRestColumns, kRestColumns>().noalias() += y * u.transpose();
+          b.head<kRestColumns>() += u * e[k];
+        } else {
+          const Vector10 y = r.Y.row(k).transpose();
+          const Vector10 u = w[k] * y;
+          A.noalias() += y * u.transpose();
+          b += u * e[k];
+        }
+      }
     }
     Matrix10 Ar = A;
     Ar.diagonal() += prior_var.cwiseInverse();
@@ -196,12 +425,34 @@ void Tracker::Impl::write_estimate(const Wrench& z, const Matrix6x10& Y) {
     I << x[4], x[5], x[6], x[5], x[7], x[8], x[6], x[8], x[9];
     const Eigen::Vector3d& c = out.com;
     I -= out.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(I);
-    const Eigen::Vector3d l = eig.eigenvalues();
-    const Eigen::Vector3d d = (Eigen::Vector3d::Constant(0.5 * l.sum()) - l).cwiseMax(0.0);
-    const Eigen::Vector3d lp = Eigen::Vector3d::Constant(d.sum()) - d;
-    out.inertia = eig.eigenvectors() * lp.asDiagonal() * eig.eigenvectors().transpose();
+    // The second moments D = tr(I)/2 - I (eigenvalues d before the clamp):
+    // positive definite, nothing is clamped and I is its own projection;
+    // negative definite, everything is, and it is zero; else the eigen path.
+    const Eigen::Matrix3d D = Eigen::Matrix3d::Identity() * (0.5 * I.trace()) - I;
+    if (tracker_positive_definite(D)) {
+      out.inertia = I;
+    } else if (tracker_positive_definite(-D)) {
+      out.inertia.setZero();
+    } else {
+      // One or two of d (descending, l ascending) clamp: D+ = D - d_2 P_2 or
+      // d_0 P_0, the eigenprojections P_k = prod_{j != k} (I - l_j) / (l_k -
+      // l_j) (Frobenius; no eigenvectors). The clamped |d| is at most the gap
+      // divided by, so the error stays at round-off of |I|.
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(I, Eigen::EigenvaluesOnly);
+      const Eigen::Vector3d l = eig.eigenvalues();
+      const Eigen::Vector3d d = Eigen::Vector3d::Constant(0.5 * l.sum()) - l;
+      const Eigen::Matrix3d One = Eigen::Matrix3d::Identity();
+      Eigen::Matrix3d Dp;
+      if (d[0] <= 0.0) {
+        Dp.setZero();
+      } else if (d[1] >= 0.0) {
+        Dp = D - d[2] * ((I - l[0] * One) * (I - l[1] * One)) / ((l[2] - l[0]) * (l[2] - l[1]));
+      } else {
+        Dp = d[0] * ((I - l[1] * One) * (I - l[2] * One)) / ((l[0] - l[1]) * (l[0] - l[2]));
+      }
+      out.inertia = Dp.trace() * One - Dp;
+    }
   } else {
     out.inertia.setZero();
   }
@@ -294,8 +545,9 @@ const TrackerEstimate& Tracker::update(double t, const double* q, const double* 
   ++m.count;
   TrackerRow& r = m.row(m.count);
   r.Y = link_regressor(m.kin, m.link);
+  r.moving = (r.Y.rightCols<kPayload - kRestColumns>().array() != 0.0).any();
   r.z = measured - predicted;
-  m.estimate.d2 = m.chi2(r);
+  m.estimate.d2 = m.innovation(r);
   r.flagged = m.estimate.d2 > o.gate;
   m.estimate.event = TrackerEvent::None;
   if (r.flagged) {

@@ -47,6 +47,9 @@ struct CompensatorOptions {
   // measured - predicted(mechanism and payload) - offset.
   bool track = false;
   TrackerOptions tracker;
+  // With track: time each tracker update (tracker_update_ns(); `--stats`).
+  // Off, no line reads the clock.
+  bool time_tracker = false;
 };
 
 class Compensator {
@@ -85,7 +88,8 @@ class Compensator {
   // The last good line's measured wrench, fx..mz (valid until the next call).
   Eigen::Map<const Wrench> measured() const;
   // With options.track: the tracker (its estimate after the last good line)
-  // and the time its update took on that line, ns; null and 0 otherwise.
+  // and, with options.time_tracker, the time its update took on that line,
+  // ns; null and 0 otherwise.
   const Tracker* tracker() const;
   long long tracker_update_ns() const;
 
