@@ -99,6 +99,18 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
   if (!map.sensor_motion.empty())
     s.sensor_motion = read_group(table, map.sensor_motion, Order::ByRow);
   s.q_upstream = read_group(table, map.q_upstream, Order::ByColumn);
+  if (!map.q_upstream.empty() && model.pose != SensorPoseColumns::None) {
+    // The sensor's pose: checked, normalised, a quaternion's sign continuous.
+    Eigen::VectorXd qu(s.q_upstream.cols()), previous(s.q_upstream.cols());
+    for (int r = 0; r < N; ++r) {
+      qu = s.q_upstream.row(r).transpose();
+      const std::string why = normalise_pose(model.pose, qu.data());
+      if (!why.empty()) throw InputError(fmt::format("{}: {}", table.row_where(r), why));
+      if (r > 0) continue_pose_sign(model.pose, previous.data(), qu.data());
+      s.q_upstream.row(r) = qu.transpose();
+      previous = qu;
+    }
+  }
   if (!map.q_upstream.empty()) {
     s.qd_upstream = read_group(table, map.qd_upstream, Order::ByRow);
     s.qdd_upstream = read_group(table, map.qdd_upstream, Order::ByRow);
@@ -203,10 +215,16 @@ std::string file_column_note(const Model& model, const std::string& path,
   return detail::bind_header(model, file.text(), path, options, options.sensor_motion).note;
 }
 
+Model with_pose_columns(Model model, const std::vector<std::string>& header,
+                        const std::string& where, const SampleOptions& options) {
+  return detail::with_pose_columns(std::move(model), header, where, options.columns);
+}
+
 Model hold_unlogged_joints(Model model, const std::vector<std::string>& header,
                            const std::string& where, const SampleOptions& options,
                            std::optional<Warning>* note) {
   if (note) note->reset();
+  model = detail::with_pose_columns(std::move(model), header, where, options.columns);
   const auto unlogged = detail::unlogged_joints(model, header, options.columns);
   if (unlogged.empty()) return model;
   model = hold_joints(std::move(model), unlogged);
