@@ -129,69 +129,45 @@ Eigen::Vector3d fixed_sensor_gravity(const Model& model, const Eigen::Vector3d& 
 
 namespace {
 
-int pose_orientation_size(const Model& model) {
-  return model.pose == SensorPoseColumns::Quaternion ? 4 : 9;
-}
-
-// The sensor's pose from a log's pose columns (Model::pose): qu the
-// orientation (qx,qy,qz,qw, or r11..r33 row-major; world from sensor), then
-// x,y,z when given; qdu, qddu their derivatives (empty: at rest). Body-frame
-// rates: for a quaternion q, omega = 2 Im(q* (x) qd) / |q|^2 and omega_dot =
-// 2 Im(q* (x) qdd) / |q|^2 (the real part of q* (x) qd is |q|^2's rate, and
-// d/dt Im(q* (x) qd) = Im(q* (x) qdd): qd* (x) qd is real); for a matrix,
-// R^T Rd = [omega]x and R^T Rdd = [omega_dot]x + [omega]x^2, whose skew parts
-// give omega and omega_dot. The origin's acceleration without gravity in the
-// sensor frame is R^T xdd. (The filter's smoothed q is a unit quaternion or a
-// rotation only to its rounding: hence the division and the skew parts.)
+// The sensor's pose from a log's pose columns (Model::pose), as every reader
+// leaves them (normalise_pose: a matrix turned into a quaternion): qu the
+// orientation qx,qy,qz,qw (world from sensor), then x,y,z when given; qdu,
+// qddu their derivatives (empty: at rest). Body-frame rates of a quaternion
+// q: omega = 2 Im(q* (x) qd) / |q|^2 and omega_dot = 2 Im(q* (x) qdd) / |q|^2
+// (the real part of q* (x) qd is half |q|^2's rate, and d/dt Im(q* (x) qd) =
+// Im(q* (x) qdd): qd* (x) qd is real; the filter's smoothed q is a unit
+// quaternion only to its rounding, hence the division). The origin's
+// acceleration without gravity in the sensor frame is R^T xdd.
 SensorPose pose_kinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,
                            const Eigen::Ref<const Eigen::VectorXd>& qdu,
                            const Eigen::Ref<const Eigen::VectorXd>& qddu) {
   SensorPose out;
   const bool moving = qdu.size() > 0;
-  const int no = pose_orientation_size(model);
-  const bool position = model.num_upstream_joints() > no;
+  const bool position =
+      model.num_upstream_joints() > (model.pose == SensorPoseColumns::Quaternion ? 4 : 9);
   // Im(a* (x) b) for quaternions x,y,z,w: a_w b_v - b_w a_v - a_v x b_v.
   const auto im_conj_product = [](const double* a, const double* b) {
     const Eigen::Vector3d av(a[0], a[1], a[2]), bv(b[0], b[1], b[2]);
     return Eigen::Vector3d(a[3] * bv - b[3] * av - av.cross(bv));
   };
-  using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-  const auto vee_skew = [](const Eigen::Matrix3d& m, Eigen::Vector3d& out) {
-    out[0] = 0.5 * (m(2, 1) - m(1, 2));
-    out[1] = 0.5 * (m(0, 2) - m(2, 0));
-    out[2] = 0.5 * (m(1, 0) - m(0, 1));
-  };
-  if (model.pose == SensorPoseColumns::Quaternion) {
-    const Eigen::Quaterniond q(qu[3], qu[0], qu[1], qu[2]);
-    out.rotation = q.normalized().toRotationMatrix();
-    if (moving) {
-      const double n2 = q.squaredNorm();
-      out.motion.omega = 2.0 / n2 * im_conj_product(qu.data(), qdu.data());
-      out.motion.omega_dot = 2.0 / n2 * im_conj_product(qu.data(), qddu.data());
-    }
-  } else {
-    out.rotation = Eigen::Map<const RowMajor3>(qu.data());
-    if (moving) {
-      const Eigen::Matrix3d Rt = out.rotation.transpose();
-      const Eigen::Matrix3d W = Rt * Eigen::Map<const RowMajor3>(qdu.data());
-      const Eigen::Matrix3d dW = Rt * Eigen::Map<const RowMajor3>(qddu.data());
-      vee_skew(W, out.motion.omega);
-      vee_skew(dW, out.motion.omega_dot);
-    }
-  }
+  const Eigen::Quaterniond q(qu[3], qu[0], qu[1], qu[2]);
+  out.rotation = q.normalized().toRotationMatrix();
   if (moving) {
     if (!position)
       throw InputError(
           "the sensor's pose has no position columns x,y,z: in motion its origin's acceleration "
           "is unknown; add x,y,z (m, world frame)");
-    out.motion.accel = out.rotation.transpose() * Eigen::Vector3d(qddu.segment<3>(no));
+    const double n2 = q.squaredNorm();
+    out.motion.omega = 2.0 / n2 * im_conj_product(qu.data(), qdu.data());
+    out.motion.omega_dot = 2.0 / n2 * im_conj_product(qu.data(), qddu.data());
+    out.motion.accel = out.rotation.transpose() * Eigen::Vector3d(qddu.segment<3>(4));
   }
   return out;
 }
 
 }  // namespace
 
-std::string normalise_pose(SensorPoseColumns pose, double* qu) {
+std::string normalise_pose(SensorPoseColumns pose, int size, double* qu) {
   constexpr double tol = kPoseTolerance;
   if (pose == SensorPoseColumns::Quaternion) {
     const double n = std::sqrt(qu[0] * qu[0] + qu[1] * qu[1] + qu[2] * qu[2] + qu[3] * qu[3]);
@@ -211,12 +187,19 @@ std::string normalise_pose(SensorPoseColumns pose, double* qu) {
           "columns r11..r33: the matrix is not a rotation (R^T R - 1 up to {:.3g}, det R = {:.6g}; "
           "a rotation has 0 and 1, within {:g})",
           orth, det, tol);
+    // As a quaternion: the filter then smooths and differentiates its four
+    // slowly varying numbers (a matrix's nine are products of them, with
+    // twice the frequencies), as for a quaternion given.
+    const Eigen::Quaterniond q = Eigen::Quaterniond(R).normalized();
+    double out[12] = {q.x(), q.y(), q.z(), q.w(), 0, 0, 0, 0, 0, 0, 0, 0};
+    if (size > 9) std::copy_n(qu + 9, 3, out + 4);
+    std::copy_n(out, size, qu);
   }
   return "";
 }
 
 void continue_pose_sign(SensorPoseColumns pose, const double* previous, double* qu) {
-  if (pose != SensorPoseColumns::Quaternion) return;
+  if (pose == SensorPoseColumns::None) return;
   const double dot =
       previous[0] * qu[0] + previous[1] * qu[1] + previous[2] * qu[2] + previous[3] * qu[3];
   if (dot < 0)

@@ -322,7 +322,7 @@ void prepared_rows(const MotionPlan& plan, const FilterSetup* f, const ParsedBlo
   // A quaternion of the sensor's pose is filtered with its sign continuous
   // from row to row (continue_pose_sign; the rates are the same for either
   // sign of the whole window): the rows pushed are copies.
-  const bool signs = plan.up && plan.model && plan.model->pose == SensorPoseColumns::Quaternion;
+  const bool signs = plan.up && plan.model && plan.model->pose != SensorPoseColumns::None;
   std::vector<double> pushed(signs ? W : 0), previous(signs ? 4 : 0);
   bool any = false;
   const auto push = [&](const double* r, int line) {

@@ -90,11 +90,11 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     j["held_joints"] = held;
   }
   if (s) {
-    j["gravity_from"] = s->gravity_from_force      ? "force"
-                        : s->gravity_from_upstream
-                            ? (model.pose == SensorPoseColumns::None ? "upstream joints"
-                                                                     : "sensor pose")
-                            : "columns";
+    j["gravity_from"] =
+        s->gravity_from_force ? "force"
+        : s->gravity_from_upstream
+            ? (model.pose == SensorPoseColumns::None ? "upstream joints" : "sensor pose")
+            : "columns";
     j["samples"] = s->samples;
     if (s->delay.applied) j["delay"] = {{"value", s->delay.value}, {"std", s->delay.std}};
     if (s->rest.continuous)

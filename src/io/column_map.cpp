@@ -71,7 +71,8 @@ ColumnGroup suffixed(const std::vector<Joint>& joints, const std::vector<std::st
 
 bool is_pose_role(const std::string& role) {
   const auto in = [&](const auto& group) {
-    return std::any_of(std::begin(group), std::end(group), [&](const char* n) { return role == n; });
+    return std::any_of(std::begin(group), std::end(group),
+                       [&](const char* n) { return role == n; });
   };
   return in(kPoseQuaternion) || in(kPoseMatrix) || in(kPosePosition);
 }
@@ -232,6 +233,15 @@ Model with_pose_columns(Model model, const std::vector<std::string>& header,
         "{}: the sensor's pose ({}) and the joints above sensor link '{}' ({}) both give its "
         "orientation: give one of them",
         where, pose, model.sensor_link(), fmt::join(others, ",")));
+  if (matrix)
+    for (const char* n : kPoseMatrix)
+      for (const char* suffix : {"_vel", "_acc"})
+        if (has(std::string(n) + suffix))
+          throw InputError(fmt::format(
+              "{}: column '{}{}': the rates of a rotation matrix are not read (the pose's rates "
+              "are read for a quaternion, qx_vel..qw_vel and qx_acc..qw_acc, with x,y,z's): give "
+              "the orientation as a quaternion, or no rates (derived from t)",
+              where, n, suffix));
   return with_sensor_pose(std::move(model),
                           quaternion ? SensorPoseColumns::Quaternion : SensorPoseColumns::Matrix,
                           position);
@@ -252,12 +262,12 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
       for (const auto* js : {&model.joints, &model.upstream_joints})
         for (const Joint& j : *js) joints.push_back(j.name);
       throw InputError(
-          fmt::format(
-              "{}: '{}={}' binds an unknown role '{}': the roles are fx,fy,fz,mx,my,mz, "
-              "gx,gy,gz, t, block, wx,wy,wz,dwx,dwy,dwz,ax,ay,az, tilt_x_deg,tilt_y_deg, "
-              "qx,qy,qz,qw, r11..r33, x,y,z and the joints ({}), also as JOINT_deg, JOINT_vel, JOINT_acc, JOINT_deg_vel, "
-              "JOINT_deg_acc",
-              where, role, name, role, name_list(joints)),
+          fmt::format("{}: '{}={}' binds an unknown role '{}': the roles are fx,fy,fz,mx,my,mz, "
+                      "gx,gy,gz, t, block, wx,wy,wz,dwx,dwy,dwz,ax,ay,az, tilt_x_deg,tilt_y_deg, "
+                      "qx,qy,qz,qw, r11..r33, x,y,z and the joints ({}), also as JOINT_deg, "
+                      "JOINT_vel, JOINT_acc, JOINT_deg_vel, "
+                      "JOINT_deg_acc",
+                      where, role, name, role, name_list(joints)),
           {columns_hint});
     }
     if (!seen_roles.insert(role).second)

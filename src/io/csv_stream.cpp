@@ -317,12 +317,12 @@ Samples read_file_samples(const Model& model, const std::string& path, int max_r
 }
 
 void check_pose_line(const SampleColumns& c, int line_no, double* vals) {
-  const std::string why = normalise_pose(c.pose, vals + c.q_up);
+  const std::string why = normalise_pose(c.pose, c.num_upstream, vals + c.q_up);
   if (!why.empty()) throw InputError(fmt::format("{}:{}: {}", c.source, line_no, why));
 }
 
 void check_pose(std::string_view text, size_t line_begin, const SampleColumns& c, double* vals) {
-  if (!normalise_pose(c.pose, vals + c.q_up).empty())
+  if (!normalise_pose(c.pose, c.num_upstream, vals + c.q_up).empty())
     check_pose_line(c, line_number(text, line_begin), vals);
 }
 

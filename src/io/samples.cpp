@@ -104,7 +104,7 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
     Eigen::VectorXd qu(s.q_upstream.cols()), previous(s.q_upstream.cols());
     for (int r = 0; r < N; ++r) {
       qu = s.q_upstream.row(r).transpose();
-      const std::string why = normalise_pose(model.pose, qu.data());
+      const std::string why = normalise_pose(model.pose, static_cast<int>(qu.size()), qu.data());
       if (!why.empty()) throw InputError(fmt::format("{}: {}", table.row_where(r), why));
       if (r > 0) continue_pose_sign(model.pose, previous.data(), qu.data());
       s.q_upstream.row(r) = qu.transpose();

@@ -310,8 +310,7 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
     if (m.pose_signed) {
       const double* p = m.last_quaternion;
       double* q = v + c.q_up;
-      if (c.pose == SensorPoseColumns::Quaternion &&
-          p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3] < 0)
+      if (p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3] < 0)
         for (const int at : {c.q_up, c.qd_up, c.qdd_up})
           if (at >= 0)
             for (int k = 0; k < 4; ++k) v[at + k] = -v[at + k];

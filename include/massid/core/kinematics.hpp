@@ -85,8 +85,9 @@ void upstream_link_poses(const Model& model, const Eigen::Ref<const Eigen::Vecto
 Eigen::Vector3d fixed_sensor_gravity(const Model& model, const Eigen::Vector3d& root_gravity);
 
 // Gravity and the sensor frame's motion from the joints above the sensor link,
-// or from a log's pose columns (Model::pose, with_sensor_pose: qu the pose,
-// qdu and qddu its derivatives; InputError in motion without x,y,z),
+// or from a log's pose columns (Model::pose, with_sensor_pose: qu the pose as
+// normalise_pose leaves it, qdu and qddu its derivatives; InputError in
+// motion without x,y,z),
 // the one computation of every reader, the compensator and the C interface.
 // qu [num_upstream_joints]; gravity [3], when not null: R^T root_gravity in
 // the sensor frame; sensor_motion [9], when not null: wx wy wz, dwx dwy dwz,
@@ -96,18 +97,20 @@ void upstream_sensor_frame(const Model& model, const double* qu, const double* q
                            const double* qddu, const Eigen::Vector3d& root_gravity, double* gravity,
                            double* sensor_motion);
 
-// A log's sensor pose (`pose`: Model::pose): its orientation values qu (qx,qy,qz,qw or
-// r11..r33, Model::upstream_joints order) checked, a quaternion normalised in
-// place. "" when good; else why not, naming the columns (the caller adds the
-// file and line): a quaternion whose norm is off 1 by more than
-// kPoseTolerance, a matrix farther than that from a rotation. Nothing to
-// check for None.
+// A log's sensor pose (`pose`: Model::pose): its values qu [size] as read
+// (Model::upstream_joints order) checked and made what upstream_sensor_frame
+// takes: a quaternion normalised; a matrix r11..r33 turned into the
+// quaternion qx,qy,qz,qw, then x,y,z when given, then zeros (the motion
+// filter smooths and differentiates those). In place. "" when good; else why
+// not, naming the columns (the caller adds the file and line): a quaternion
+// whose norm is off 1 by more than kPoseTolerance, a matrix farther than that
+// from a rotation. Nothing to do for None.
 constexpr double kPoseTolerance = 1e-3;
-std::string normalise_pose(SensorPoseColumns pose, double* qu);
+std::string normalise_pose(SensorPoseColumns pose, int size, double* qu);
 
-// q and -q are one rotation: the quaternion qu [4] (`pose` Quaternion)
-// negated when it points away from the previous row's, so that the motion
-// filter differentiates a continuous signal. Nothing for a matrix or None.
+// q and -q are one rotation: the quaternion qu [4] of a normalised pose
+// (normalise_pose) negated when it points away from the previous row's, so
+// that the motion filter differentiates a continuous signal. Nothing for None.
 void continue_pose_sign(SensorPoseColumns pose, const double* previous, double* qu);
 
 // The robot's size: the largest distance from the sensor origin of a link
