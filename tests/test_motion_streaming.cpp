@@ -13,6 +13,8 @@
 // written with write_csv.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <filesystem>
 #include <numbers>
 #include <random>
@@ -296,9 +298,11 @@ class MotionCsvTest : public ::testing::Test {
   }
 
   // The in-memory path and the stream, compared; returns the stream's result.
+  // (`model`: the log's model when it is not the URDF's at log.sensor.)
   MotionIdentification compare(const std::string& file, const MotionLog& log,
-                               const StreamOptions& so, const MotionDataOptions& data = {}) {
-    const Model model = load_urdf(test::kUrLikeUrdf, log.sensor);
+                               const StreamOptions& so, const MotionDataOptions& data = {},
+                               const Model* other = nullptr) {
+    const Model model = other ? *other : load_urdf(test::kUrLikeUrdf, log.sensor);
     MotionDataReport report;
     const Samples s = in_memory(model, file, data, report);
     const BaseParameters base = find_base_parameters(model, motion_base_options(s, log.offset));
@@ -453,6 +457,56 @@ TEST_F(MotionCsvTest, WristSensorWithTheArmJointsAbove) {
     EXPECT_TRUE(m.base.sensor_moving);
     EXPECT_EQ(m.report.derived, !given);
   }
+}
+
+TEST_F(MotionCsvTest, WristSensorPoseInMemoryAsInTheStream) {
+  // The wrist log with the arm's joints replaced by the sensor's pose in the
+  // world (qx,qy,qz,qw from the arm's own kinematics, every fifth row's sign
+  // negated, and x,y,z), velocities derived: the stream (its blocks and
+  // margins) gives the in-memory fit, and the sensor moves.
+  MotionLog log;
+  log.sensor = "wrist_3_link";
+  log.gravity_columns = false;
+  log.upstream_velocities = false;
+  log.offset = false;
+  const Model arm = load_urdf(test::kUrLikeUrdf);
+  const int wrist = arm.find_link("wrist_3_link");
+  const std::string f = write("pose.csv", log, [&](auto& header, auto& rows) {
+    std::vector<int> at(arm.joints.size());  // each arm joint's column
+    for (size_t j = 0; j < at.size(); ++j)
+      at[j] = static_cast<int>(std::find(header.begin(), header.end(), arm.joints[j].name) -
+                               header.begin());
+    KinematicsData kin(arm);
+    for (size_t i = 0; i < rows.size(); ++i) {
+      Eigen::VectorXd q(arm.num_joints());
+      for (size_t j = 0; j < at.size(); ++j)
+        q[static_cast<Eigen::Index>(j)] = std::stod(rows[i][at[j]]);
+      forward_kinematics(arm, kin, q);
+      Eigen::Quaterniond h(kin.rotation[wrist]);
+      if (i % 5 == 0) h.coeffs() = -h.coeffs();
+      const Eigen::Vector3d x = kin.position[wrist];
+      std::vector<std::string> row = {rows[i][0]};
+      for (const double v : {h.x(), h.y(), h.z(), h.w(), x.x(), x.y(), x.z()})
+        row.push_back(format_number(v));
+      row.insert(row.end(), rows[i].begin() + 7, rows[i].end());
+      rows[i] = row;
+    }
+    std::vector<std::string> h = {"t", "qx", "qy", "qz", "qw", "x", "y", "z"};
+    h.insert(h.end(), header.begin() + 7, header.end());
+    header = h;
+  });
+  const Model pose = with_sensor_pose(load_urdf(test::kUrLikeUrdf, log.sensor),
+                                      SensorPoseColumns::Quaternion, true);
+  const MotionIdentification m = compare(f, log, small_blocks(), {}, &pose);
+  EXPECT_TRUE(m.base.sensor_moving);
+  EXPECT_TRUE(m.report.derived);
+  // The fit is the joints' to a small fraction of its std (the filter
+  // smooths other signals).
+  const std::string g = write("joints.csv", log);
+  const MotionIdentification j = compare(g, log, small_blocks());
+  ASSERT_EQ(j.summary.value.size(), m.summary.value.size());
+  for (Eigen::Index k = 0; k < j.summary.value.size(); ++k)
+    EXPECT_NEAR(m.summary.value[k], j.summary.value[k], 0.3 * j.summary.stddev[k]) << k;
 }
 
 TEST_F(MotionCsvTest, RootGravityHoldsAfterTheFilterInMemoryAsInTheStream) {

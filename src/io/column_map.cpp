@@ -210,29 +210,30 @@ Model with_pose_columns(Model model, const std::vector<std::string>& header,
         "{}: the header has both a quaternion qx,qy,qz,qw and a rotation matrix r11..r33 for the "
         "sensor's orientation: give one of them",
         where));
-  // Other sources of what the pose gives.
-  std::vector<std::string> others;
-  for (const char* n : {"gx", "gy", "gz", "tilt_x_deg", "tilt_y_deg"})
-    if (has(n)) others.push_back(n);
-  if (!others.empty())
-    throw InputError(fmt::format(
-        "{}: the sensor's pose ({}) and columns {} both give gravity in the sensor frame: give "
-        "one of them (with the pose, gravity is --root-gravity turned into the sensor frame)",
-        where, pose, fmt::join(others, ",")));
-  for (const char* n : kSensorMotion)
-    if (has(n)) others.push_back(n);
-  if (!others.empty())
-    throw InputError(fmt::format(
-        "{}: the sensor's pose ({}) and columns {} both give the sensor frame's motion: give one "
-        "of them (with the pose, its motion is derived from the pose)",
-        where, pose, fmt::join(others, ",")));
-  for (const Joint& j : model.upstream_joints)
-    if (has(j.name) || has(j.name + "_deg")) others.push_back(j.name);
-  if (!others.empty())
-    throw InputError(fmt::format(
-        "{}: the sensor's pose ({}) and the joints above sensor link '{}' ({}) both give its "
-        "orientation: give one of them",
-        where, pose, model.sensor_link(), fmt::join(others, ",")));
+  // Other sources of what the pose gives: the columns `names` the header has,
+  // named as `before` OTHERS `after`.
+  const auto refuse_beside = [&](const std::vector<std::string>& names, const std::string& before,
+                                 const std::string& after) {
+    std::vector<std::string> others;
+    for (const std::string& n : names)
+      if (has(n)) others.push_back(n);
+    if (!others.empty())
+      throw InputError(fmt::format("{}: the sensor's pose ({}) and {}{}{}", where, pose, before,
+                                   fmt::join(others, ","), after));
+  };
+  refuse_beside({"gx", "gy", "gz", "tilt_x_deg", "tilt_y_deg"}, "columns ",
+                " both give gravity in the sensor frame: give one of them (with the pose, gravity "
+                "is --root-gravity turned into the sensor frame)");
+  refuse_beside({std::begin(kSensorMotion), std::end(kSensorMotion)}, "columns ",
+                " both give the sensor frame's motion: give one of them (with the pose, its "
+                "motion is derived from the pose)");
+  std::vector<std::string> joints;
+  for (const Joint& j : model.upstream_joints) {
+    joints.push_back(j.name);
+    joints.push_back(j.name + "_deg");
+  }
+  refuse_beside(joints, fmt::format("the joints above sensor link '{}' (", model.sensor_link()),
+                ") both give its orientation: give one of them");
   if (matrix)
     for (const char* n : kPoseMatrix)
       for (const char* suffix : {"_vel", "_acc"})
