@@ -459,16 +459,23 @@ TEST_F(MotionCsvTest, WristSensorWithTheArmJointsAbove) {
   }
 }
 
-TEST_F(MotionCsvTest, WristSensorPoseInMemoryAsInTheStream) {
-  // The wrist log with the arm's joints replaced by the sensor's pose in the
-  // world (qx,qy,qz,qw from the arm's own kinematics, every fifth row's sign
-  // negated, and x,y,z), velocities derived: the stream (its blocks and
-  // margins) gives the in-memory fit, and the sensor moves.
+// A tool on wrist_3_link, gravity and the sensor's motion from the arm's
+// joints (velocities derived), no offset.
+MotionLog wrist_log_derived() {
   MotionLog log;
   log.sensor = "wrist_3_link";
   log.gravity_columns = false;
   log.upstream_velocities = false;
   log.offset = false;
+  return log;
+}
+
+TEST_F(MotionCsvTest, WristSensorPoseInMemoryAsInTheStream) {
+  // The wrist log with the arm's joints replaced by the sensor's pose in the
+  // world (qx,qy,qz,qw from the arm's own kinematics, every fifth row's sign
+  // negated, and x,y,z), velocities derived: the stream (its blocks and
+  // margins) gives the in-memory fit, and the sensor moves.
+  const MotionLog log = wrist_log_derived();
   const Model arm = load_urdf(test::kUrLikeUrdf);
   const int wrist = arm.find_link("wrist_3_link");
   const std::string f = write("pose.csv", log, [&](auto& header, auto& rows) {
@@ -515,11 +522,7 @@ TEST_F(MotionCsvTest, RootGravityHoldsAfterTheFilterInMemoryAsInTheStream) {
   // in-memory samples' gravity is the given root gravity turned into the
   // sensor frame at the filtered upstream positions (it once fell back to
   // the default root gravity there, which the stream never did).
-  MotionLog log;
-  log.sensor = "wrist_3_link";
-  log.gravity_columns = false;
-  log.upstream_velocities = false;
-  log.offset = false;
+  const MotionLog log = wrist_log_derived();
   const std::string f = write("root_gravity.csv", log);
   MotionDataOptions data;
   data.samples.root_gravity = Eigen::Vector3d(1.2, -0.7, -9.7);
