@@ -175,7 +175,9 @@ TEST_F(CliTracker, TrackNeedsTimeAndNamesAWrongPayloadLink) {
 // at the arm's base), their rates from the joints' (the sensor frame's body
 // rates omega, omega_dot and origin acceleration a from upstream_kinematics:
 // qd = q (x) (0, omega) / 2, qdd = (qd (x) (0, omega) + q (x) (0, omega_dot)) / 2,
-// xdd = R a; xd by central differences, which nothing reads). compensate
+// xdd = R a; xd by central differences, which nothing reads; every seventh
+// row's quaternion negated, its rates with it: compensate makes the sign
+// continuous and must turn the rates with it). compensate
 // does not derive rates from t (a live stream): the log gives them, as it
 // gives the joints' _vel, _acc. Every tracked column agrees to rounding.
 TEST_F(CliTracker, TrackedLogWithPoseColumnsGivesTheEstimatesOfTheJoints) {
@@ -211,6 +213,7 @@ TEST_F(CliTracker, TrackedLogWithPoseColumnsGivesTheEstimatesOfTheJoints) {
     const Eigen::Matrix3d R = kin.rotation[wrist];
     const Eigen::Vector3d x = kin.position[wrist];
     Eigen::Quaterniond h(R);
+    if (i % 7 == 0) h.coeffs() = -h.coeffs();  // the same rotation (its rates follow)
     const Eigen::Quaterniond hd = h * quat(0.5 * p.motion.omega);
     Eigen::Quaterniond hdd = hd * quat(0.5 * p.motion.omega);
     hdd.coeffs() += (h * quat(0.5 * p.motion.omega_dot)).coeffs();

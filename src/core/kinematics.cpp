@@ -198,12 +198,15 @@ std::string normalise_pose(SensorPoseColumns pose, int size, double* qu) {
   return "";
 }
 
-void continue_pose_sign(SensorPoseColumns pose, const double* previous, double* qu) {
+void continue_pose_sign(SensorPoseColumns pose, const double* previous, double* qu, double* qdu,
+                        double* qddu) {
   if (pose == SensorPoseColumns::None) return;
   const double dot =
       previous[0] * qu[0] + previous[1] * qu[1] + previous[2] * qu[2] + previous[3] * qu[3];
   if (dot < 0)
-    for (int k = 0; k < 4; ++k) qu[k] = -qu[k];
+    for (double* v : {qu, qdu, qddu})
+      if (v)
+        for (int k = 0; k < 4; ++k) v[k] = -v[k];
 }
 
 SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,

@@ -320,15 +320,18 @@ void prepared_rows(const MotionPlan& plan, const FilterSetup* f, const ParsedBlo
   double gravity[3], sensor[9];
   const bool blocks = plan.cols.block >= 0;
   // A quaternion of the sensor's pose is filtered with its sign continuous
-  // from row to row (continue_pose_sign; the rates are the same for either
-  // sign of the whole window): the rows pushed are copies.
+  // from row to row, given rates with it (continue_pose_sign; the rates are
+  // the same for either sign of the whole window): the rows pushed are copies.
   const bool signs = plan.up && plan.model && plan.model->pose != SensorPoseColumns::None;
   std::vector<double> pushed(signs ? W : 0), previous(signs ? 4 : 0);
   bool any = false;
   const auto push = [&](const double* r, int line) {
     if (signs) {
       std::copy_n(r, W, pushed.data());
-      if (any) continue_pose_sign(plan.model->pose, previous.data(), pushed.data() + plan.o_qu);
+      if (any)
+        continue_pose_sign(plan.model->pose, previous.data(), pushed.data() + plan.o_qu,
+                           plan.has_qdu ? pushed.data() + plan.o_qdu : nullptr,
+                           plan.has_qdu ? pushed.data() + plan.o_qddu : nullptr);
       std::copy_n(pushed.data() + plan.o_qu, 4, previous.data());
       any = true;
       filter.push(pushed.data(), r[W], line);

@@ -99,21 +99,34 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
   if (!map.sensor_motion.empty())
     s.sensor_motion = read_group(table, map.sensor_motion, Order::ByRow);
   s.q_upstream = read_group(table, map.q_upstream, Order::ByColumn);
-  if (!map.q_upstream.empty() && model.pose != SensorPoseColumns::None) {
-    // The sensor's pose: checked, normalised, a quaternion's sign continuous.
-    Eigen::VectorXd qu(s.q_upstream.cols()), previous(s.q_upstream.cols());
-    for (int r = 0; r < N; ++r) {
-      qu = s.q_upstream.row(r).transpose();
-      const std::string why = normalise_pose(model.pose, static_cast<int>(qu.size()), qu.data());
-      if (!why.empty()) throw InputError(fmt::format("{}: {}", table.row_where(r), why));
-      if (r > 0) continue_pose_sign(model.pose, previous.data(), qu.data());
-      s.q_upstream.row(r) = qu.transpose();
-      previous = qu;
-    }
-  }
   if (!map.q_upstream.empty()) {
     s.qd_upstream = read_group(table, map.qd_upstream, Order::ByRow);
     s.qdd_upstream = read_group(table, map.qdd_upstream, Order::ByRow);
+  }
+  if (!map.q_upstream.empty() && model.pose != SensorPoseColumns::None) {
+    // The sensor's pose: checked, normalised, a quaternion's sign continuous
+    // (with its given rates).
+    const bool rates = s.qd_upstream.cols() > 0;
+    const int nu = static_cast<int>(s.q_upstream.cols());
+    Eigen::VectorXd qu(nu), qdu(rates ? nu : 0), qddu(rates ? nu : 0), previous(nu);
+    for (int r = 0; r < N; ++r) {
+      qu = s.q_upstream.row(r).transpose();
+      const std::string why = normalise_pose(model.pose, nu, qu.data());
+      if (!why.empty()) throw InputError(fmt::format("{}: {}", table.row_where(r), why));
+      if (rates) {
+        qdu = s.qd_upstream.row(r).transpose();
+        qddu = s.qdd_upstream.row(r).transpose();
+      }
+      if (r > 0)
+        continue_pose_sign(model.pose, previous.data(), qu.data(), rates ? qdu.data() : nullptr,
+                           rates ? qddu.data() : nullptr);
+      s.q_upstream.row(r) = qu.transpose();
+      if (rates) {
+        s.qd_upstream.row(r) = qdu.transpose();
+        s.qdd_upstream.row(r) = qddu.transpose();
+      }
+      previous = qu;
+    }
   }
   if (!map.wrench.empty()) s.wrench = read_group(table, map.wrench, Order::ByRow);
   if (map.time >= 0) {

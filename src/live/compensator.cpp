@@ -307,14 +307,10 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
     // The sensor's pose: checked, normalised, a quaternion's sign continuous
     // from line to line (with its given rates: the clock delay interpolates).
     detail::check_pose_line(c, line_no, v);
-    if (m.pose_signed) {
-      const double* p = m.last_quaternion;
-      double* q = v + c.q_up;
-      if (p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3] < 0)
-        for (const int at : {c.q_up, c.qd_up, c.qdd_up})
-          if (at >= 0)
-            for (int k = 0; k < 4; ++k) v[at + k] = -v[at + k];
-    }
+    if (m.pose_signed)
+      continue_pose_sign(c.pose, m.last_quaternion, v + c.q_up,
+                         c.qd_up >= 0 ? v + c.qd_up : nullptr,
+                         c.qdd_up >= 0 ? v + c.qdd_up : nullptr);
     std::copy_n(v + c.q_up, 4, m.last_quaternion);
     m.pose_signed = true;
   }

@@ -110,8 +110,10 @@ std::string normalise_pose(SensorPoseColumns pose, int size, double* qu);
 
 // q and -q are one rotation: the quaternion qu [4] of a normalised pose
 // (normalise_pose) negated when it points away from the previous row's, so
-// that the motion filter differentiates a continuous signal. Nothing for None.
-void continue_pose_sign(SensorPoseColumns pose, const double* previous, double* qu);
+// that the motion filter smooths and differentiates a continuous signal; its
+// given rates qdu, qddu [4] (when not null) with it. Nothing for None.
+void continue_pose_sign(SensorPoseColumns pose, const double* previous, double* qu,
+                        double* qdu = nullptr, double* qddu = nullptr);
 
 // The robot's size: the largest distance from the sensor origin of a link
 // origin or centre of mass over 256 configurations spread over the joints'
