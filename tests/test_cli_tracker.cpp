@@ -4,11 +4,13 @@
 // tracker_support.hpp) through stdin. Checked: the spec's columns in order,
 // the events, the payload's mass against the object's, *_comp against the
 // contact wrench put into the data.
+#include <Eigen/Geometry>
 #include <chrono>
 #include <regex>
 #include <thread>
 
 #include "cli_support.hpp"
+#include "massid/core/kinematics.hpp"
 #include "tracker_support.hpp"
 
 namespace massid_cli_test {
@@ -165,6 +167,91 @@ TEST_F(CliTracker, TrackNeedsTimeAndNamesAWrongPayloadLink) {
   r = run({"compensate", kUrUrdf, tool, "--payload-link", "tool"}, in);
   EXPECT_NE(r.code, 0) << r;
   EXPECT_NE(r.err.find("--track"), std::string::npos) << r;
+}
+
+// A tracked log with pose columns (quaternions) gives the same estimates as
+// the same log given by joints (issue 28): the wrist sensor's orientation
+// and origin in the world from the arm's own forward kinematics (the sensor
+// at the arm's base), their rates from the joints' (the sensor frame's body
+// rates omega, omega_dot and origin acceleration a from upstream_kinematics:
+// qd = q (x) (0, omega) / 2, qdd = (qd (x) (0, omega) + q (x) (0, omega_dot)) / 2,
+// xdd = R a; xd by central differences, which nothing reads; every seventh
+// row's quaternion negated, its rates with it: compensate makes the sign
+// continuous and must turn the rates with it). compensate
+// does not derive rates from t (a live stream): the log gives them, as it
+// gives the joints' _vel, _acc. Every tracked column agrees to rounding.
+TEST_F(CliTracker, TrackedLogWithPoseColumnsGivesTheEstimatesOfTheJoints) {
+  const std::string tool = params();
+  const TrackerLog log = tracker_log(true, 12);
+  const massid::Model arm = massid::load_urdf(kUrUrdf);
+  const std::string by_joints = file("joints.csv", tracker_csv(log, arm));
+  const int wrist = arm.find_link("wrist_3_link");
+  massid::KinematicsData kin(arm);
+  const auto origin = [&](const Eigen::VectorXd& q) {
+    massid::forward_kinematics(arm, kin, q);
+    return Eigen::Vector3d(kin.position[wrist]);
+  };
+  const auto quat = [](const Eigen::Vector3d& v) {
+    return Eigen::Quaterniond(0, v.x(), v.y(), v.z());
+  };
+  const auto cells = [](const Eigen::Quaterniond& h) {
+    return fmt::format(",{:.17g},{:.17g},{:.17g},{:.17g}", h.x(), h.y(), h.z(), h.w());
+  };
+  const auto cells3 = [](const Eigen::Vector3d& v) {
+    return fmt::format(",{:.17g},{:.17g},{:.17g}", v.x(), v.y(), v.z());
+  };
+  std::string csv =
+      "t,qx,qy,qz,qw,x,y,z,qx_vel,qy_vel,qz_vel,qw_vel,x_vel,y_vel,z_vel,qx_acc,qy_acc,qz_acc,"
+      "qw_acc,x_acc,y_acc,z_acc,fx,fy,fz,mx,my,mz\n";
+  const massid::Samples& s = log.samples;
+  for (int i = 0; i < s.size(); ++i) {
+    const Eigen::VectorXd q = s.q_upstream.row(i).transpose(),
+                          qd = s.qd_upstream.row(i).transpose(),
+                          qdd = s.qdd_upstream.row(i).transpose();
+    const massid::SensorPose p = massid::upstream_kinematics(log.plain, q, qd, qdd);
+    forward_kinematics(arm, kin, q);
+    const Eigen::Matrix3d R = kin.rotation[wrist];
+    const Eigen::Vector3d x = kin.position[wrist];
+    Eigen::Quaterniond h(R);
+    if (i % 7 == 0) h.coeffs() = -h.coeffs();  // the same rotation (its rates follow)
+    const Eigen::Quaterniond hd = h * quat(0.5 * p.motion.omega);
+    Eigen::Quaterniond hdd = hd * quat(0.5 * p.motion.omega);
+    hdd.coeffs() += (h * quat(0.5 * p.motion.omega_dot)).coeffs();
+    const double dt = 1e-6;
+    const Eigen::Vector3d xd = (origin(q + dt * qd) - origin(q - dt * qd)) / (2 * dt);
+    csv += fmt::format("{}", s.time[i]) + cells(h) + cells3(x) + cells(hd) + cells3(xd) +
+           cells(hdd) + cells3(R * p.motion.accel);
+    for (int k = 0; k < 6; ++k) csv += fmt::format(",{}", s.wrench(i, k));
+    csv += "\n";
+  }
+  const std::string by_pose = file("pose.csv", csv);
+  const Result a = run({"compensate", kUrUrdf, tool, "--track"}, by_joints);
+  const Result b = run({"compensate", kUrUrdf, tool, "--track"}, by_pose);
+  ASSERT_EQ(a.code, 0) << a;
+  ASSERT_EQ(b.code, 0) << b;
+  EXPECT_NE(b.err.find("the sensor's pose from qx,qy,qz,qw,x,y,z"), std::string::npos) << b.err;
+  write_file(path("a.csv"), a.out);
+  write_file(path("b.csv"), b.out);
+  const Table ta = read_table(path("a.csv")), tb = read_table(path("b.csv"));
+  ASSERT_EQ(ta.rows.size(), static_cast<std::size_t>(s.size()));
+  ASSERT_EQ(tb.rows.size(), ta.rows.size());
+  const int event = ta.col("event");
+  int changes = 0;
+  double worst = 0;
+  for (std::size_t i = 0; i < ta.rows.size(); ++i) {
+    const std::string& e = ta.rows[i][static_cast<std::size_t>(event)];
+    EXPECT_EQ(tb.rows[i][static_cast<std::size_t>(tb.col("event"))], e) << i;
+    changes += e == "change";
+    for (int c = ta.col("fx_comp"); c < event; ++c) {
+      const std::string& name = ta.header[static_cast<std::size_t>(c)];
+      const std::string& u = ta.rows[i][static_cast<std::size_t>(c)];
+      const std::string& v = tb.rows[i][static_cast<std::size_t>(tb.col(name))];
+      ASSERT_EQ(u.empty(), v.empty()) << name << " row " << i;
+      if (!u.empty()) worst = std::max(worst, std::abs(std::stod(u) - std::stod(v)));
+    }
+  }
+  EXPECT_EQ(changes, 2);  // the grasp and the release: the log's events
+  EXPECT_LT(worst, 1e-7);
 }
 
 }  // namespace

@@ -13,6 +13,8 @@
 // written with write_csv.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <filesystem>
 #include <numbers>
 #include <random>
@@ -296,9 +298,11 @@ class MotionCsvTest : public ::testing::Test {
   }
 
   // The in-memory path and the stream, compared; returns the stream's result.
+  // (`model`: the log's model when it is not the URDF's at log.sensor.)
   MotionIdentification compare(const std::string& file, const MotionLog& log,
-                               const StreamOptions& so, const MotionDataOptions& data = {}) {
-    const Model model = load_urdf(test::kUrLikeUrdf, log.sensor);
+                               const StreamOptions& so, const MotionDataOptions& data = {},
+                               const Model* other = nullptr) {
+    const Model model = other ? *other : load_urdf(test::kUrLikeUrdf, log.sensor);
     MotionDataReport report;
     const Samples s = in_memory(model, file, data, report);
     const BaseParameters base = find_base_parameters(model, motion_base_options(s, log.offset));
@@ -455,17 +459,104 @@ TEST_F(MotionCsvTest, WristSensorWithTheArmJointsAbove) {
   }
 }
 
+// A tool on wrist_3_link, gravity and the sensor's motion from the arm's
+// joints (velocities derived), no offset.
+MotionLog wrist_log_derived() {
+  MotionLog log;
+  log.sensor = "wrist_3_link";
+  log.gravity_columns = false;
+  log.upstream_velocities = false;
+  log.offset = false;
+  return log;
+}
+
+TEST_F(MotionCsvTest, WristSensorPoseInMemoryAsInTheStream) {
+  // The wrist log with the arm's joints replaced by the sensor's pose in the
+  // world (qx,qy,qz,qw from the arm's own kinematics, every fifth row's sign
+  // negated, and x,y,z), velocities derived, then given (the quaternion's
+  // rates from the sensor frame's body rates of upstream_kinematics: qd = q
+  // (x) (0, w) / 2, qdd = (qd (x) (0, w) + q (x) (0, dw)) / 2, negated with
+  // it; xdd = R a, xd = 0: nothing reads it): the stream (its blocks and
+  // margins) gives the in-memory fit, the sensor moves, and the fit is the
+  // joints' (to a small fraction of its std when the filter derives: it
+  // smooths other signals; to rounding when the rates are given).
+  const Model arm = load_urdf(test::kUrLikeUrdf);
+  const int wrist = arm.find_link("wrist_3_link");
+  for (const bool given : {false, true}) {
+    SCOPED_TRACE(given ? "given" : "derived");
+    MotionLog log = wrist_log_derived();
+    log.upstream_velocities = given;
+    const Model model = load_urdf(test::kUrLikeUrdf, log.sensor);
+    const std::string f = write("pose.csv", log, [&](auto& header, auto& rows) {
+      const auto column = [&](const std::string& name) {
+        return static_cast<size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+      };
+      const size_t first_other = given ? 19 : 7;  // after t and the joints' columns
+      KinematicsData kin(arm);
+      const auto quat = [](const Eigen::Vector3d& v) {
+        return Eigen::Quaterniond(0, v.x(), v.y(), v.z());
+      };
+      for (size_t i = 0; i < rows.size(); ++i) {
+        Eigen::VectorXd q(arm.num_joints()), qd = Eigen::VectorXd::Zero(arm.num_joints()), qdd = qd;
+        for (int j = 0; j < arm.num_joints(); ++j) {
+          const std::string& name = arm.joints[static_cast<size_t>(j)].name;
+          q[j] = std::stod(rows[i][column(name)]);
+          if (given) {
+            qd[j] = std::stod(rows[i][column(name + "_vel")]);
+            qdd[j] = std::stod(rows[i][column(name + "_acc")]);
+          }
+        }
+        forward_kinematics(arm, kin, q);
+        const Eigen::Matrix3d R = kin.rotation[wrist];
+        Eigen::Quaterniond h(R);
+        if (i % 5 == 0) h.coeffs() = -h.coeffs();
+        std::vector<double> v = {h.x(), h.y(), h.z(), h.w()};
+        for (int k = 0; k < 3; ++k) v.push_back(kin.position[wrist][k]);
+        if (given) {  // the arm's joints are the wrist model's upstream joints, in order
+          const SensorPose p = upstream_kinematics(model, q, qd, qdd);
+          const Eigen::Quaterniond hd = h * quat(0.5 * p.motion.omega);
+          Eigen::Quaterniond hdd = hd * quat(0.5 * p.motion.omega);
+          hdd.coeffs() += (h * quat(0.5 * p.motion.omega_dot)).coeffs();
+          const Eigen::Vector3d xdd = R * p.motion.accel;
+          v.insert(v.end(), {hd.x(), hd.y(), hd.z(), hd.w(), 0, 0, 0});
+          v.insert(v.end(), {hdd.x(), hdd.y(), hdd.z(), hdd.w(), xdd.x(), xdd.y(), xdd.z()});
+        }
+        std::vector<std::string> row = {rows[i][0]};
+        for (const double x : v) row.push_back(format_number(x));
+        row.insert(row.end(), rows[i].begin() + static_cast<std::ptrdiff_t>(first_other),
+                   rows[i].end());
+        rows[i] = row;
+      }
+      std::vector<std::string> h = {"t"};
+      for (const char* suffix : {"", "_vel", "_acc"}) {
+        if (*suffix && !given) break;
+        for (const char* n : {"qx", "qy", "qz", "qw", "x", "y", "z"})
+          h.push_back(std::string(n) + suffix);
+      }
+      h.insert(h.end(), header.begin() + static_cast<std::ptrdiff_t>(first_other), header.end());
+      header = h;
+    });
+    const Model pose = with_sensor_pose(model, SensorPoseColumns::Quaternion, true);
+    const MotionIdentification m = compare(f, log, small_blocks(), {}, &pose);
+    EXPECT_TRUE(m.base.sensor_moving);
+    EXPECT_EQ(m.report.derived, !given);
+    const std::string g = write("joints.csv", log);
+    const MotionIdentification j = compare(g, log, small_blocks());
+    ASSERT_EQ(j.summary.value.size(), m.summary.value.size());
+    for (Eigen::Index k = 0; k < j.summary.value.size(); ++k)
+      EXPECT_NEAR(m.summary.value[k], j.summary.value[k],
+                  given ? 1e-9 * (1 + std::abs(j.summary.value[k])) : 0.3 * j.summary.stddev[k])
+          << k;
+  }
+}
+
 TEST_F(MotionCsvTest, RootGravityHoldsAfterTheFilterInMemoryAsInTheStream) {
   // Gravity from the arm joints above a wrist sensor, in a root frame whose
   // gravity is not the default, velocities derived: after the filter the
   // in-memory samples' gravity is the given root gravity turned into the
   // sensor frame at the filtered upstream positions (it once fell back to
   // the default root gravity there, which the stream never did).
-  MotionLog log;
-  log.sensor = "wrist_3_link";
-  log.gravity_columns = false;
-  log.upstream_velocities = false;
-  log.offset = false;
+  const MotionLog log = wrist_log_derived();
   const std::string f = write("root_gravity.csv", log);
   MotionDataOptions data;
   data.samples.root_gravity = Eigen::Vector3d(1.2, -0.7, -9.7);

@@ -127,6 +127,88 @@ Eigen::Vector3d fixed_sensor_gravity(const Model& model, const Eigen::Vector3d& 
   return upstream_kinematics(model, none, none, none).rotation.transpose() * root_gravity;
 }
 
+namespace {
+
+// The sensor's pose from a log's pose columns (Model::pose), as every reader
+// leaves them (normalise_pose: a matrix turned into a quaternion): qu the
+// orientation qx,qy,qz,qw (world from sensor), then x,y,z when given; qdu,
+// qddu their derivatives (empty: at rest). Body-frame rates of a quaternion
+// q: omega = 2 Im(q* (x) qd) / |q|^2 and omega_dot = 2 Im(q* (x) qdd) / |q|^2
+// (the real part of q* (x) qd is half |q|^2's rate, and d/dt Im(q* (x) qd) =
+// Im(q* (x) qdd): qd* (x) qd is real; the filter's smoothed q is a unit
+// quaternion only to its rounding, hence the division). The origin's
+// acceleration without gravity in the sensor frame is R^T xdd.
+SensorPose pose_kinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,
+                           const Eigen::Ref<const Eigen::VectorXd>& qdu,
+                           const Eigen::Ref<const Eigen::VectorXd>& qddu) {
+  SensorPose out;
+  const bool moving = qdu.size() > 0;
+  const bool position =
+      model.num_upstream_joints() > (model.pose == SensorPoseColumns::Quaternion ? 4 : 9);
+  // Im(a* (x) b) for quaternions x,y,z,w: a_w b_v - b_w a_v - a_v x b_v.
+  const auto im_conj_product = [](const double* a, const double* b) {
+    const Eigen::Vector3d av(a[0], a[1], a[2]), bv(b[0], b[1], b[2]);
+    return Eigen::Vector3d(a[3] * bv - b[3] * av - av.cross(bv));
+  };
+  const Eigen::Quaterniond q(qu[3], qu[0], qu[1], qu[2]);
+  out.rotation = q.normalized().toRotationMatrix();
+  if (moving) {
+    if (!position)
+      throw InputError(
+          "the sensor's pose has no position columns x,y,z: in motion its origin's acceleration "
+          "is unknown; add x,y,z (m, world frame)");
+    const double n2 = q.squaredNorm();
+    out.motion.omega = 2.0 / n2 * im_conj_product(qu.data(), qdu.data());
+    out.motion.omega_dot = 2.0 / n2 * im_conj_product(qu.data(), qddu.data());
+    out.motion.accel = out.rotation.transpose() * Eigen::Vector3d(qddu.segment<3>(4));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string normalise_pose(SensorPoseColumns pose, int size, double* qu) {
+  constexpr double tol = kPoseTolerance;
+  if (pose == SensorPoseColumns::Quaternion) {
+    const double n = std::sqrt(qu[0] * qu[0] + qu[1] * qu[1] + qu[2] * qu[2] + qu[3] * qu[3]);
+    if (!(std::abs(n - 1.0) <= tol))
+      return fmt::format(
+          "columns qx,qy,qz,qw: the quaternion ({:.6g}, {:.6g}, {:.6g}, {:.6g}) has norm {:.6g}, "
+          "not 1 (|norm - 1| > {:g}): not an orientation",
+          qu[0], qu[1], qu[2], qu[3], n, tol);
+    for (int k = 0; k < 4; ++k) qu[k] /= n;
+  } else if (pose == SensorPoseColumns::Matrix) {
+    using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+    const Eigen::Matrix3d R = Eigen::Map<const RowMajor3>(qu);
+    const double orth = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+    const double det = R.determinant();
+    if (!(orth <= tol) || !(std::abs(det - 1.0) <= 3 * tol))
+      return fmt::format(
+          "columns r11..r33: the matrix is not a rotation (R^T R - 1 up to {:.3g}, det R = {:.6g}; "
+          "a rotation has 0 and 1, within {:g})",
+          orth, det, tol);
+    // As a quaternion: the filter then smooths and differentiates its four
+    // slowly varying numbers (a matrix's nine are products of them, with
+    // twice the frequencies), as for a quaternion given.
+    const Eigen::Quaterniond q = Eigen::Quaterniond(R).normalized();
+    double out[12] = {q.x(), q.y(), q.z(), q.w(), 0, 0, 0, 0, 0, 0, 0, 0};
+    if (size > 9) std::copy_n(qu + 9, 3, out + 4);
+    std::copy_n(out, size, qu);
+  }
+  return "";
+}
+
+void continue_pose_sign(SensorPoseColumns pose, const double* previous, double* qu, double* qdu,
+                        double* qddu) {
+  if (pose == SensorPoseColumns::None) return;
+  const double dot =
+      previous[0] * qu[0] + previous[1] * qu[1] + previous[2] * qu[2] + previous[3] * qu[3];
+  if (dot < 0)
+    for (double* v : {qu, qdu, qddu})
+      if (v)
+        for (int k = 0; k < 4; ++k) v[k] = -v[k];
+}
+
 SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& qu,
                                const Eigen::Ref<const Eigen::VectorXd>& qdu,
                                const Eigen::Ref<const Eigen::VectorXd>& qddu) {
@@ -137,6 +219,7 @@ SensorPose upstream_kinematics(const Model& model, const Eigen::Ref<const Eigen:
     detail::check_size("upstream_kinematics", "qddu", qddu.size(), nu,
                        "the joints above the sensor");
   }
+  if (model.pose != SensorPoseColumns::None) return pose_kinematics(model, qu, qdu, qddu);
   SensorPose out;
   const bool moving = qdu.size() > 0;
   Eigen::Vector3d w = Eigen::Vector3d::Zero(), dw = w, a = w;
@@ -162,7 +245,7 @@ void upstream_link_poses(const Model& model, const Eigen::Ref<const Eigen::Vecto
                          std::vector<Eigen::Isometry3d>& out) {
   detail::check_size("upstream_link_poses", "qu", qu.size(), model.num_upstream_joints(),
                      "the joints above the sensor");
-  out.resize(model.upstream.size());
+  out.resize(model.upstream.size());  // none for a pose from columns (Model::pose)
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   for (size_t k = 0; k < model.upstream.size(); ++k) {
     const ChainStep& step = model.upstream[k];

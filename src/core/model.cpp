@@ -96,4 +96,26 @@ Model hold_joints(Model model, const std::vector<std::pair<std::string, double>>
   return model;
 }
 
+Model with_sensor_pose(Model model, SensorPoseColumns pose, bool position) {
+  model.upstream.clear();
+  model.upstream_joints.clear();
+  model.pose = pose;
+  if (pose == SensorPoseColumns::None) return model;
+  std::vector<const char*> names;
+  if (pose == SensorPoseColumns::Quaternion)
+    names.assign(std::begin(kPoseQuaternion), std::end(kPoseQuaternion));
+  else
+    names.assign(std::begin(kPoseMatrix), std::end(kPoseMatrix));
+  if (position) names.insert(names.end(), std::begin(kPosePosition), std::end(kPosePosition));
+  for (const char* n : names) {
+    Joint j;
+    j.name = n;
+    j.type = JointType::Prismatic;  // a plain number: no _deg column
+    j.link = -1;
+    j.limited = false;
+    model.upstream_joints.push_back(j);
+  }
+  return model;
+}
+
 }  // namespace massid

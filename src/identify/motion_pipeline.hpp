@@ -319,15 +319,35 @@ void prepared_rows(const MotionPlan& plan, const FilterSetup* f, const ParsedBlo
   std::vector<double> value(W), first(std::max(plan.nd, 1)), second(std::max(plan.nd, 1));
   double gravity[3], sensor[9];
   const bool blocks = plan.cols.block >= 0;
+  // A quaternion of the sensor's pose is filtered with its sign continuous
+  // from row to row, given rates with it (continue_pose_sign; the rates are
+  // the same for either sign of the whole window): the rows pushed are copies.
+  const bool signs = plan.up && plan.model && plan.model->pose != SensorPoseColumns::None;
+  std::vector<double> pushed(signs ? W : 0), previous(signs ? 4 : 0);
+  bool any = false;
+  const auto push = [&](const double* r, int line) {
+    if (signs) {
+      std::copy_n(r, W, pushed.data());
+      if (any)
+        continue_pose_sign(plan.model->pose, previous.data(), pushed.data() + plan.o_qu,
+                           plan.has_qdu ? pushed.data() + plan.o_qdu : nullptr,
+                           plan.has_qdu ? pushed.data() + plan.o_qddu : nullptr);
+      std::copy_n(pushed.data() + plan.o_qu, 4, previous.data());
+      any = true;
+      filter.push(pushed.data(), r[W], line);
+    } else {
+      filter.push(r, r[W], line);
+    }
+  };
   for (int i = 0; i < b.margin_rows; ++i) {
     const double* r = b.margin.data() + static_cast<size_t>(i) * plan.stride;
-    filter.push(r, r[W], b.margin_line[i]);
+    push(r, b.margin_line[i]);
     filter.pop(nullptr, nullptr, nullptr, nullptr, nullptr);
   }
   for (int i = 0; i < b.n; ++i) {
     const double* r = b.row(i);
     if (i == 0 ? !b.continues : (blocks && r[W + 1] != b.row(i - 1)[W + 1])) filter.reset();
-    filter.push(r, r[W], b.line[i]);
+    push(r, b.line[i]);
     double t;
     int line;
     if (!filter.pop(value.data(), first.data(), second.data(), &t, &line)) continue;

@@ -75,7 +75,9 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
   // wrist sensor), also listed under "upstream_joints".
   json joints = json::array(), upstream = json::array();
   for (const Joint& jt : model.joints) joints.push_back(jt.name);
-  if (s && model.num_upstream_joints() > 0 && (s->gravity_from_upstream || base.sensor_moving))
+  // (A log's pose columns, Model::pose, are no joints: "gravity_from" names them.)
+  if (s && model.num_upstream_joints() > 0 && model.pose == SensorPoseColumns::None &&
+      (s->gravity_from_upstream || base.sensor_moving))
     for (const Joint& jt : model.upstream_joints) {
       joints.push_back(jt.name);
       upstream.push_back(jt.name);
@@ -88,9 +90,11 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     j["held_joints"] = held;
   }
   if (s) {
-    j["gravity_from"] = s->gravity_from_force      ? "force"
-                        : s->gravity_from_upstream ? "upstream joints"
-                                                   : "columns";
+    j["gravity_from"] =
+        s->gravity_from_force ? "force"
+        : s->gravity_from_upstream
+            ? (model.pose == SensorPoseColumns::None ? "upstream joints" : "sensor pose")
+            : "columns";
     j["samples"] = s->samples;
     if (s->delay.applied) j["delay"] = {{"value", s->delay.value}, {"std", s->delay.std}};
     if (s->rest.continuous)

@@ -33,11 +33,14 @@ CsvTable keep_lines(CsvTable table, const std::vector<int>& lines) {
 
 LogPrediction predict_log(const IdentifiedModel& identified, CsvTable table,
                           const std::string& source, const PredictLogOptions& options) {
-  const Model& model = identified.model();
   LogPrediction out;
   out.source = source;
   const bool motion = identified.dynamic();
   SampleOptions read = options.motion.samples;
+  // The sensor's pose from columns, when the header has them.
+  const Model model =
+      with_pose_columns(identified.model(), table.header,
+                        fmt::format("{}:{}", table.source, table.header_line), read);
   read.sensor_motion = motion;  // a static prediction ignores a partial wx..az (an IMU's ax..az)
   out.column_note =
       column_note(model, table.header, fmt::format("{}:{}", table.source, table.header_line),

@@ -69,12 +69,20 @@ ColumnGroup suffixed(const std::vector<Joint>& joints, const std::vector<std::st
   return out;
 }
 
+bool is_pose_role(const std::string& role) {
+  const auto in = [&](const auto& group) {
+    return std::any_of(std::begin(group), std::end(group),
+                       [&](const char* n) { return role == n; });
+  };
+  return in(kPoseQuaternion) || in(kPoseMatrix) || in(kPosePosition);
+}
+
 // The roles a column can be bound to: the fixed ones, then every joint's.
 bool is_role(const Model& model, const std::string& role) {
   static const std::set<std::string> fixed = {
       "fx", "fy", "fz", "mx",  "my",  "mz",  "gx", "gy", "gz", "t",          "block",
       "wx", "wy", "wz", "dwx", "dwy", "dwz", "ax", "ay", "az", "tilt_x_deg", "tilt_y_deg"};
-  if (fixed.count(role)) return true;
+  if (fixed.count(role) || is_pose_role(role)) return true;
   for (const auto* joints : {&model.joints, &model.upstream_joints})
     for (const Joint& j : *joints)
       if (role == j.name || role == j.name + "_vel" || role == j.name + "_acc" ||
@@ -167,6 +175,79 @@ std::vector<std::pair<std::string, double>> unlogged_joints(const Model& model,
   return out;
 }
 
+Model with_pose_columns(Model model, const std::vector<std::string>& header,
+                        const std::string& where, const ColumnNames& names) {
+  if (model.pose != SensorPoseColumns::None) return model;
+  // A role the header has: bound, or a column of its name not bound to another role.
+  const auto has = [&](const std::string& role) {
+    for (const auto& b : names.bind)
+      if (b.first == role) return true;
+    const bool elsewhere = std::any_of(names.bind.begin(), names.bind.end(), [&](const auto& b) {
+      return b.second == role && b.first != role;
+    });
+    return find(header, role) >= 0 && !elsewhere;
+  };
+  // Of a group: the names present, and whether all are.
+  const auto present = [&](const auto& group, bool& all) {
+    std::vector<std::string> out, missing;
+    for (const char* n : group) (has(n) ? out : missing).push_back(n);
+    all = missing.empty();
+    if (!out.empty() && !all)
+      throw InputError(fmt::format(
+          "{}: column(s) {} missing (the header has some of the sensor's pose {} but not all): "
+          "give all of them, or rename the columns that are not these",
+          where, fmt::join(missing, ","), fmt::join(std::begin(group), std::end(group), ",")));
+    return out;
+  };
+  bool quaternion = false, matrix = false, position = false;
+  const std::vector<std::string> q = present(kPoseQuaternion, quaternion);
+  const std::vector<std::string> r = present(kPoseMatrix, matrix);
+  if (!quaternion && !matrix) return model;  // x,y,z alone: no pose, columns as before
+  present(kPosePosition, position);
+  const std::string pose = quaternion ? "qx,qy,qz,qw" : "r11..r33";
+  if (quaternion && matrix)
+    throw InputError(fmt::format(
+        "{}: the header has both a quaternion qx,qy,qz,qw and a rotation matrix r11..r33 for the "
+        "sensor's orientation: give one of them",
+        where));
+  // Other sources of what the pose gives: the columns `names` the header has,
+  // named as `before` OTHERS `after`.
+  const auto refuse_beside = [&](const std::vector<std::string>& names, const std::string& before,
+                                 const std::string& after) {
+    std::vector<std::string> others;
+    for (const std::string& n : names)
+      if (has(n)) others.push_back(n);
+    if (!others.empty())
+      throw InputError(fmt::format("{}: the sensor's pose ({}) and {}{}{}", where, pose, before,
+                                   fmt::join(others, ","), after));
+  };
+  refuse_beside({"gx", "gy", "gz", "tilt_x_deg", "tilt_y_deg"}, "columns ",
+                " both give gravity in the sensor frame: give one of them (with the pose, gravity "
+                "is --root-gravity turned into the sensor frame)");
+  refuse_beside({std::begin(kSensorMotion), std::end(kSensorMotion)}, "columns ",
+                " both give the sensor frame's motion: give one of them (with the pose, its "
+                "motion is derived from the pose)");
+  std::vector<std::string> joints;
+  for (const Joint& j : model.upstream_joints) {
+    joints.push_back(j.name);
+    joints.push_back(j.name + "_deg");
+  }
+  refuse_beside(joints, fmt::format("the joints above sensor link '{}' (", model.sensor_link()),
+                ") both give its orientation: give one of them");
+  if (matrix)
+    for (const char* n : kPoseMatrix)
+      for (const char* suffix : {"_vel", "_acc"})
+        if (has(std::string(n) + suffix))
+          throw InputError(fmt::format(
+              "{}: column '{}{}': the rates of a rotation matrix are not read (the pose's rates "
+              "are read for a quaternion, qx_vel..qw_vel and qx_acc..qw_acc, with x,y,z's): give "
+              "the orientation as a quaternion, or no rates (derived from t)",
+              where, n, suffix));
+  return with_sensor_pose(std::move(model),
+                          quaternion ? SensorPoseColumns::Quaternion : SensorPoseColumns::Matrix,
+                          position);
+}
+
 ColumnMap map_columns(const Model& model, const std::vector<std::string>& header,
                       const std::string& where, WrenchColumns wrench, const ColumnNames& names,
                       bool sensor_motion) {
@@ -182,12 +263,12 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
       for (const auto* js : {&model.joints, &model.upstream_joints})
         for (const Joint& j : *js) joints.push_back(j.name);
       throw InputError(
-          fmt::format(
-              "{}: '{}={}' binds an unknown role '{}': the roles are fx,fy,fz,mx,my,mz, "
-              "gx,gy,gz, t, block, wx,wy,wz,dwx,dwy,dwz,ax,ay,az, tilt_x_deg,tilt_y_deg "
-              "and the joints ({}), also as JOINT_deg, JOINT_vel, JOINT_acc, JOINT_deg_vel, "
-              "JOINT_deg_acc",
-              where, role, name, role, name_list(joints)),
+          fmt::format("{}: '{}={}' binds an unknown role '{}': the roles are fx,fy,fz,mx,my,mz, "
+                      "gx,gy,gz, t, block, wx,wy,wz,dwx,dwy,dwz,ax,ay,az, tilt_x_deg,tilt_y_deg, "
+                      "qx,qy,qz,qw, r11..r33, x,y,z and the joints ({}), also as JOINT_deg, "
+                      "JOINT_vel, JOINT_acc, JOINT_deg_vel, "
+                      "JOINT_deg_acc",
+                      where, role, name, role, name_list(joints)),
           {columns_hint});
     }
     if (!seen_roles.insert(role).second)
@@ -351,7 +432,17 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
   m.unread.assign(ignored.begin() + static_cast<std::ptrdiff_t>(ignored_why.size()), ignored.end());
   const bool no_wrench = m.wrench.empty() && !ignored.empty();
   m.roles = roles;
-  if (renamed.empty() && ignored_why.empty() && !no_wrench) return m;
+  if (renamed.empty() && ignored_why.empty() && !no_wrench && model.pose == SensorPoseColumns::None)
+    return m;
+  if (model.pose != SensorPoseColumns::None) {  // the note says where the pose comes from
+    std::vector<std::string> pose;
+    for (const BoundColumn& b : m.q_upstream) pose.push_back(header[b.column]);
+    renamed.push_back(fmt::format(
+        "the sensor's pose from {} (world from sensor; gravity is --root-gravity turned into the "
+        "sensor frame{})",
+        fmt::join(pose, ","),
+        pose.size() == 4 || pose.size() == 9 ? "; without x,y,z: at rest only" : ""));
+  }
   std::vector<std::string> parts;
   if (!renamed.empty()) parts.push_back("read " + fmt::format("{}", fmt::join(renamed, ", ")));
   if (no_wrench)

@@ -13,6 +13,8 @@
 //   ax ay az                  acceleration, its origin's acceleration (all nine or none)
 //   UP, UP_deg, UP_vel, UP_acc  the joints above the sensor link
 //                             (Model::upstream_joints): all or none, as above
+//   qx qy qz qw | r11..r33,   the sensor's pose instead (with_pose_columns: they
+//   x y z                     are then the model's upstream joints)
 //   fx fy fz mx my mz         the measured wrench: all six or none
 //   gx gy gz                  gravity in the sensor frame, m/s^2: all or none;
 //                             without them gravity comes from the upstream
@@ -96,6 +98,17 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
 std::vector<std::pair<std::string, double>> unlogged_joints(const Model& model,
                                                             const std::vector<std::string>& header,
                                                             const ColumnNames& names);
+
+// The model a header asks for: with the sensor's pose from its columns
+// (with_sensor_pose) when it has qx,qy,qz,qw or r11..r33 (under their names,
+// or bound by `names`), optionally x,y,z; else `model` as it is. InputError
+// (starting with `where`) for a pose in part (some of a group), both a
+// quaternion and a matrix, or a pose beside another source of gravity or of
+// the sensor frame's motion: gx,gy,gz, tilt_x_deg,tilt_y_deg, wx..az, the
+// joints above the sensor link. A model whose pose is set already is
+// returned as it is.
+Model with_pose_columns(Model model, const std::vector<std::string>& header,
+                        const std::string& where, const ColumnNames& names);
 
 // The wrench role (0..5: fx fy fz mx my mz) a recorder's spelling of a column
 // name stands for, or -1 (the canonical names themselves: -1). The one table

@@ -120,6 +120,7 @@ SampleColumns bind(const Model& model, std::string_view text, const std::string&
   c.gravity_from_upstream = map.gravity_from == GravityFrom::UpstreamJoints;
   c.gravity_from_force = map.gravity_from == GravityFrom::Force;
   c.tilt = map.tilt;
+  c.pose = model.pose;
 
   // Values, in read_samples' order of groups.
   c.target.assign(c.header.size(), -1);
@@ -313,6 +314,16 @@ Samples read_file_samples(const Model& model, const std::string& path, int max_r
   if (cols.time >= 0) s.time = Eigen::Map<const Eigen::VectorXd>(t.data(), n);
   s.line = std::move(line);
   return s;
+}
+
+void check_pose_line(const SampleColumns& c, int line_no, double* vals) {
+  const std::string why = normalise_pose(c.pose, c.num_upstream, vals + c.q_up);
+  if (!why.empty()) throw InputError(fmt::format("{}:{}: {}", c.source, line_no, why));
+}
+
+void check_pose(std::string_view text, size_t line_begin, const SampleColumns& c, double* vals) {
+  if (!normalise_pose(c.pose, c.num_upstream, vals + c.q_up).empty())
+    check_pose_line(c, line_number(text, line_begin), vals);
 }
 
 void throw_zero_force(std::string_view text, size_t line_begin, const SampleColumns& c) {

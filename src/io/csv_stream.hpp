@@ -84,6 +84,9 @@ struct SampleColumns {
   int sensor = -1;                         // [9] wx wy wz dwx dwy dwz ax ay az
   int q_up = -1, qd_up = -1, qdd_up = -1;  // [num_upstream]
   int time = -1, block = -1;               // t, block
+  // The sensor's pose from columns (Model::pose): the orientation at q_up is
+  // checked and a quaternion normalised as each line is parsed (normalise_pose).
+  SensorPoseColumns pose = SensorPoseColumns::None;
   ColumnGroup tilt;  // [2 or 0] tilt_x_deg, tilt_y_deg (map_columns), not laid out: bind_value them
   std::string note;  // map_columns' note on the header ("" for none)
   std::vector<std::string> roles;  // map_columns' roles of the columns
@@ -120,6 +123,12 @@ int bind_value(SampleColumns& c, int column, double scale);
                                     const SampleColumns& c, double value);
 // read_samples' test of a block cell.
 inline bool is_block_number(double b) { return b == std::round(b) && std::abs(b) <= 1e9; }
+
+// normalise_pose (kinematics.hpp) of the pose at c.q_up in a parsed line's
+// values (the line at `line_begin`), its InputError naming the file and line.
+void check_pose(std::string_view text, std::size_t line_begin, const SampleColumns& c,
+                double* vals);
+void check_pose_line(const SampleColumns& c, int line_no, double* vals);
 
 // 1-based line number of byte `pos`.
 int line_number(std::string_view text, std::size_t pos);
@@ -261,6 +270,8 @@ std::size_t parse_block(std::string_view text, const SampleColumns& c, std::size
                  ? 1
                  : 0;
     if (kind == 1) {
+      if (c.pose != SensorPoseColumns::None && c.q_up >= 0)
+        check_pose(text, static_cast<std::size_t>(p - base), c, vals.data());
       if (c.gravity_from_tilt) {
         const Eigen::Vector3d gt =
             tilted_gravity(c.root_gravity, Tilt{vals[c.tilt_value], vals[c.tilt_value + 1]});

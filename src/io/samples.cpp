@@ -103,6 +103,31 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
     s.qd_upstream = read_group(table, map.qd_upstream, Order::ByRow);
     s.qdd_upstream = read_group(table, map.qdd_upstream, Order::ByRow);
   }
+  if (!map.q_upstream.empty() && model.pose != SensorPoseColumns::None) {
+    // The sensor's pose: checked, normalised, a quaternion's sign continuous
+    // (with its given rates).
+    const bool rates = s.qd_upstream.cols() > 0;
+    const int nu = static_cast<int>(s.q_upstream.cols());
+    Eigen::VectorXd qu(nu), qdu(rates ? nu : 0), qddu(rates ? nu : 0), previous(nu);
+    for (int r = 0; r < N; ++r) {
+      qu = s.q_upstream.row(r).transpose();
+      const std::string why = normalise_pose(model.pose, nu, qu.data());
+      if (!why.empty()) throw InputError(fmt::format("{}: {}", table.row_where(r), why));
+      if (rates) {
+        qdu = s.qd_upstream.row(r).transpose();
+        qddu = s.qdd_upstream.row(r).transpose();
+      }
+      if (r > 0)
+        continue_pose_sign(model.pose, previous.data(), qu.data(), rates ? qdu.data() : nullptr,
+                           rates ? qddu.data() : nullptr);
+      s.q_upstream.row(r) = qu.transpose();
+      if (rates) {
+        s.qd_upstream.row(r) = qdu.transpose();
+        s.qdd_upstream.row(r) = qddu.transpose();
+      }
+      previous = qu;
+    }
+  }
   if (!map.wrench.empty()) s.wrench = read_group(table, map.wrench, Order::ByRow);
   if (map.time >= 0) {
     s.time.resize(N);
@@ -203,10 +228,16 @@ std::string file_column_note(const Model& model, const std::string& path,
   return detail::bind_header(model, file.text(), path, options, options.sensor_motion).note;
 }
 
+Model with_pose_columns(Model model, const std::vector<std::string>& header,
+                        const std::string& where, const SampleOptions& options) {
+  return detail::with_pose_columns(std::move(model), header, where, options.columns);
+}
+
 Model hold_unlogged_joints(Model model, const std::vector<std::string>& header,
                            const std::string& where, const SampleOptions& options,
                            std::optional<Warning>* note) {
   if (note) note->reset();
+  model = detail::with_pose_columns(std::move(model), header, where, options.columns);
   const auto unlogged = detail::unlogged_joints(model, header, options.columns);
   if (unlogged.empty()) return model;
   model = hold_joints(std::move(model), unlogged);

@@ -35,6 +35,7 @@ enum class GravityFrom { Columns, Upstream, Tilt };
 
 struct Compensator::Impl {
   IdentifiedModel identified;
+  Model reading;  // identified's model as the header asks (with_pose_columns: the sensor's pose)
   std::optional<IdentifiedModelData> data;  // identified's workspace
   detail::SampleColumns columns;
   GravityFrom gravity_from = GravityFrom::Columns;
@@ -51,6 +52,8 @@ struct Compensator::Impl {
   long long tracker_ns = 0;             // its last update's time (time_tracker)
   double last_t = 0.0;                  // the last good line's t (tracking)
   int lines_done = 0;
+  double last_quaternion[4] = {0, 0, 0, 0};  // the sensor's pose's, the last line's
+  bool pose_signed = false;                  // last_quaternion holds a line's
 
   // The clock delay (IdentifiedModel::delay, > 0): line i is predicted for the
   // joint stream at t_i - delay, interpolated linearly between the two lines
@@ -119,7 +122,7 @@ Eigen::Vector3d Compensator::Impl::gravity(const double* v, FrameMotion& sensor)
   }
   // The joints above the sensor link (upstream_sensor_frame, kinematics.hpp).
   if (gravity_from == GravityFrom::Upstream || upstream_motion) {
-    const Model& model = identified.model();
+    const Model& model = reading;
     Eigen::Vector3d g;
     Eigen::Matrix<double, 9, 1> m;
     upstream_sensor_frame(model, v + c.q_up, upstream_motion ? v + c.qd_up : nullptr,
@@ -136,13 +139,19 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.identified = identified;
-  const Model& model = identified.model();
   const std::string& params_name = identified.source();
   m.options = options;
   m.dynamic = identified.dynamic();
   SampleOptions read;
   read.root_gravity = options.root_gravity;
   read.columns = options.columns;
+  {  // the sensor's pose from columns, when the header has them
+    detail::SampleColumns h;
+    detail::read_header(text, source, h);
+    m.reading = with_pose_columns(identified.model(), h.header,
+                                  fmt::format("{}:{}", source, h.header_line), read);
+  }
+  const Model& model = m.reading;
   m.columns = detail::bind_header(model, text, source, read, m.dynamic);
   detail::SampleColumns& c = m.columns;
   const std::vector<std::string>& header = c.header;
@@ -192,8 +201,13 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
     m.upstream_motion = c.q_up >= 0 && c.qd_up >= 0 && c.sensor < 0;
     if (c.q_up >= 0 && c.qd_up < 0 && c.sensor < 0)
       notes.push_back(
-          "the joints above the sensor link have no _vel,_acc columns (and there are no wx..az): "
-          "the sensor frame is taken at rest");
+          model.pose != SensorPoseColumns::None
+              ? "the sensor's pose has no _vel,_acc columns (its rates, as qx_vel..qw_vel or "
+                "r11_vel..r33_vel, x_vel,y_vel,z_vel and the _acc alike; compensate does not "
+                "derive them from t: that filter needs later samples): the sensor frame is taken "
+                "at rest"
+              : "the joints above the sensor link have no _vel,_acc columns (and there are no "
+                "wx..az): the sensor frame is taken at rest");
   } else {
     // Velocity columns of the joints below the sensor or above it (a wrist).
     bool moving = false;
@@ -291,6 +305,17 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
     return {};  // a comment
   }
   if (kind < 0 && !detail::parse_row_slow(line, line_no, c, v)) return {};
+  if (c.pose != SensorPoseColumns::None && c.q_up >= 0) {
+    // The sensor's pose: checked, normalised, a quaternion's sign continuous
+    // from line to line (with its given rates: the clock delay interpolates).
+    detail::check_pose_line(c, line_no, v);
+    if (m.pose_signed)
+      continue_pose_sign(c.pose, m.last_quaternion, v + c.q_up,
+                         c.qd_up >= 0 ? v + c.qd_up : nullptr,
+                         c.qdd_up >= 0 ? v + c.qdd_up : nullptr);
+    std::copy_n(v + c.q_up, 4, m.last_quaternion);
+    m.pose_signed = true;
+  }
 
   // The joint stream: this line's, or with a clock delay the one at t - delay.
   const double* js = m.delay > 0.0 ? m.delayed_values(v, line_no) : v;

@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <string>
 #include <vector>
 
 #include "massid/core/model.hpp"
@@ -84,6 +85,9 @@ void upstream_link_poses(const Model& model, const Eigen::Ref<const Eigen::Vecto
 Eigen::Vector3d fixed_sensor_gravity(const Model& model, const Eigen::Vector3d& root_gravity);
 
 // Gravity and the sensor frame's motion from the joints above the sensor link,
+// or from a log's pose columns (Model::pose, with_sensor_pose: qu the pose as
+// normalise_pose leaves it, qdu and qddu its derivatives; InputError in
+// motion without x,y,z),
 // the one computation of every reader, the compensator and the C interface.
 // qu [num_upstream_joints]; gravity [3], when not null: R^T root_gravity in
 // the sensor frame; sensor_motion [9], when not null: wx wy wz, dwx dwy dwz,
@@ -92,6 +96,24 @@ Eigen::Vector3d fixed_sensor_gravity(const Model& model, const Eigen::Vector3d& 
 void upstream_sensor_frame(const Model& model, const double* qu, const double* qdu,
                            const double* qddu, const Eigen::Vector3d& root_gravity, double* gravity,
                            double* sensor_motion);
+
+// A log's sensor pose (`pose`: Model::pose): its values qu [size] as read
+// (Model::upstream_joints order) checked and made what upstream_sensor_frame
+// takes: a quaternion normalised; a matrix r11..r33 turned into the
+// quaternion qx,qy,qz,qw, then x,y,z when given, then zeros (the motion
+// filter smooths and differentiates those). In place. "" when good; else why
+// not, naming the columns (the caller adds the file and line): a quaternion
+// whose norm is off 1 by more than kPoseTolerance, a matrix farther than that
+// from a rotation. Nothing to do for None.
+constexpr double kPoseTolerance = 1e-3;
+std::string normalise_pose(SensorPoseColumns pose, int size, double* qu);
+
+// q and -q are one rotation: the quaternion qu [4] of a normalised pose
+// (normalise_pose) negated when it points away from the previous row's, so
+// that the motion filter smooths and differentiates a continuous signal; its
+// given rates qdu, qddu [4] (when not null) with it. Nothing for None.
+void continue_pose_sign(SensorPoseColumns pose, const double* previous, double* qu,
+                        double* qdu = nullptr, double* qddu = nullptr);
 
 // The robot's size: the largest distance from the sensor origin of a link
 // origin or centre of mass over 256 configurations spread over the joints'

@@ -83,6 +83,10 @@ struct ChainStep {
   double joint_scale = 1.0, joint_offset = 0.0;  // a mimic joint: as Link's
 };
 
+// The sensor's pose given by a log instead of the joints above the sensor
+// link (with_sensor_pose).
+enum class SensorPoseColumns { None, Quaternion, Matrix };
+
 struct Model {
   std::string name;                // URDF robot name
   std::string source;              // file it was loaded from, for messages
@@ -100,6 +104,9 @@ struct Model {
   std::string root_link;  // the URDF root link
   std::vector<ChainStep> upstream;
   std::vector<Joint> upstream_joints;
+  // A log's pose columns instead of that chain (with_sensor_pose): not None,
+  // upstream is empty and upstream_joints are the pose's columns.
+  SensorPoseColumns pose = SensorPoseColumns::None;
 
   int num_links() const { return static_cast<int>(links.size()); }
   int num_joints() const { return static_cast<int>(joints.size()); }
@@ -115,5 +122,22 @@ struct Model {
 // experiment can determine (the paper held the PUMA's wrist). InputError for a
 // name that is not a movable joint of the model.
 Model hold_joints(Model model, const std::vector<std::pair<std::string, double>>& held);
+
+// The columns of the sensor's pose in the world frame (interface.md, "The
+// sensor's pose instead of joints"): the orientation, world from sensor, as a
+// unit quaternion or a rotation matrix (row-major), then the origin (m).
+constexpr const char* kPoseQuaternion[4] = {"qx", "qy", "qz", "qw"};
+constexpr const char* kPoseMatrix[9] = {"r11", "r12", "r13", "r21", "r22",
+                                        "r23", "r31", "r32", "r33"};
+constexpr const char* kPosePosition[3] = {"x", "y", "z"};
+
+// The model with the sensor's pose read from columns instead of the joints
+// above the sensor link: Model::upstream emptied, Model::upstream_joints the
+// pose's columns (kPoseQuaternion or kPoseMatrix, then kPosePosition when
+// `position`), each a joint without limits. Every reader then binds them as
+// it binds upstream joints, the motion filter differentiates them as it does
+// joints, and upstream_sensor_frame turns them into gravity and the sensor
+// frame's motion. Model::pose says which.
+Model with_sensor_pose(Model model, SensorPoseColumns pose, bool position);
 
 }  // namespace massid

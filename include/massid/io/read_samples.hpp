@@ -100,6 +100,19 @@ std::string file_column_note(const Model& model, const std::string& path,
 std::vector<std::string> column_roles(const Model& model, const std::vector<std::string>& header,
                                       const SampleOptions& options);
 
+// The model a log's header asks for when it gives the sensor's pose in the
+// world frame instead of the joints above the sensor link (interface.md, "The
+// sensor's pose instead of joints"): qx,qy,qz,qw or r11..r33, optionally
+// x,y,z (under their names or bound by options.columns) become the model's
+// upstream joints (with_sensor_pose, model.hpp), read, filtered and turned
+// into gravity and the sensor frame's motion as those joints are. The model
+// as it is without them. InputError starting with `where` for a pose given in
+// part, as a quaternion and a matrix at once, or beside gx,gy,gz, the tilt,
+// wx..az or the joints above the sensor link. Every door that reads a log
+// calls it (hold_unlogged_joints does) before binding the header.
+Model with_pose_columns(Model model, const std::vector<std::string>& header,
+                        const std::string& where, const SampleOptions& options);
+
 // The joints below the sensor link that a log has no column for (not under
 // its name, as JOINT_deg, nor bound by options.columns), held still at their
 // URDF reference position: 0, or the limit nearest to 0 when 0 is outside the
@@ -112,7 +125,7 @@ std::vector<std::string> column_roles(const Model& model, const std::vector<std:
 // values, or give their columns) and the columns not read that look like
 // joint columns (a misspelled joint would otherwise be held silently); unset
 // when none was held. `header` as read_samples takes it; `where` starts the
-// note.
+// note. The sensor's pose columns are bound first (with_pose_columns).
 Model hold_unlogged_joints(Model model, const std::vector<std::string>& header,
                            const std::string& where, const SampleOptions& options,
                            std::optional<Warning>* note = nullptr);
