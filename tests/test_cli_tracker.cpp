@@ -247,7 +247,11 @@ TEST_F(CliTracker, TrackedLogWithPoseColumnsGivesTheEstimatesOfTheJoints) {
       const std::string& u = ta.rows[i][static_cast<std::size_t>(c)];
       const std::string& v = tb.rows[i][static_cast<std::size_t>(tb.col(name))];
       ASSERT_EQ(u.empty(), v.empty()) << name << " row " << i;
-      if (!u.empty()) worst = std::max(worst, std::abs(std::stod(u) - std::stod(v)));
+      // to rounding: relative beyond 1 (payload_c_std reaches 1e3 m while the
+      // mass is near 0, at a change)
+      if (!u.empty())
+        worst = std::max(
+            worst, std::abs(std::stod(u) - std::stod(v)) / std::max(1.0, std::abs(std::stod(u))));
     }
   }
   EXPECT_EQ(changes, 2);  // the grasp and the release: the log's events
