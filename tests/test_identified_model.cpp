@@ -225,6 +225,17 @@ TEST(IdentifiedModel, ParamsOfAnotherRobotAndAnEmptyModelAreErrors) {
     EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
   }
   fs::remove(path);
+  // A file whose base parameters are gone (a fuzzer's find: the factorisation
+  // of an empty matrix asserted in Eigen): named, an InputError.
+  ParamsFile none = params;
+  none.base_parameters.clear();
+  const Model puma = load_urdf(kPuma);
+  try {
+    (void)IdentifiedModel::from_params(puma, none);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has no base parameters"), std::string::npos) << e.what();
+  }
   const IdentifiedModel empty;
   EXPECT_TRUE(empty.empty());
   EXPECT_THROW((void)empty.offset(), ArgumentError);

@@ -149,6 +149,13 @@ Eigen::VectorXd values_in_basis(const ParamsFile& params, const Model& model,
     v.head(base.num_mass()) = vf;
     return v;
   }
+  // A file without base parameters (a hand-edited or truncated file) spans
+  // nothing: named, before a factorisation of an empty matrix.
+  if (Kf.rows() == 0)
+    throw InputError(fmt::format(
+        "{}: has no base parameters (\"base_parameters\" is empty), and {} with sensor link '{}' "
+        "has {}: identify again, or check that the file is whole",
+        params.source, model.source, model.sensor_link(), base.num_mass()));
   // Another basis of the same space: K = A Kf: solve A^T from Kf^T A^T = K^T,
   // then check the fit.
   const Eigen::MatrixXd At = Kf.transpose().colPivHouseholderQr().solve(base.K.transpose());
