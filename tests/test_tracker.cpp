@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -390,6 +391,45 @@ TEST(Tracker, CompensatorTimesTheUpdateOnlyWithStats) {
     else
       EXPECT_EQ(total, 0);
   }
+}
+
+// The written inertia's projection against the textbook one with
+// eigenvectors (second moments clamped at zero, moments rebuilt), on random
+// symmetric matrices, a solid body (unchanged), and the bodies whose second
+// moments have exact zeros: a rod and a disc are their own projection (the
+// eigenprojection formula divided by a zero gap there: NaN written).
+TEST(Tracker, ConsistentInertiaIsTheNearestBodyAndKeepsRodsAndDiscs) {
+  const auto textbook = [](const Eigen::Matrix3d& I) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
+    const Eigen::Vector3d l = eig.eigenvalues();
+    const Eigen::Vector3d d = (Eigen::Vector3d::Constant(0.5 * l.sum()) - l).cwiseMax(0.0);
+    const Eigen::Vector3d lp = Eigen::Vector3d::Constant(d.sum()) - d;
+    return Eigen::Matrix3d(eig.eigenvectors() * lp.asDiagonal() * eig.eigenvectors().transpose());
+  };
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> N(0.0, 1.0);
+  for (int n = 0; n < 2000; ++n) {
+    Eigen::Matrix3d A;
+    for (int k = 0; k < 9; ++k) A(k / 3, k % 3) = N(rng);
+    const Eigen::Matrix3d I = 1e-3 * (A + A.transpose());
+    EXPECT_LT((consistent_inertia(I) - textbook(I)).norm(), 1e-12 * (1e-3 + I.norm())) << I;
+  }
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (const Eigen::Vector3d& moments :
+       {Eigen::Vector3d(2e-3, 1.5e-3, 1e-3), Eigen::Vector3d(0.0, 1e-3, 1e-3),
+        Eigen::Vector3d(1e-3, 1e-3, 2e-3), Eigen::Vector3d(0.0, 0.0, 0.0)}) {
+    for (const Eigen::Matrix3d& turn : {Eigen::Matrix3d(Eigen::Matrix3d::Identity()), R}) {
+      const Eigen::Matrix3d I = turn * moments.asDiagonal() * turn.transpose();
+      const Eigen::Matrix3d P = consistent_inertia(I);
+      ASSERT_TRUE(P.allFinite()) << moments.transpose();
+      EXPECT_LT((P - I).norm(), 1e-15) << moments.transpose();
+    }
+  }
+  // Not a body (one moment beyond the sum of the others): projected to one.
+  const Eigen::Matrix3d bad = Eigen::Vector3d(1e-3, 1e-3, 3e-3).asDiagonal();
+  EXPECT_LT((consistent_inertia(bad) - textbook(bad)).norm(), 1e-15);
+  EXPECT_GT((consistent_inertia(bad) - bad).norm(), 1e-4);
 }
 
 }  // namespace

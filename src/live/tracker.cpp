@@ -274,6 +274,37 @@ int farthest_link(const Model& model) {
   return best;
 }
 
+Eigen::Matrix3d consistent_inertia(const Eigen::Matrix3d& I) {
+  // The second moments D = tr(I)/2 - I (eigenvalues d before the clamp):
+  // positive definite, nothing is clamped and I is its own projection;
+  // negative definite, everything is, and it is zero; else the eigen path.
+  const Eigen::Matrix3d D = Eigen::Matrix3d::Identity() * (0.5 * I.trace()) - I;
+  if (tracker_positive_definite(D)) return I;
+  if (tracker_positive_definite(-D)) return Eigen::Matrix3d::Zero();
+  // One or two of d (descending, l ascending) clamp: D+ = D - d_2 P_2 or
+  // d_0 P_0, the eigenprojections P_k = prod_{j != k} (I - l_j) / (l_k -
+  // l_j) (Frobenius; no eigenvectors). The clamped |d| is at most the gap
+  // divided by, so the error stays at round-off of |I|.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(I, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d l = eig.eigenvalues();
+  const Eigen::Vector3d d = Eigen::Vector3d::Constant(0.5 * l.sum()) - l;
+  const Eigen::Matrix3d One = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d Dp;
+  if (d[0] <= 0.0) {
+    Dp.setZero();
+  } else if (d[2] >= 0.0) {
+    // Nothing to clamp (semi-definite, a zero second moment: a rod, a disc),
+    // and an eigenprojection below could divide by a zero gap.
+    Dp = D;
+  } else if (d[1] >= 0.0) {
+    Dp = D - d[2] * ((I - l[0] * One) * (I - l[1] * One)) / ((l[2] - l[0]) * (l[2] - l[1]));
+  } else {
+    Dp = d[0] * ((I - l[1] * One) * (I - l[2] * One)) / ((l[0] - l[1]) * (l[0] - l[2]));
+  }
+  return Dp.trace() * One - Dp;
+}
+
 Wrench tracker_noise(const Wrench& residual_rms, double sigma_force, double sigma_moment) {
   Wrench noise = TrackerOptions{}.noise;
   for (int k = 0; k < 6; ++k)
@@ -425,34 +456,7 @@ void Tracker::Impl::write_estimate(const Wrench& z, const Matrix6x10& Y) {
     I << x[4], x[5], x[6], x[5], x[7], x[8], x[6], x[8], x[9];
     const Eigen::Vector3d& c = out.com;
     I -= out.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
-    // The second moments D = tr(I)/2 - I (eigenvalues d before the clamp):
-    // positive definite, nothing is clamped and I is its own projection;
-    // negative definite, everything is, and it is zero; else the eigen path.
-    const Eigen::Matrix3d D = Eigen::Matrix3d::Identity() * (0.5 * I.trace()) - I;
-    if (tracker_positive_definite(D)) {
-      out.inertia = I;
-    } else if (tracker_positive_definite(-D)) {
-      out.inertia.setZero();
-    } else {
-      // One or two of d (descending, l ascending) clamp: D+ = D - d_2 P_2 or
-      // d_0 P_0, the eigenprojections P_k = prod_{j != k} (I - l_j) / (l_k -
-      // l_j) (Frobenius; no eigenvectors). The clamped |d| is at most the gap
-      // divided by, so the error stays at round-off of |I|.
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-      eig.computeDirect(I, Eigen::EigenvaluesOnly);
-      const Eigen::Vector3d l = eig.eigenvalues();
-      const Eigen::Vector3d d = Eigen::Vector3d::Constant(0.5 * l.sum()) - l;
-      const Eigen::Matrix3d One = Eigen::Matrix3d::Identity();
-      Eigen::Matrix3d Dp;
-      if (d[0] <= 0.0) {
-        Dp.setZero();
-      } else if (d[1] >= 0.0) {
-        Dp = D - d[2] * ((I - l[0] * One) * (I - l[1] * One)) / ((l[2] - l[0]) * (l[2] - l[1]));
-      } else {
-        Dp = d[0] * ((I - l[1] * One) * (I - l[2] * One)) / ((l[0] - l[1]) * (l[0] - l[2]));
-      }
-      out.inertia = Dp.trace() * One - Dp;
-    }
+    out.inertia = consistent_inertia(I);
   } else {
     out.inertia.setZero();
   }

@@ -127,6 +127,12 @@ inline constexpr const char* kTrackerColumns[] = {
     "payload_iyz",   "payload_izz", "offset_fx",   "offset_fy",   "offset_fz",
     "offset_mx",     "offset_my",   "offset_mz",   "event"};
 
+// The inertia about the centre of mass a body can have that is nearest to I
+// (symmetric, kg m^2): its second moments d = tr(I)/2 - eig(I) clamped at
+// zero (positive semi-definite, within the triangle inequalities; I itself
+// when it is). The tracker's written inertia.
+Eigen::Matrix3d consistent_inertia(const Eigen::Matrix3d& I);
+
 // "", "change", "contact"
 const char* tracker_event_name(TrackerEvent event);
 
