@@ -10,8 +10,8 @@
 //    it (default options: the gate, the lag, the refits, the projection, the
 //    kinematics and the mechanism's prediction), and as a plain Kalman filter
 //    (lag 0, no gate: every row learnt as it comes), best of 5 passes; and
-//    the part of it that forms the rows (the mechanism's prediction, the
-//    kinematics, LINK's regressor: what the anchor is given);
+//    the part of it that forms the rows (the kinematics, LINK's regressor,
+//    the mechanism's prediction: what the anchor is given);
 //  - writes each row's inputs to the filter, formed as the tracker forms them
 //    (z = measured - predicted mechanism, Y = LINK's regressor), to OUT.bin:
 //    per row t, Y (6 x 10, row-major), z (6), little-endian doubles;
@@ -95,14 +95,21 @@ int main(int argc, char** argv) {
   KinematicsData kin(model.model());
   const Eigen::VectorXd empty(0);
   const int link = Tracker(model).payload_link();
+  // A tool rigid on the sensor (a dynamic model with no joints: this log's)
+  // is predicted by the tracker as one body on LINK, Y theta with theta
+  // fitted once (Tracker::Impl::rigid_mechanism): the product costs what it
+  // costs whatever theta holds.
+  const bool rigid = model.dynamic() && model.num_joints() == 0;
+  const Eigen::Matrix<double, 10, 1> theta = Eigen::Matrix<double, 10, 1>::Constant(0.1);
   double rows_ns = 1e300, sink = 0.0;
   for (int pass = 0; pass < 5; ++pass) {
     const auto t0 = std::chrono::steady_clock::now();
     for (int i = 0; i < n; ++i) {
       const std::size_t k = static_cast<std::size_t>(i);
-      const Wrench z = w[k] - model.predict(data, &none, &none, &none, g[k], sensor[k]);
       forward_kinematics(model.model(), kin, empty, empty, empty, g[k], sensor[k]);
       const Eigen::Matrix<double, 6, 10> Y = link_regressor(kin, link);
+      const Wrench z = w[k] - (rigid ? Wrench(Y * theta)
+                                     : model.predict(data, &none, &none, &none, g[k], sensor[k]));
       sink += z[0] + Y(5, 9);
     }
     const double ns =

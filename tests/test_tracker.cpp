@@ -307,6 +307,7 @@ TEST(Tracker, UpdateIsTheTextbookKalmanFilterToRoundOff) {
   TrackerOptions o;
   o.lag = 0;
   o.gate = 1e300;  // nothing flagged: every row learnt as it comes
+  o.exact_d2 = true;
   Tracker tracker(model, o);
   Eigen::Matrix<double, 16, 1> x = tracker.state();
   Eigen::Matrix<double, 16, 16> P = tracker.covariance();
@@ -365,6 +366,82 @@ TEST(Tracker, UpdateIsTheTextbookKalmanFilterToRoundOff) {
   EXPECT_LT(worst_x, 1e-7);
   EXPECT_LT(worst_P, 1e-7);
   EXPECT_LT(worst_d2, 1e-7);
+}
+
+// The gate's shortcut (TrackerOptions::exact_d2 false, the default): a row
+// whose noise-only bound e^T R^-1 e is within the gate is not checked against
+// S. Since S >= R that bound is never below d^2, so the flags, the events and
+// every estimate are those of the exact gate, bit for bit, on the 40 s logs
+// with a grasp, a release, drift and a contact (a wrist and a base sensor);
+// the reported d2 is the exact one beyond the gate and at least it below.
+TEST(Tracker, GateShortcutByTheNoiseBoundChangesNoFlagNorEstimate) {
+  for (const bool wrist : {true, false}) {
+    const TrackerLog log = tracker_log(wrist, 7);
+    TrackerOptions exact;
+    exact.exact_d2 = true;
+    const TrackerRun a = track(log), b = track(log, exact);
+    ASSERT_EQ(a.rows.size(), b.rows.size());
+    int beyond = 0, below = 0, contact = 0, changes = 0;
+    for (std::size_t i = 0; i < a.rows.size(); ++i) {
+      const TrackerEstimate &p = a.rows[i], &q = b.rows[i];
+      ASSERT_EQ(p.event, q.event) << "row " << i;
+      contact += q.event == TrackerEvent::Contact;
+      changes += q.event == TrackerEvent::Change;
+      EXPECT_EQ(p.mass, q.mass);
+      EXPECT_EQ(p.com, q.com);
+      EXPECT_EQ(p.com_stds, q.com_stds);
+      EXPECT_EQ(p.inertia, q.inertia);
+      EXPECT_EQ(p.offset, q.offset);
+      EXPECT_EQ(p.offset_std, q.offset_std);
+      EXPECT_EQ(p.compensated, q.compensated);
+      if (p.d2 > TrackerOptions{}.gate) {
+        ++beyond;
+        EXPECT_EQ(p.d2, q.d2) << "row " << i;
+      } else {
+        ++below;
+        EXPECT_GE(p.d2, q.d2 * (1 - 1e-12)) << "row " << i;
+      }
+    }
+    // Both kinds of rows and both events were there to compare.
+    EXPECT_GT(beyond, 500) << (wrist ? "wrist" : "base");
+    EXPECT_GT(below, 10000);
+    EXPECT_GT(contact, 500);
+    EXPECT_EQ(changes, 2);
+  }
+}
+
+// A tool rigid on a wrist sensor (a dynamic model with no joints) is one
+// body on LINK: the tracker predicts its wrench as Y_LINK theta with theta
+// fitted once from the model's predictor, not through the predictor on every
+// row. On 300 random motions and gravities, a fresh tracker's first
+// compensated wrench (no payload yet, the identified offsets) is the
+// measured wrench less IdentifiedModel::predict and the offsets to round-off.
+TEST(Tracker, RigidToolOnTheSensorIsOneBodyOnTheLinkAsThePredictorSays) {
+  const TrackerLog log = tracker_log(true, 8);
+  const IdentifiedModel model = tracker_identified(log);
+  ASSERT_TRUE(model.dynamic());
+  ASSERT_EQ(model.num_joints(), 0);
+  IdentifiedModelData data(model);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> N(0.0, 1.0);
+  const auto v3 = [&](double s) { return Eigen::Vector3d(s * N(rng), s * N(rng), s * N(rng)); };
+  const double none = 0.0;
+  double worst = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::Vector3d g = 9.80665 * v3(1.0).normalized();
+    const FrameMotion sensor{v3(k % 3 == 0 ? 0.0 : 2.0), v3(k % 3 == 0 ? 0.0 : 8.0),
+                             v3(k % 3 == 0 ? 0.0 : 4.0)};
+    Wrench w;
+    w << v3(20.0), v3(2.0);
+    Tracker tracker(model);
+    const Wrench c = tracker.update(0.0, &none, &none, &none, g, sensor, w).compensated;
+    const Wrench expected =
+        w - model.predict(data, &none, &none, &none, g, sensor) - model.offset();
+    worst = std::max(worst, (c - expected).cwiseAbs().maxCoeff() / (1.0 + w.cwiseAbs().maxCoeff()));
+  }
+  std::cout << fmt::format("rigid tool as one body: worst difference {:.2g} of the wrench\n",
+                           worst);
+  EXPECT_LT(worst, 1e-12);
 }
 
 // The Compensator times the tracker's update only when asked (--stats):

@@ -130,13 +130,13 @@ struct PyTracker {
   Tracker tracker;
 
   PyTracker(std::pair<IdentifiedModel, Wrench> from, const std::optional<std::string>& link,
-            std::optional<double> sigma_force, std::optional<double> sigma_moment)
+            std::optional<double> sigma_force, std::optional<double> sigma_moment, bool exact_d2)
       : identified(std::move(from.first)),
-        tracker(identified, options(from.second, link, sigma_force, sigma_moment)) {}
+        tracker(identified, options(from.second, link, sigma_force, sigma_moment, exact_d2)) {}
 
   static TrackerOptions options(const Wrench& residual_rms, const std::optional<std::string>& link,
                                 std::optional<double> sigma_force,
-                                std::optional<double> sigma_moment) {
+                                std::optional<double> sigma_moment, bool exact_d2) {
     for (const auto& [name, sigma] :
          {std::pair{"sigma_force", sigma_force}, std::pair{"sigma_moment", sigma_moment}})
       if (sigma && !(*sigma > 0.0 && std::isfinite(*sigma)))
@@ -144,6 +144,7 @@ struct PyTracker {
     TrackerOptions o;
     o.payload_link = link.value_or("");
     o.noise = tracker_noise(residual_rms, sigma_force.value_or(0.0), sigma_moment.value_or(0.0));
+    o.exact_d2 = exact_d2;
     return o;
   }
 
@@ -225,7 +226,10 @@ void bind_track(py::module_& m) {
           "an external wrench)")
       .def_readonly("comp", &E::compensated,
                     "[6] fx_comp..mz_comp: measured - predicted(mechanism and payload) - offset")
-      .def_readonly("d2", &E::d2, "the sample's innovation chi^2 (6 degrees of freedom)")
+      .def_readonly("d2", &E::d2,
+                    "the sample's innovation chi^2 e^T S^-1 e (6 degrees of freedom), flagged "
+                    "beyond the gate (25); a sample within the gate by the noise alone reports "
+                    "that bound e^T R^-1 e (>= d2) unless the Tracker has exact_d2=True")
       .def("__repr__", [](const E& e) {
         return fmt::format(
             "TrackerEstimate(payload_m={:.6g}, payload_c=[{:.4g}, {:.4g}, {:.4g}], "
@@ -248,17 +252,20 @@ void bind_track(py::module_& m) {
       "(docs/tracking.md), the same numbers to the bit.")
       .def(py::init([](const py::object& predictor, const py::object& params,
                        const std::optional<std::string>& payload_link,
-                       std::optional<double> sigma_force, std::optional<double> sigma_moment) {
+                       std::optional<double> sigma_force, std::optional<double> sigma_moment,
+                       bool exact_d2) {
              return std::make_unique<PyTracker>(identified_of(predictor, params), payload_link,
-                                                sigma_force, sigma_moment);
+                                                sigma_force, sigma_moment, exact_d2);
            }),
            py::arg("predictor"), py::arg("params") = py::none(), py::kw_only(),
            py::arg("payload_link") = py::none(), py::arg("sigma_force") = py::none(),
-           py::arg("sigma_moment") = py::none(),
+           py::arg("sigma_moment") = py::none(), py::arg("exact_d2") = false,
            "predictor: a massid.Predictor, or a URDF path or Model with params (as Predictor "
            "takes them). payload_link: the payload's link (default: the measured link farthest "
            "from the sensor); sigma_force, sigma_moment: the sensor noise per axis, N and N m "
-           "(default: the params file's residual RMS per axis, as compensate --track).")
+           "(default: the params file's residual RMS per axis, as compensate --track); "
+           "exact_d2: every estimate's d2 exact (otherwise a sample within the gate by the noise "
+           "alone reports that bound; the same flags and estimates either way).")
       .def_property_readonly("payload_link",
                              [](const PyTracker& t) { return t.tracker.payload_link_name(); })
       .def_property_readonly(

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "core/simd_clones.hpp"
@@ -39,6 +40,13 @@ struct TrackerRow {
   Wrench z = Wrench::Zero();
   bool moving = false;  // Y's inertia columns are not all zero
   bool flagged = false;
+  // A flagged row's share of a refit's normal equations, against the state
+  // when it was flagged (a run of flagged rows commits nothing, so the state
+  // stays that): A = Y^T W Y (its first kRestColumns rows and columns only
+  // when !moving), b = Y^T W e, ee = e^T W e, e = z - H x, W = R^-1.
+  Matrix10 A = Matrix10::Zero();
+  Vector10 b = Vector10::Zero();
+  double ee = 0.0;
 };
 
 // A column of the state's 16 values in four V4 (simd_clones.hpp), named so
@@ -333,11 +341,16 @@ struct Tracker::Impl {
   TrackerOptions options;
   int link = 0;
   bool dynamic = false;
+  // A dynamic model with no joints is one rigid body on the sensor, so on
+  // LINK: its wrench is Y_LINK theta_rigid (rigid_mechanism).
+  bool rigid = false;
+  Vector10 theta_rigid = Vector10::Zero();
   std::vector<double> zeros;  // [num_joints] qd = qdd = 0 for a static model
 
   Vector16 x = Vector16::Zero();
   Matrix16 P = Matrix16::Zero();
   Wrench noise_var = Wrench::Zero();  // R's diagonal
+  Wrench noise_inv = Wrench::Zero();  // R^-1's diagonal
   Wrench walk_var = Wrench::Zero();   // per s
   Vector10 prior_var = Vector10::Zero();
   double last_t = std::numeric_limits<double>::quiet_NaN();
@@ -371,6 +384,22 @@ struct Tracker::Impl {
                                       gain.inv.data(), gain.v.data());
   }
 
+  // The gate's d^2 of the newest row (TrackerOptions::exact_d2): S = H P H^T
+  // + R >= R, so d^2 = e^T S^-1 e <= e^T R^-1 e, and a row within the gate by
+  // that bound is within it by S: S is formed only for the rows beyond it.
+  double gate_d2(const TrackerRow& r) {
+    if (!options.exact_d2) {
+      Wrench e = r.z - x.tail<6>();
+      if (r.moving)
+        e.noalias() -= r.Y * x.head<kPayload>();
+      else
+        e.noalias() -= r.Y.leftCols<kRestColumns>() * x.head<kRestColumns>();
+      const double bound = (e.array().square() * noise_inv.array()).sum();
+      if (bound <= options.gate) return bound;
+    }
+    return innovation(r);
+  }
+
   // The Kalman filter's update with a row.
   void learn(const TrackerRow& r) {
     innovation(r);
@@ -378,33 +407,50 @@ struct Tracker::Impl {
                             gain.v.data());
   }
 
+  // A flagged row's share of the refit (TrackerRow::A, b, ee): the normal
+  // equations axis by axis as outer products of Y's rows on the columns they
+  // can have non-zero.
+  void refit_share(TrackerRow& r) const {
+    const Wrench e = r.z - r.Y * x.head<kPayload>() - x.tail<6>();
+    const Wrench& w = noise_inv;
+    r.A.setZero();
+    r.b.setZero();
+    r.ee = 0.0;
+    for (int k = 0; k < 6; ++k) {
+      r.ee += e[k] * (w[k] * e[k]);
+      if (k < 3 || !r.moving) {
+        const Eigen::Vector4d y = r.Y.row(k).head<kRestColumns>().transpose();
+        const Eigen::Vector4d u = w[k] * y;
+        r.A.topLeftCorner<kRestColumns, kRestColumns>().noalias() += y * u.transpose();
+        r.b.head<kRestColumns>() += u * e[k];
+      } else {
+        const Vector10 y = r.Y.row(k).transpose();
+        const Vector10 u = w[k] * y;
+        r.A.noalias() += y * u.transpose();
+        r.b += u * e[k];
+      }
+    }
+  }
+
   // A fresh rigid payload change fitted to the last `window` rows (the
-  // offsets held): does it explain them to the noise?
+  // offsets held): does it explain them to the noise? The rows' shares
+  // (refit_share) summed: the run's rows are all flagged.
   bool rigid_change_explains() {
     const int n = options.window;
     Matrix10 A = Matrix10::Zero();
     Vector10 b = Vector10::Zero();
     double ee = 0.0;
-    const Wrench w = noise_var.cwiseInverse();
-    // A = sum Y^T W Y and b = sum Y^T W e, axis by axis as outer products of
-    // Y's rows on the columns they can have non-zero.
     for (long long i = count - n + 1; i <= count; ++i) {
       const TrackerRow& r = row(i);
-      const Wrench e = r.z - r.Y * x.head<kPayload>() - x.tail<6>();
-      for (int k = 0; k < 6; ++k) {
-        ee += e[k] * (w[k] * e[k]);
-        if (k < 3 || !r.moving) {
-          const Eigen::Vector4d y = r.Y.row(k).head<kRestColumns>().transpose();
-          const Eigen::Vector4d u = w[k] * y;
-          A.topLeftCorner<kRestColumns, kRestColumns>().noalias() += y * u.transpose();
-          b.head<kRestColumns>() += u * e[k];
-        } else {
-          const Vector10 y = r.Y.row(k).transpose();
-          const Vector10 u = w[k] * y;
-          A.noalias() += y * u.transpose();
-          b += u * e[k];
-        }
+      if (r.moving) {
+        A += r.A;
+        b += r.b;
+      } else {
+        A.topLeftCorner<kRestColumns, kRestColumns>() +=
+            r.A.topLeftCorner<kRestColumns, kRestColumns>();
+        b.head<kRestColumns>() += r.b.head<kRestColumns>();
       }
+      ee += r.ee;
     }
     Matrix10 Ar = A;
     Ar.diagonal() += prior_var.cwiseInverse();
@@ -421,10 +467,53 @@ struct Tracker::Impl {
     P.topLeftCorner<kPayload, kPayload>().diagonal() = prior_var;
   }
 
-  void write_estimate(const Wrench& measured_minus_mechanism, const Matrix6x10& Y);
+  void write_estimate(const Wrench& measured_minus_mechanism, const TrackerRow& r);
+
+  void rigid_mechanism();
 };
 
-void Tracker::Impl::write_estimate(const Wrench& z, const Matrix6x10& Y) {
+// A mechanism with no joints is rigid on the sensor, and whatever its links,
+// it is one body: ten parameters in LINK's frame (the parallel-axis theorem
+// and a rotation are linear in them), its wrench Y_LINK(w, dw, a) theta for
+// any motion. theta is found once from the identified model's own
+// predictor: least squares over random motions, kept only when it
+// reproduces the predictor on as many others to round-off (1e-12 of the
+// wrench); then update() needs no predictor call (about a tenth of it).
+void Tracker::Impl::rigid_mechanism() {
+  const Model& model = identified.model();
+  if (!dynamic || model.num_joints() != 0) return;
+  std::mt19937_64 rng(28);
+  std::normal_distribution<double> N(0.0, 1.0);
+  const auto motion = [&](Eigen::Vector3d& g, FrameMotion& sensor) {
+    g = 9.81 * Eigen::Vector3d(N(rng), N(rng), N(rng)).normalized();
+    sensor = {Eigen::Vector3d(N(rng), N(rng), N(rng)),
+              5.0 * Eigen::Vector3d(N(rng), N(rng), N(rng)),
+              3.0 * Eigen::Vector3d(N(rng), N(rng), N(rng))};
+  };
+  const double none = 0.0;
+  const Eigen::VectorXd empty(0);
+  constexpr int kMotions = 4;
+  Eigen::Matrix<double, 6 * kMotions, kPayload> A;
+  Eigen::Matrix<double, 6 * kMotions, 1> b;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int k = 0; k < kMotions; ++k) {
+      Eigen::Vector3d g;
+      FrameMotion sensor;
+      motion(g, sensor);
+      forward_kinematics(model, kin, empty, empty, empty, g, sensor);
+      A.middleRows<6>(6 * k) = link_regressor(kin, link);
+      b.segment<6>(6 * k) = identified.predict(data, &none, &none, &none, g, sensor);
+    }
+    if (pass == 0) {
+      theta_rigid = A.colPivHouseholderQr().solve(b);
+    } else if ((A * theta_rigid - b).cwiseAbs().maxCoeff() <=
+               1e-12 * (1.0 + b.cwiseAbs().maxCoeff())) {
+      rigid = true;
+    }
+  }
+}
+
+void Tracker::Impl::write_estimate(const Wrench& z, const TrackerRow& r) {
   TrackerEstimate& out = estimate;
   const double m = x[0];
   out.mass = std::max(m, 0.0);
@@ -462,7 +551,11 @@ void Tracker::Impl::write_estimate(const Wrench& z, const Matrix6x10& Y) {
   }
   out.offset = x.tail<6>();
   out.offset_std = P.bottomRightCorner<6, 6>().diagonal().cwiseMax(0.0).cwiseSqrt();
-  out.compensated = z - Y * x.head<kPayload>() - x.tail<6>();
+  out.compensated = z - x.tail<6>();
+  if (r.moving)
+    out.compensated.noalias() -= r.Y * x.head<kPayload>();
+  else
+    out.compensated.noalias() -= r.Y.leftCols<kRestColumns>() * x.head<kRestColumns>();
 }
 
 Tracker::Tracker(const IdentifiedModel& identified, const TrackerOptions& options) {
@@ -497,6 +590,7 @@ Tracker::Tracker(const IdentifiedModel& identified, const TrackerOptions& option
   m.dynamic = identified.dynamic();
   m.zeros.assign(static_cast<std::size_t>(std::max(1, model.num_joints())), 0.0);
   m.noise_var = options.noise.cwiseAbs2();
+  m.noise_inv = m.noise_var.cwiseInverse();
   m.walk_var = options.offset_walk.cwiseAbs2();
   m.prior_var << options.mass_std, Eigen::Vector3d::Constant(options.moment_std),
       Eigen::Matrix<double, 6, 1>::Constant(options.inertia_std);
@@ -507,6 +601,7 @@ Tracker::Tracker(const IdentifiedModel& identified, const TrackerOptions& option
   m.P.topLeftCorner<kPayload, kPayload>().diagonal().setConstant(1e-12);
   m.P.bottomRightCorner<6, 6>().diagonal() = options.offset_std.cwiseAbs2();
   m.estimate.offset = m.x.tail<6>();
+  m.rigid_mechanism();
 }
 
 Tracker::~Tracker() = default;
@@ -540,21 +635,22 @@ const TrackerEstimate& Tracker::update(double t, const double* q, const double* 
   const int n = model.num_joints();
   const double* z0 = m.zeros.data();
   const bool motion = m.dynamic && qd != nullptr && qdd != nullptr;
-  const Wrench predicted = m.identified.predict(m.data, n > 0 ? q : z0, motion ? qd : z0,
-                                                motion ? qdd : z0, gravity, sensor);
   using VectorMap = Eigen::Map<const Eigen::VectorXd>;
   forward_kinematics(model, m.kin, VectorMap(n > 0 ? q : z0, n), VectorMap(motion ? qd : z0, n),
                      VectorMap(motion ? qdd : z0, n), gravity, m.dynamic ? sensor : FrameMotion{});
-
   ++m.count;
   TrackerRow& r = m.row(m.count);
   r.Y = link_regressor(m.kin, m.link);
+  const Wrench predicted = m.rigid ? Wrench(r.Y * m.theta_rigid)
+                                   : m.identified.predict(m.data, n > 0 ? q : z0, motion ? qd : z0,
+                                                          motion ? qdd : z0, gravity, sensor);
   r.moving = (r.Y.rightCols<kPayload - kRestColumns>().array() != 0.0).any();
   r.z = measured - predicted;
-  m.estimate.d2 = m.innovation(r);
+  m.estimate.d2 = m.gate_d2(r);
   r.flagged = m.estimate.d2 > o.gate;
   m.estimate.event = TrackerEvent::None;
   if (r.flagged) {
+    m.refit_share(r);
     ++m.run;
     m.last_flagged = m.count;
     m.estimate.event = TrackerEvent::Contact;
@@ -579,7 +675,7 @@ const TrackerEstimate& Tracker::update(double t, const double* q, const double* 
     if (m.last_flagged < j - o.lag) m.learn(m.row(j));
     m.next_commit = j + 1;
   }
-  m.write_estimate(r.z, r.Y);
+  m.write_estimate(r.z, r);
   return m.estimate;
 }
 

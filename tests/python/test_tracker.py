@@ -145,6 +145,30 @@ def test_track_and_update_are_compensate_track_to_the_bit(massid: Any, logs: Pat
     assert tracker.estimate.payload_m == got["payload_m"][-1]
 
 
+def test_exact_d2_changes_only_d2_below_the_gate(massid: Any, logs: Path) -> None:
+    # exact_d2=True forms S on every sample; the default skips it where the
+    # noise-only bound e^T R^-1 e (>= d2) is within the gate: the same events
+    # and compensated wrench, the same d2 beyond the gate, at least it below.
+    args = samples(logs, "wrist")
+    per_row = {k: v for k, v in args.items() if v is not None and k not in ("t", "q", "wrench")}
+    fast = massid.Tracker(str(UR), str(logs / "wrist.json"))
+    exact = massid.Tracker(str(UR), str(logs / "wrist.json"), exact_d2=True)
+    below = beyond = 0
+    for i in range(0, 20000, 2):  # every other row: a 250 Hz log
+        q = None if args["q"] is None else args["q"][i]
+        kw = {k: v[i] for k, v in per_row.items()}
+        a = fast.update(args["t"][i], q, args["wrench"][i], **kw)
+        b = exact.update(args["t"][i], q, args["wrench"][i], **kw)
+        assert a.event == b.event and (a.comp == b.comp).all() and a.payload_m == b.payload_m
+        if a.d2 > 25.0:
+            beyond += 1
+            assert a.d2 == b.d2
+        else:
+            below += 1
+            assert a.d2 >= b.d2 * (1 - 1e-12)
+    assert beyond > 200 and below > 8000
+
+
 def test_a_wrong_payload_link_names_the_measured_links(massid: Any, logs: Path) -> None:
     with pytest.raises(massid.InputError, match=r"payload link 'gripper'.*measured links.*tool"):
         massid.Tracker(str(UR), str(logs / "wrist.json"), payload_link="gripper")
