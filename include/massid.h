@@ -266,10 +266,11 @@ typedef struct massid_tracker_estimate {
   double offset[6];          /* offset_fx .. offset_mz: the sensor offsets, N and N m */
   double offset_std[6];      /* their std */
   int event;                 /* massid_tracker_event */
-  double d2;                 /* the sample's innovation chi^2 (6 degrees of freedom) */
-  double comp[6];            /* fx_comp .. mz_comp: measured - predicted(mechanism and
-                                payload) - offset: about zero in free motion, the external
-                                wrench in contact */
+  double d2;      /* the sample's innovation chi^2 (6 degrees of freedom); within the gate by the
+                     noise alone, that bound e^T R^-1 e (>= d2): docs/tracking.md */
+  double comp[6]; /* fx_comp .. mz_comp: measured - predicted(mechanism and
+                     payload) - offset: about zero in free motion, the external
+                     wrench in contact */
 } massid_tracker_estimate;
 
 /* A tracker for the model and parameters of p (p may be freed afterwards):
