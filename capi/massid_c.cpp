@@ -88,7 +88,6 @@ struct massid_predictor {
 
 // A tracker (massid::Tracker) and the joints' count its update checks.
 struct massid_tracker {
-  massid::IdentifiedModel identified;  // shared with the predictor it was made from
   massid::Tracker tracker;
   int num_joints = 0;
   bool dynamic = false, sensor_moving = false;
@@ -96,8 +95,7 @@ struct massid_tracker {
   double last_t = 0.0;
 
   massid_tracker(const massid_predictor& p, const massid::TrackerOptions& options)
-      : identified(p.identified),
-        tracker(p.identified, options),
+      : tracker(p.identified, options),
         num_joints(p.num_joints()),
         dynamic(p.identified.dynamic()),
         sensor_moving(p.identified.sensor_moving()) {}
@@ -509,15 +507,16 @@ int massid_tracker_update_upstream(massid_tracker* tracker, double t, const doub
                                    const double* qdd, const double measured[6],
                                    massid_tracker_estimate* estimate) {
   try {
-    if (!tracker || (tracker->dynamic && tracker->identified.model().num_upstream_joints() > 0 &&
-                     !qdu != !qddu))
+    if (!tracker ||
+        (tracker->dynamic && tracker->tracker.identified().model().num_upstream_joints() > 0 &&
+         !qdu != !qddu))
       return MASSID_ERROR_INVALID_ARGUMENT;
     // The sensor frame's motion from the upstream joints' rates for dynamic
     // parameters given them, as compensate takes it (static ones never read it).
     const bool moving = tracker->dynamic && qdu && qddu;
     double gravity[3], sensor_motion[9];
-    const int code = sensor_frame(&tracker->identified.model(), qu, qdu, qddu, root_gravity,
-                                  gravity, moving ? sensor_motion : nullptr);
+    const int code = sensor_frame(&tracker->tracker.identified().model(), qu, qdu, qddu,
+                                  root_gravity, gravity, moving ? sensor_motion : nullptr);
     if (code != MASSID_OK) return code;
     return tracker_update(tracker, t, q, qd, qdd, gravity, moving ? sensor_motion : nullptr,
                           measured, estimate);

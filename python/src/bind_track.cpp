@@ -126,13 +126,11 @@ TrackInputs track_inputs(const IdentifiedModel& identified, const py::object& t,
 
 // massid.Tracker.
 struct PyTracker {
-  IdentifiedModel identified;
   Tracker tracker;
 
   PyTracker(std::pair<IdentifiedModel, Wrench> from, const std::optional<std::string>& link,
             std::optional<double> sigma_force, std::optional<double> sigma_moment, bool exact_d2)
-      : identified(std::move(from.first)),
-        tracker(identified, options(from.second, link, sigma_force, sigma_moment, exact_d2)) {}
+      : tracker(from.first, options(from.second, link, sigma_force, sigma_moment, exact_d2)) {}
 
   static TrackerOptions options(const Wrench& residual_rms, const std::optional<std::string>& link,
                                 std::optional<double> sigma_force,
@@ -158,7 +156,7 @@ struct PyTracker {
     }
     Eigen::Vector3d g;
     if (in.upstream_gravity || in.upstream_motion) {
-      const Model& model = identified.model();
+      const Model& model = tracker.identified().model();
       Eigen::Matrix<double, 9, 1> m;
       upstream_sensor_frame(model, in.qu.row(i).data(),
                             in.upstream_motion ? in.qdu.row(i).data() : nullptr,
@@ -282,8 +280,8 @@ void bind_track(py::module_& m) {
             if (ndim(t).cast<int>() != 0)
               throw InputError("t: one time (a number) per update; track() takes arrays");
             const TrackInputs in =
-                track_inputs(self.identified, t, q, wrench, qd, qdd, gravity, sensor_motion,
-                             q_upstream, qd_upstream, qdd_upstream, root_gravity);
+                track_inputs(self.tracker.identified(), t, q, wrench, qd, qdd, gravity,
+                             sensor_motion, q_upstream, qd_upstream, qdd_upstream, root_gravity);
             return self.step(in, 0);
           },
           py::arg("t"), py::arg("q"), py::arg("wrench"), py::arg("qd") = py::none(),
@@ -300,8 +298,8 @@ void bind_track(py::module_& m) {
              const py::object& qd_upstream, const py::object& qdd_upstream,
              const std::optional<std::vector<double>>& root_gravity) {
             const TrackInputs in =
-                track_inputs(self.identified, t, q, wrench, qd, qdd, gravity, sensor_motion,
-                             q_upstream, qd_upstream, qdd_upstream, root_gravity);
+                track_inputs(self.tracker.identified(), t, q, wrench, qd, qdd, gravity,
+                             sensor_motion, q_upstream, qd_upstream, qdd_upstream, root_gravity);
             const Eigen::Index n = in.rows();
             const double nan = std::numeric_limits<double>::quiet_NaN();
             Eigen::MatrixXd values(n, 24);

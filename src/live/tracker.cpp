@@ -609,6 +609,7 @@ Tracker::Tracker(Tracker&&) noexcept = default;
 Tracker& Tracker::operator=(Tracker&&) noexcept = default;
 
 const TrackerEstimate& Tracker::estimate() const { return impl_->estimate; }
+const IdentifiedModel& Tracker::identified() const { return impl_->identified; }
 int Tracker::payload_link() const { return impl_->link; }
 const std::string& Tracker::payload_link_name() const {
   return impl_->identified.model().links[static_cast<std::size_t>(impl_->link)].name;

@@ -118,7 +118,8 @@ class Tracker {
                                 const Wrench& measured);
 
   const TrackerEstimate& estimate() const;
-  int payload_link() const;  // index in the model's links
+  const IdentifiedModel& identified() const;  // the tracker's own copy
+  int payload_link() const;                   // index in the model's links
   const std::string& payload_link_name() const;
   // The filter's raw state [pi (10), offset (6)] and covariance (unprojected).
   Eigen::Matrix<double, 16, 1> state() const;
