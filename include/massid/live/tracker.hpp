@@ -13,7 +13,8 @@
 // walk (options.offset_walk, per sqrt(s)), v the sensor noise
 // (options.noise). Each row:
 //  - its innovation e and covariance S = H P H^T + R give d^2 = e^T S^-1 e;
-//    a row with d^2 beyond the gate (chi^2, 6 dof) is flagged;
+//    a row with d^2 beyond the gate (chi^2, 6 dof) is flagged (S >= R, so a
+//    row within the gate by e^T R^-1 e needs no S: TrackerOptions::exact_d2);
 //  - rows are committed to the filter `lag` rows late, and only when no row
 //    within `lag` rows either side is flagged, so that the ramps at the edges
 //    of a contact, below the gate, teach it nothing;
@@ -29,7 +30,9 @@
 // The written estimate is physically consistent at every row (mass >= 0, the
 // inertia about the centre of mass positive semi-definite and within the
 // triangle inequalities, by projection); its std come from the filter's
-// covariance. No allocation after construction.
+// covariance. No allocation after construction. A dynamic model with no
+// joints (a tool rigid on the sensor) is one body on LINK: its wrench is
+// Y_LINK theta, theta fitted once from its predictor and checked to round-off.
 #pragma once
 
 #include <Eigen/Core>
