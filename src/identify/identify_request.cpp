@@ -38,6 +38,8 @@ std::string library_name(Hint::Setting s) {
       return "sigma_moment";
     case Hint::Setting::RootGravity:
       return "root_gravity";
+    case Hint::Setting::LevelGravity:
+      return "level_gravity";
     default:
       return "setting";
   }
@@ -98,10 +100,11 @@ void IdentifyRequest::validate(const SettingSpelling& spelling) const {
        {std::pair{sigma_force, S::SigmaForce}, std::pair{sigma_moment, S::SigmaMoment}})
     if (value && !(*value > 0 && std::isfinite(*value)))
       throw InputError(fmt::format("{}: {} is not a positive number", name(setting), *value));
-  if (root_gravity && !(root_gravity->allFinite() && root_gravity->norm() > 0))
-    throw InputError(fmt::format("{}: {},{},{} is not a finite, non-zero gravity vector",
-                                 name(S::RootGravity), (*root_gravity)[0], (*root_gravity)[1],
-                                 (*root_gravity)[2]));
+  for (const auto& [value, setting] :
+       {std::pair{root_gravity, S::RootGravity}, std::pair{level_gravity, S::LevelGravity}})
+    if (value && !(value->allFinite() && value->norm() > 0))
+      throw InputError(fmt::format("{}: {},{},{} is not a finite, non-zero gravity vector",
+                                   name(setting), (*value)[0], (*value)[1], (*value)[2]));
   // The combinations.
   if (dynamic && !rest.empty())
     throw InputError(fmt::format("{} goes with static identification ({} uses every row)",
@@ -137,6 +140,7 @@ MotionDataOptions IdentifyRequest::motion_options() const {
   MotionDataOptions o;
   if (cutoff) o.filter.cutoff = *cutoff;
   if (root_gravity) o.samples.root_gravity = *root_gravity;
+  o.samples.level_gravity = level_gravity;
   o.samples.columns = columns;
   o.samples.sensor_motion = dynamic;
   return o;

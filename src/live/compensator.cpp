@@ -115,7 +115,7 @@ Eigen::Vector3d Compensator::Impl::gravity(const double* v, FrameMotion& sensor)
   const detail::SampleColumns& c = columns;
   switch (gravity_from) {
     case GravityFrom::Tilt:
-      return tilted_gravity(options.level_gravity, Tilt{v[tilt], v[tilt + 1]});
+      return tilted_gravity(c.level_gravity, Tilt{v[tilt], v[tilt + 1]});
     case GravityFrom::Upstream:
     case GravityFrom::Columns:
       break;
@@ -144,6 +144,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   m.dynamic = identified.dynamic();
   SampleOptions read;
   read.root_gravity = options.root_gravity;
+  read.level_gravity = options.level_gravity;
   read.columns = options.columns;
   {  // the sensor's pose from columns, when the header has them
     detail::SampleColumns h;
