@@ -12,13 +12,14 @@ namespace massid_cli_test {
 namespace {
 
 // A sensor link mounted upside down: the fixed joint above it turns it 180
-// degrees about x, so with the root's gravity 0,0,-g the sensor frame's level
-// gravity is 0,0,+g. Two links below it, on j1 (about z) and j2 (about y).
+// degrees about x (MOUNT_X), so with the root's gravity 0,0,-g the sensor
+// frame's level gravity is 0,0,+g. Two links below it, on j1 (about z) and j2
+// (about y).
 constexpr const char* kLevelGravityUrdf = R"(<robot name="flipped">
   <link name="base"/>
   <joint name="mount" type="fixed">
     <parent link="base"/><child link="ft"/>
-    <origin xyz="0 0 0.3" rpy="3.141592653589793 0 0"/>
+    <origin xyz="0 0 0.3" rpy="MOUNT_X 0 0"/>
   </joint>
   <link name="ft"/>
   <joint name="j1" type="revolute">
@@ -44,14 +45,18 @@ constexpr const char* kLevelGravityUrdf = R"(<robot name="flipped">
 constexpr double kLevelGravityMass = 3.0;
 constexpr double kLevelG = 9.80665;
 
-// Gravity in the sensor frame at a tilt (radians) of the platform from the
-// sensor frame's level gravity 0,0,+g: (Rx(tx) Ry(ty))^T level, the rotation
-// docs/formats.md gives for the tilt columns.
-Eigen::Vector3d level_gravity_tilted(double tx, double ty) {
+// Gravity in the sensor frame at a tilt (radians) of the platform, the sensor
+// mounted turned by `mount` about x: (Rx(tx) Ry(ty))^T level, the rotation
+// docs/formats.md gives for the tilt columns, with level = Rx(mount)^T
+// (0,0,-g) (0,0,+g upside down).
+Eigen::Vector3d level_gravity_tilted(double tx, double ty, double mount) {
   const Eigen::Matrix3d R = (Eigen::AngleAxisd(tx, Eigen::Vector3d::UnitX()) *
                              Eigen::AngleAxisd(ty, Eigen::Vector3d::UnitY()))
                                 .toRotationMatrix();
-  return R.transpose() * Eigen::Vector3d(0, 0, kLevelG);
+  const Eigen::Vector3d level =
+      Eigen::AngleAxisd(mount, Eigen::Vector3d::UnitX()).toRotationMatrix().transpose() *
+      Eigen::Vector3d(0, 0, -kLevelG);
+  return R.transpose() * level;
 }
 
 // The wrench the two links' weight puts on the sensor: f = M g, m = sum c_i x m_i g.
@@ -70,7 +75,12 @@ Eigen::Matrix<double, 6, 1> level_gravity_wrench(double q1, double q2, const Eig
 
 class CliLevelGravity : public Cli {
  protected:
-  std::string urdf() { return file("flipped.urdf", kLevelGravityUrdf); }
+  double mount = std::numbers::pi;
+  std::string urdf() {
+    std::string text = kLevelGravityUrdf;
+    text.replace(text.find("MOUNT_X"), 7, num_text(mount));
+    return file("robot.urdf", text);
+  }
 
   // A static log of n poses at random joints and tilts (within 25 degrees),
   // with the tilt columns and no gx,gy,gz (with_gravity: gx,gy,gz too), the
@@ -86,7 +96,7 @@ class CliLevelGravity : public Cli {
       const double q1 = 3.0 * u(rng), q2 = 1.5 * u(rng);
       const double tx = 25.0 * u(rng), ty = 25.0 * u(rng);
       const Eigen::Vector3d g =
-          level_gravity_tilted(tx * std::numbers::pi / 180, ty * std::numbers::pi / 180);
+          level_gravity_tilted(tx * std::numbers::pi / 180, ty * std::numbers::pi / 180, mount);
       Eigen::Matrix<double, 6, 1> w = level_gravity_wrench(q1, q2, g);
       for (int k = 0; k < 6; ++k) w[k] += noise * (k < 3 ? 0.01 : 0.001) * z(rng);
       text += num_text(q1) + "," + num_text(q2) + "," + num_text(tx) + "," + num_text(ty) + ",";
@@ -104,33 +114,37 @@ class CliLevelGravity : public Cli {
 
 // (a) identify and predict with default flags turn the root gravity through
 // the fixed mount: the total mass is the URDF's, and on another log the
-// prediction is the direct sum to the noise, *_comp noise-level. The old code
-// turned the root gravity 0,0,-g as if it were the sensor frame's level
-// gravity: the weight's direction flipped, identify refused the log (exit 2:
-// the set-up checks read the fz against a gravity pointing the other way as a
-// wrench sign error), and with --no-checks it wrote a total mass of -3 kg and
-// a prediction off by twice the weight (60 N) with exit 0.
+// prediction is the direct sum to the noise, *_comp noise-level; the sensor
+// upside down and turned a quarter about x. The old code turned the root
+// gravity 0,0,-g as if it were the sensor frame's level gravity. Upside down,
+// identify refused the log (exit 2) telling the user to negate the wrench;
+// with --no-checks it wrote a total mass of -3 kg (every parameter negated)
+// with exit 0. A quarter turn: exit 2 blaming the sensor's column mapping;
+// with --no-checks a total mass of -0.13 kg.
 TEST_F(CliLevelGravity, TiltColumnsTurnTheRootGravityThroughTheFixedJoints) {
-  const std::string robot = urdf();
-  Result r =
-      run({"identify", robot, log("fit.csv", 60, 1), "--sensor", "ft", "-o", path("params.json")});
-  ASSERT_EQ(r.code, 0) << r;
-  const json params = json::parse(read_file(path("params.json")));
-  EXPECT_NEAR(params.at("total_mass").get<double>(), kLevelGravityMass, 0.01) << params.dump();
+  for (const double turn : {std::numbers::pi, std::numbers::pi / 2}) {
+    mount = turn;
+    const std::string robot = urdf();
+    Result r = run(
+        {"identify", robot, log("fit.csv", 60, 1), "--sensor", "ft", "-o", path("params.json")});
+    ASSERT_EQ(r.code, 0) << r;
+    const json params = json::parse(read_file(path("params.json")));
+    EXPECT_NEAR(params.at("total_mass").get<double>(), kLevelGravityMass, 0.01) << turn;
 
-  const std::string other = log("other.csv", 40, 2, false, 0.0);
-  r = run({"predict", robot, path("params.json"), other, "-o", path("pred.csv")});
-  ASSERT_EQ(r.code, 0) << r;
-  const Table in = read_table(other), out = read_table(path("pred.csv"));
-  ASSERT_EQ(out.rows.size(), in.rows.size());
-  const char* names[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
-  for (size_t i = 0; i < out.rows.size(); ++i)
-    for (int k = 0; k < 6; ++k) {
-      const std::string n = names[k];
-      const double tol = k < 3 ? 0.02 : 0.003;
-      EXPECT_NEAR(out.num(i, n + "_pred"), in.num(i, n), tol) << "row " << i << " " << n;
-      EXPECT_NEAR(out.num(i, n + "_comp"), 0.0, tol) << "row " << i << " " << n;
-    }
+    const std::string other = log("other.csv", 40, 2, false, 0.0);
+    r = run({"predict", robot, path("params.json"), other, "-o", path("pred.csv")});
+    ASSERT_EQ(r.code, 0) << r;
+    const Table in = read_table(other), out = read_table(path("pred.csv"));
+    ASSERT_EQ(out.rows.size(), in.rows.size());
+    const char* names[6] = {"fx", "fy", "fz", "mx", "my", "mz"};
+    for (size_t i = 0; i < out.rows.size(); ++i)
+      for (int k = 0; k < 6; ++k) {
+        const std::string n = names[k];
+        const double tol = k < 3 ? 0.02 : 0.003;
+        EXPECT_NEAR(out.num(i, n + "_pred"), in.num(i, n), tol) << turn << " row " << i << n;
+        EXPECT_NEAR(out.num(i, n + "_comp"), 0.0, tol) << turn << " row " << i << " " << n;
+      }
+  }
 }
 
 // (b) One tilted log through identify, predict and compensate: the same
