@@ -226,5 +226,24 @@ TEST_F(CliLevelGravity, GravityWithoutTiltColumnsIsAnErrorAtEveryDoor) {
   EXPECT_NE(r.err.find("--gravity"), std::string::npos) << r;
 }
 
+// A level gravity upside down (the URDF's mount is upside down, the user's
+// --gravity not): the set-up checks see the force against gravity and name
+// the level gravity and --gravity, not gx,gy,gz (which the log does not
+// have). The old message told the user to negate gx,gy,gz.
+TEST_F(CliLevelGravity, AnUpsideDownLevelGravityIsNamedByTheChecks) {
+  const std::string robot = urdf(), data = log("fit.csv", 60, 6);
+  const Result r = run({"identify", robot, data, "--sensor", "ft", "-o", path("params.json"),
+                        "--gravity", "0,0,-9.80665"});
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_NE(r.err.find("the measured force points against gravity (the level gravity turned by "
+                       "tilt_x_deg,tilt_y_deg) at 60 of 60 rows"),
+            std::string::npos)
+      << r;
+  EXPECT_NE(r.err.find("if the level gravity points up in the sensor frame, give it along "
+                       "gravity (sensor frame, platform level) (--gravity; --no-checks"),
+            std::string::npos)
+      << r;
+}
+
 }  // namespace
 }  // namespace massid_cli_test
