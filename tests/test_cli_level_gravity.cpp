@@ -245,5 +245,36 @@ TEST_F(CliLevelGravity, AnUpsideDownLevelGravityIsNamedByTheChecks) {
       << r;
 }
 
+// design --evaluate of a plan without gx,gy,gz: its tilt columns turn
+// design's own level gravity (--gravity, default 0,0,-9.80665 in the sensor
+// frame: interface.md), as when design wrote them, not the readers' default
+// through the mount. The sensor turned a quarter about x, where the two
+// differ: the evaluation of the plan without gx,gy,gz is the plan's with them.
+TEST_F(CliLevelGravity, DesignEvaluatesTiltColumnsWithItsLevelGravity) {
+  mount = std::numbers::pi / 2;
+  const std::string robot = urdf();
+  Result r = run({"design", robot, "--sensor", "ft", "--poses", "12", "--tilt-max", "25", "-o",
+                  path("plan.csv")});
+  ASSERT_EQ(r.code, 0) << r;
+  const Table plan = read_table(path("plan.csv"));
+  ASSERT_GE(plan.col("gx"), 0);
+  ASSERT_GE(plan.col("tilt_x_deg"), 0);
+  write_file(path("tilts.csv"),
+             to_csv(without_columns(plan, [](const std::string& c) {
+               return c == "gx" || c == "gy" || c == "gz";
+             })));
+  const auto evaluate = [&](const std::string& name) {
+    Result e = run({"design", robot, "--sensor", "ft", "--evaluate", path(name)});
+    EXPECT_EQ(e.code, 0) << e;
+    std::string out = e.out;
+    for (size_t at; (at = out.find(path(name))) != std::string::npos;)
+      out.replace(at, path(name).size(), "PLAN");
+    return out;
+  };
+  const std::string with_gravity = evaluate("plan.csv");
+  EXPECT_NE(with_gravity.find("condition number"), std::string::npos) << with_gravity;
+  EXPECT_EQ(evaluate("tilts.csv"), with_gravity);
+}
+
 }  // namespace
 }  // namespace massid_cli_test
