@@ -63,11 +63,11 @@ std::optional<double> seconds(const std::string& text) {
 }
 
 // Whether a data file has every joint's velocity column (JOINT_vel or
-// JOINT_deg_vel), the sign of a log in motion.
-bool has_velocity_columns(const Model& model, const std::string& path) {
+// JOINT_deg_vel), the sign of a log in motion; read as the fit read it.
+bool has_velocity_columns(const Model& model, const std::string& path, const SampleOptions& read) {
   if (model.num_joints() == 0) return false;
   std::vector<std::string> roles;
-  read_samples_head(model, path, 1, &roles);
+  read_samples_head(model, path, 1, &roles, read);
   for (const Joint& j : model.joints)
     if (std::find(roles.begin(), roles.end(), j.name + "_vel") == roles.end() &&
         std::find(roles.begin(), roles.end(), j.name + "_deg_vel") == roles.end())
@@ -197,7 +197,9 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
     } catch (const IdentifiabilityError& e) {
       // A motion log identified at rest: its weight alone cannot determine what
       // the motion moves; the fix is --dynamic, not more poses.
-      if (!(in_memory ? velocity_in_memory : has_velocity_columns(out.model, source.path))) throw;
+      if (!(in_memory ? velocity_in_memory
+                      : has_velocity_columns(out.model, source.path, motion.samples)))
+        throw;
       throw IdentifiabilityError(
           fmt::format("{}: this file has velocity columns: a log in motion, which the weight alone "
                       "does not explain (identified at rest, {}); identify it in motion",

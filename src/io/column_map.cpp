@@ -425,6 +425,11 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
   for (BoundColumn& b : m.tilt) b.scale = std::numbers::pi / 180.0;
   if (!m.gravity.empty())
     m.gravity_from = GravityFrom::Columns;
+  else if (!m.q_upstream.empty() && !m.tilt.empty())
+    throw InputError(fmt::format(
+        "{}: tilt_x_deg,tilt_y_deg and the joints above sensor link '{}' both turn gravity: give "
+        "gx,gy,gz (sensor frame) instead, or drop one",
+        where, model.sensor_link()));
   else if (!m.q_upstream.empty())
     m.gravity_from = GravityFrom::UpstreamJoints;
   else if (!m.tilt.empty())
