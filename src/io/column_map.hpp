@@ -23,7 +23,8 @@
 //                             (paper eq. 37)
 //   tilt_x_deg tilt_y_deg     the platform's tilt as design's plans write it,
 //                             degrees (read in rad): both or none; without
-//                             gx,gy,gz and upstream joints every reader turns
+//                             gx,gy,gz, beside upstream joints an error (both
+//                             would turn gravity); else every reader turns
 //                             the level gravity by it (tilted_gravity): the
 //                             one rule tilt_level_gravity (SampleOptions::
 //                             level_gravity, else root_gravity through the
