@@ -38,6 +38,7 @@ struct MotionFlags {
   bool dynamic = false;
   double cutoff = 0.0;                    // --cutoff HZ (0: the default for the log's rate)
   std::string root_gravity;               // --root-gravity gx,gy,gz
+  std::string level_gravity;              // predict, simulate: --gravity gx,gy,gz
   std::string gravity_model = "varying";  // model --dynamic: --gravity-model level|varying
   bool sensor_moving = false;             // model --dynamic --moving-sensor
   bool sensor_at_rest = false;            // model --dynamic --sensor-at-rest
@@ -46,6 +47,7 @@ struct MotionFlags {
     std::vector<std::string> a;
     if (cutoff > 0) a.insert(a.end(), {"--cutoff", format_number(cutoff)});
     if (!root_gravity.empty()) a.insert(a.end(), {"--root-gravity", root_gravity});
+    if (!level_gravity.empty()) a.insert(a.end(), {"--gravity", level_gravity});
     return a;
   }
   MotionDataOptions data() const {
@@ -53,6 +55,7 @@ struct MotionFlags {
     o.filter.cutoff = cutoff;
     if (!root_gravity.empty())
       o.samples.root_gravity = parse_numbers<3>(root_gravity, "--root-gravity", "gx,gy,gz");
+    o.samples.level_gravity = parse_level_gravity(level_gravity);
     return o;
   }
 };

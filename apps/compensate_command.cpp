@@ -53,9 +53,7 @@ void add_compensate_command(CLI::App& app, CompensateCommand& c) {
   s->add_option("--root-gravity", c.root_gravity,
                 "Gravity in the URDF root frame, gx,gy,gz (default 0,0,-9.80665): a sensor below "
                 "movable joints whose columns the stream has");
-  s->add_option("--gravity", c.level_gravity,
-                "Gravity in the sensor frame with the platform level, gx,gy,gz (default "
-                "0,0,-9.80665): turned by the tilt_x_deg,tilt_y_deg columns");
+  add_level_gravity_option(s, c.level_gravity);
   s->add_flag("--track", c.track,
               "Also track a payload on a link and the sensor's drifting offsets (needs t): "
               "payload_m .. event columns after fx_comp..mz_comp, which become the external "
@@ -386,8 +384,7 @@ int run_compensate(const CompensateCommand& c) {
   }
   if (!c.root_gravity.empty())
     options.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");
-  if (!c.level_gravity.empty())
-    options.level_gravity = parse_numbers<3>(c.level_gravity, "--gravity", "gx,gy,gz");
+  options.level_gravity = parse_level_gravity(c.level_gravity);
   options.columns = parse_columns(c.columns);
   install_signal_handlers();
   if (c.udp_port >= 0) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <numbers>
@@ -407,6 +408,17 @@ int run_design(const DesignCommand& c) {
 
   if (!c.evaluate.empty()) {
     const CsvTable& table = *evaluated;
+    // A plan whose gravity comes from its tilt columns alone: they turn
+    // design's level gravity (--gravity, default 0,0,-9.80665), as when it
+    // wrote them.
+    const std::vector<std::string> roles = column_roles(model, table.header, read);
+    const auto has = [&](const std::string& n) {
+      return std::find(roles.begin(), roles.end(), n) != roles.end();
+    };
+    const bool upstream =
+        std::any_of(model.upstream_joints.begin(), model.upstream_joints.end(),
+                    [&](const Joint& j) { return has(j.name) || has(j.name + "_deg"); });
+    if (has("tilt_x_deg") && !has("gx") && !upstream) read.level_gravity = o.level_gravity;
     print_column_note(column_note(model, table.header,
                                   fmt::format("{}:{}", table.source, table.header_line),
                                   WrenchColumns::Optional, read));

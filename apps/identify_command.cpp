@@ -73,6 +73,7 @@ void add_identify_command(CLI::App& app, IdentifyCommand& c) {
   i->add_option("--root-gravity", c.root_gravity,
                 "Gravity in the URDF root frame, gx,gy,gz (default 0,0,-9.80665): with "
                 "--sensor below movable joints whose columns the file has");
+  add_level_gravity_option(i, c.level_gravity);
   i->add_option("--cutoff", c.cutoff,
                 "Motion log without JOINT_vel/_acc: zero-phase low-pass cutoff, Hz, for the "
                 "derivatives and the wrench alike (default: min(10, rate/20))")
@@ -98,6 +99,7 @@ IdentifyRequest IdentifyCommand::request() const {
   if (app->count("--sigma-moment")) r.sigma_moment = sigma_moment;
   if (!root_gravity.empty())
     r.root_gravity = parse_numbers<3>(root_gravity, "--root-gravity", "gx,gy,gz");
+  r.level_gravity = parse_level_gravity(level_gravity);
   // With --report the samples and fitted wrenches are kept for the report,
   // which draws this fit (identification.hpp); without, any log in constant memory.
   r.keep_samples = !report.empty();

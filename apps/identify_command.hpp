@@ -15,6 +15,7 @@ struct IdentifyCommand {
   CLI::App* app = nullptr;
   std::string urdf, data, output, report, urdf_out;
   std::string sensor, drift, rest, delay, root_gravity;
+  std::string level_gravity;         // --gravity gx,gy,gz (sensor frame, level; tilt columns)
   std::vector<std::string> fixed;    // --fixed JOINT=VALUE
   std::vector<std::string> columns;  // --columns ROLE=NAME,...
   double cutoff = 0.0, sigma_force = 0.0, sigma_moment = 0.0;

@@ -65,6 +65,18 @@ std::vector<std::pair<std::string, double>> parse_held(const std::vector<std::st
   return held;
 }
 
+void add_level_gravity_option(CLI::App* sub, std::string& value) {
+  sub->add_option("--gravity", value,
+                  "Gravity in the sensor frame with the platform level, gx,gy,gz, turned by the "
+                  "tilt_x_deg,tilt_y_deg columns of a log without gx,gy,gz (default: "
+                  "--root-gravity through the fixed joints above the sensor link)");
+}
+
+std::optional<Eigen::Vector3d> parse_level_gravity(const std::string& value) {
+  if (value.empty()) return std::nullopt;
+  return parse_numbers<3>(value, "--gravity", "gx,gy,gz");
+}
+
 void add_columns_option(CLI::App* sub, std::vector<std::string>& items) {
   sub->add_option(
          "--columns", items,

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,6 +34,12 @@ std::pair<std::string, std::string> parse_assignment(const std::string& text,
 
 // --fixed JOINT=VALUE items -> (joint, position) pairs for hold_joints().
 std::vector<std::pair<std::string, double>> parse_held(const std::vector<std::string>& items);
+
+// --gravity gx,gy,gz on a command that reads a log (identify, predict,
+// simulate, compensate): the level gravity in the sensor frame that tilt
+// columns turn (SampleOptions::level_gravity). Its value: unset when empty.
+void add_level_gravity_option(CLI::App* sub, std::string& value);
+std::optional<Eigen::Vector3d> parse_level_gravity(const std::string& value);
 
 // --columns ROLE=NAME[,ROLE=NAME...] (repeatable) on a command that reads a log.
 void add_columns_option(CLI::App* sub, std::vector<std::string>& items);

@@ -94,6 +94,7 @@ void add_predict_command(CLI::App& app, PredictCommand& c) {
                    "Also write an HTML report (plots; needs Python with matplotlib)");
   pred->add_option("--root-gravity", c.motion.root_gravity,
                    "Gravity in the URDF root frame, gx,gy,gz (sensor below movable joints)");
+  add_level_gravity_option(pred, c.motion.level_gravity);
   pred->add_option("--cutoff", c.motion.cutoff,
                    "Dynamic params, log without JOINT_vel/_acc: low-pass cutoff, Hz")
       ->check(CLI::PositiveNumber);

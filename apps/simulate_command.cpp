@@ -99,6 +99,7 @@ void add_simulate_command(CLI::App& app, SimulateCommand& c) {
                    "pose is held; default 1)")
       ->check(CLI::Range(1, 1000000));
   add_motion_options(simulate, c.motion, false);
+  add_level_gravity_option(simulate, c.motion.level_gravity);
   simulate->add_flag("--no-checks", c.no_checks,
                      "Skip the plan's checks (joints in degrees or mm, gravity units, columns)");
   add_columns_option(simulate, c.columns);

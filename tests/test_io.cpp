@@ -1,12 +1,16 @@
 // CSV reading and writing, atomic output files, params JSON round trip.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
+#include <optional>
 #include <sstream>
 
+#include "../src/io/csv_stream.hpp"  // private: read_file_samples, the streamed reader
 #include "io/atomic_file.hpp"
 #include "massid/core/base_parameters.hpp"
 #include "massid/core/errors.hpp"
@@ -212,6 +216,97 @@ TEST(ParamsFile, SampleCountMustBeANonNegativeInt) {
   EXPECT_EQ(params_error(head + "-1}"),
             "f.json: \"samples\" must be a non-negative integer, not -1");
   EXPECT_EQ(params_error(head + "30}"), "no error");
+}
+
+// The level gravity that tilt columns turn, the same in every reader (a CSV
+// table, columns in memory, the streamed file): the root gravity turned into
+// the sensor frame by the fixed joint above the sensor link (here 180 degrees
+// about x: level is 0,0,+g), or SampleOptions::level_gravity when given. The
+// old readers took the root gravity 0,0,-g as the sensor frame's level
+// gravity: every gravity upside down.
+TEST(SamplesLevelGravity, TiltColumnsTurnTheRootGravityThroughFixedJoints) {
+  const std::string urdf = R"(<robot name="flipped"><link name="base"/>
+    <joint name="mount" type="fixed"><parent link="base"/><child link="ft"/>
+      <origin xyz="0 0 0.3" rpy="3.141592653589793 0 0"/></joint>
+    <link name="ft"/>
+    <joint name="j1" type="revolute"><parent link="ft"/><child link="link1"/><axis xyz="0 0 1"/>
+      <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+    <link name="link1"><inertial><origin xyz="0.1 0 0"/><mass value="1"/>
+      <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  </robot>)";
+  const Model model = load_urdf_string(urdf, "ft");
+  const double tx = 20.0, ty = -10.0;
+  const std::string text =
+      "j1,tilt_x_deg,tilt_y_deg,fx,fy,fz,mx,my,mz\n0.5,20,-10,0,0,9.8,0,0,0\n0.1,0,0,0,0,9.8,0,0,"
+      "0\n";
+  const auto turned = [&](const Eigen::Vector3d& level, double x_deg, double y_deg) {
+    const double k = std::numbers::pi / 180;
+    return Eigen::Vector3d((Eigen::AngleAxisd(x_deg * k, Eigen::Vector3d::UnitX()) *
+                            Eigen::AngleAxisd(y_deg * k, Eigen::Vector3d::UnitY()))
+                               .toRotationMatrix()
+                               .transpose() *
+                           level);
+  };
+  const Eigen::Vector3d up(0, 0, kStandardGravity);
+  const std::string path = (fs::temp_directory_path() / "massid_level_gravity.csv").string();
+  {
+    std::ofstream out(path);
+    out << text;
+  }
+  const std::vector<std::string> names{"j1", "tilt_x_deg", "tilt_y_deg", "fx", "fy",
+                                       "fz", "mx",         "my",         "mz"};
+  std::vector<Eigen::VectorXd> cols(names.size(), Eigen::VectorXd::Zero(2));
+  const CsvTable table = parse_csv(text, "log.csv");
+  for (int r = 0; r < 2; ++r)
+    for (size_t c = 0; c < names.size(); ++c) cols[c][r] = std::stod(table.rows[r][c]);
+  for (const std::optional<Eigen::Vector3d>& given :
+       {std::optional<Eigen::Vector3d>{},
+        std::optional<Eigen::Vector3d>{Eigen::Vector3d(1, 2, 3)}}) {
+    SampleOptions o;
+    o.level_gravity = given;
+    const Eigen::Vector3d level = given ? *given : up;
+    const Samples csv = read_samples(model, table, WrenchColumns::Required, o);
+    const Samples mem =
+        samples_from_columns(model, names, cols, WrenchColumns::Required, "data", o);
+    const Samples streamed = detail::read_file_samples(model, path, 10, o);
+    ASSERT_EQ(csv.gravity.rows(), 2);
+    EXPECT_LT((csv.gravity.row(0).transpose() - turned(level, tx, ty)).norm(), 1e-12);
+    EXPECT_LT((csv.gravity.row(1).transpose() - level).norm(), 1e-12);
+    EXPECT_EQ(mem.gravity, csv.gravity);
+    EXPECT_EQ(streamed.gravity, csv.gravity);
+  }
+  // Given for a file with gx,gy,gz: unused, an error.
+  SampleOptions o;
+  o.level_gravity = up;
+  const std::string with_g = "j1,gx,gy,gz,fx,fy,fz,mx,my,mz\n0.5,0,0,9.8,0,0,9.8,0,0,0\n";
+  try {
+    read_samples(model, parse_csv(with_g, "g.csv"), WrenchColumns::Required, o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("g.csv:1: a level gravity is given, but the file has no "
+                                         "tilt columns"),
+              std::string::npos)
+        << e.what();
+    EXPECT_EQ(e.hints(), (std::vector<Hint>{{Hint::Setting::LevelGravity, ""}}));
+  }
+  // The sensor link below a movable joint (j1 above link1) without its column:
+  // no level gravity follows from the root gravity; given, it is used.
+  const Model wrist = load_urdf_string(urdf, "link1");
+  const std::string tilt_only = "tilt_x_deg,tilt_y_deg,fx,fy,fz,mx,my,mz\n20,-10,0,0,9.8,0,0,0\n";
+  try {
+    read_samples(wrist, parse_csv(tilt_only, "w.csv"), WrenchColumns::Required);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("w.csv:1: tilt_x_deg,tilt_y_deg turn the level gravity "
+                                         "in the sensor frame, and sensor link 'link1' is below "
+                                         "movable joints (j1)"),
+              std::string::npos)
+        << e.what();
+  }
+  const Samples given =
+      read_samples(wrist, parse_csv(tilt_only, "w.csv"), WrenchColumns::Required, o);
+  EXPECT_LT((given.gravity.row(0).transpose() - turned(up, tx, ty)).norm(), 1e-12);
+  fs::remove(path);
 }
 
 }  // namespace

@@ -167,6 +167,7 @@ class Predictor:
         *,
         cutoff: Optional[float] = None,  # dynamic, derived from t: low-pass cut-off, Hz
         root_gravity: Optional[Sequence[float]] = None,
+        level_gravity: Optional[Sequence[float]] = None,  # sensor frame, level: what tilt columns turn
         checks: bool = True,  # the set-up checks (massid predict --no-checks: False)
         columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME} (massid predict --columns)
     ) -> "LogPrediction":
@@ -339,6 +340,7 @@ def identify(
     dynamic: bool = False,
     cutoff: Optional[float] = None,  # Hz, dynamic without JOINT_vel/_acc
     root_gravity: Optional[Sequence[float]] = None,  # gravity in the URDF root frame (upstream joints)
+    level_gravity: Optional[Sequence[float]] = None,  # sensor frame, level: what tilt columns turn
     rest: str = "auto",  # static log with t: "auto" uses its rest windows, "off" every row
     delay: Union[None, str, float] = None,  # dynamic: wrench lag, s, or "auto"
     physical: bool = False,  # also physically consistent standard parameters (.physical)
@@ -383,6 +385,7 @@ def predict(
     *,
     cutoff: Optional[float] = None,
     root_gravity: Optional[Sequence[float]] = None,
+    level_gravity: Optional[Sequence[float]] = None,  # sensor frame, level: what tilt columns turn
     physical: bool = False,  # from the physical parameters (identify physical=True)
     columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> np.ndarray:
@@ -415,6 +418,7 @@ def predict_log(
     *,
     cutoff: Optional[float] = None,
     root_gravity: Optional[Sequence[float]] = None,
+    level_gravity: Optional[Sequence[float]] = None,  # sensor frame, level: what tilt columns turn
     physical: bool = False,
     checks: bool = True,
     columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
@@ -433,6 +437,7 @@ def simulate(
     repeat: int = 1,
     dynamic: bool = False,  # in motion: the trajectory's JOINT_vel, JOINT_acc columns
     root_gravity: Optional[Sequence[float]] = None,
+    level_gravity: Optional[Sequence[float]] = None,  # sensor frame, level: what tilt columns turn
     columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}: columns of other names read as roles
 ) -> dict[str, np.ndarray]:
     """The plan's columns with fx ... mz that the URDF's inertials would produce."""
@@ -461,6 +466,7 @@ def prepare_motion(
     cutoff: Optional[float] = None,
     decimation: Optional[int] = None,
     root_gravity: Optional[Sequence[float]] = None,
+    level_gravity: Optional[Sequence[float]] = None,  # sensor frame, level: what tilt columns turn
     sensor: Optional[str] = None,
     fixed: Optional[Mapping[str, float]] = None,
     columns: Optional[Mapping[str, str]] = None,  # {ROLE: NAME}

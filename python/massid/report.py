@@ -1449,9 +1449,10 @@ def _predict_html(robot: Union[PathType, Any, None], params: Any,
                   data: Union[PathType, Mapping[str, Any]], title: Optional[str],
                   figs: _Figures, cutoff: Optional[float] = None,
                   root_gravity: Optional[Sequence[float]] = None,
-                  columns: Optional[Mapping[str, str]] = None) -> str:
+                  columns: Optional[Mapping[str, str]] = None,
+                  level_gravity: Optional[Sequence[float]] = None) -> str:
     motion_args: dict[str, Any] = {"cutoff": cutoff, "root_gravity": root_gravity,
-                                   "columns": columns}
+                                   "level_gravity": level_gravity, "columns": columns}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         predicted = np.asarray(massid.predict(robot, params, data, **motion_args), dtype=float)
@@ -1620,7 +1621,8 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any, None], para
                          data: Union[PathType, Mapping[str, Any]], *,
                          title: Optional[str] = None, cutoff: Optional[float] = None,
                          root_gravity: Optional[Sequence[float]] = None,
-                         columns: Optional[Mapping[str, str]] = None) -> None:
+                         columns: Optional[Mapping[str, str]] = None,
+                         level_gravity: Optional[Sequence[float]] = None) -> None:
     """Write the HTML report of a prediction.
 
     Args:
@@ -1640,6 +1642,10 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any, None], para
             the low-pass cutoff (Hz) that derives them from ``t`` and the positions
             (default min(10, rate/20), as ``massid predict``).
         root_gravity: gravity in the URDF root frame (a sensor below movable joints).
+        level_gravity: gravity in the sensor frame with the platform level, which
+            ``tilt_x_deg, tilt_y_deg`` turn in data without ``gx, gy, gz``
+            (``massid predict --gravity``; default: root_gravity through the fixed
+            joints above the sensor link).
         columns: columns of other names read as roles, ``{ROLE: NAME}`` (``massid
             predict --columns``); the recorders' spellings of the wrench are read
             without it.
@@ -1654,7 +1660,8 @@ def write_predict_report(path: PathType, robot: Union[PathType, Any, None], para
         OSError: the file cannot be written.
     """
     with _Figures() as figs:
-        text = _predict_html(robot, params, data, title, figs, cutoff, root_gravity, columns)
+        text = _predict_html(robot, params, data, title, figs, cutoff, root_gravity, columns,
+                             level_gravity)
     _massid._write_file_atomically(path, text)
 
 
@@ -2378,6 +2385,9 @@ def _parser() -> argparse.ArgumentParser:
                       help="dynamic params, a log without JOINT_vel/_acc: low-pass cutoff, Hz")
     pred.add_argument("--root-gravity", type=_three_numbers, metavar="GX,GY,GZ",
                       help="gravity in the URDF root frame (sensor below movable joints)")
+    pred.add_argument("--gravity", type=_three_numbers, metavar="GX,GY,GZ",
+                      help="gravity in the sensor frame with the platform level, which the "
+                           "tilt_x_deg,tilt_y_deg columns turn")
     pred.add_argument("--columns", action="append", metavar="ROLE=NAME,...",
                       help="read columns of other names as roles (repeatable)")
     return p
@@ -2457,7 +2467,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         else:
             write_predict_report(args.output, args.robot, args.params, args.data,
                                  cutoff=args.cutoff, root_gravity=args.root_gravity,
-                                 columns=_parse_columns(args.columns))
+                                 columns=_parse_columns(args.columns),
+                                 level_gravity=args.gravity)
     except MatplotlibMissing:
         print(f"massid: error: {MATPLOTLIB_MISSING}", file=sys.stderr)
         return 2

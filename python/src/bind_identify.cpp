@@ -55,6 +55,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
                             std::optional<double> sigma_moment, bool checks, bool dynamic,
                             std::optional<double> cutoff,
                             std::optional<std::vector<double>> root_gravity,
+                            std::optional<std::vector<double>> level_gravity,
                             std::optional<std::string> rest, const py::object& delay, bool physical,
                             std::optional<std::map<std::string, std::string>> columns) {
   // The keywords as a request (identify_request.hpp), checked by its rules.
@@ -73,6 +74,7 @@ Identification run_identify(const py::object& robot, const py::object& data, boo
   request.sigma_force = sigma_force;
   request.sigma_moment = sigma_moment;
   if (root_gravity) request.root_gravity = root_gravity_of(root_gravity);
+  request.level_gravity = level_gravity_of(level_gravity);
   request.columns = column_names_of(columns);
   request.validate(spelling());
   // A URDF path or a Model, the joints below the sensor that the data lack held (with a note).
@@ -431,8 +433,9 @@ a record or whose URDF no longer gives the same base parameters.)");
         py::arg("robust") = false, py::arg("drift") = py::none(),
         py::arg("sigma_force") = py::none(), py::arg("sigma_moment") = py::none(),
         py::arg("checks") = true, py::arg("dynamic") = false, py::arg("cutoff") = py::none(),
-        py::arg("root_gravity") = py::none(), py::arg("rest") = py::none(),
-        py::arg("delay") = py::none(), py::arg("physical") = false, py::arg("columns") = py::none(),
+        py::arg("root_gravity") = py::none(), py::arg("level_gravity") = py::none(),
+        py::arg("rest") = py::none(), py::arg("delay") = py::none(), py::arg("physical") = false,
+        py::arg("columns") = py::none(),
         R"(Identifies the base parameters from measured wrenches (massid identify [--dynamic]).
 
 robot: URDF path or Model. data: a CSV path (streamed, as the CLI) or columns by name
@@ -449,6 +452,9 @@ standard parameters per link that reproduce the base parameters, the URDF's iner
 data cannot see (.physical, a PhysicalSummary; saved under "physical"). root_gravity: gravity
 in the URDF root frame, for a sensor below movable joints whose columns the data have (they
 then give gravity in the sensor frame when there are no gx,gy,gz), at rest and in motion.
+level_gravity: gravity in the sensor frame with the platform level, which the data's
+tilt_x_deg, tilt_y_deg turn when they have no gx,gy,gz (default: root_gravity through the
+fixed joints above the sensor link; an error when the data's gravity comes from elsewhere).
 dynamic: identification in motion, ten parameters per link (inertia about the link origin):
 the data add JOINT_vel and JOINT_acc, or t to derive them from the positions by a zero-phase
 low-pass (cutoff Hz; default min(10, rate/20)); optionally wx..wz, dwx..dwz, ax..az (sensor

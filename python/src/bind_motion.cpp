@@ -14,7 +14,8 @@
 namespace massid::python {
 
 MotionDataOptions motion_data_options(std::optional<double> cutoff,
-                                      const std::optional<std::vector<double>>& root_gravity) {
+                                      const std::optional<std::vector<double>>& root_gravity,
+                                      const std::optional<std::vector<double>>& level_gravity) {
   MotionDataOptions o;
   if (cutoff) {
     if (!(*cutoff > 0 && std::isfinite(*cutoff)))
@@ -22,6 +23,7 @@ MotionDataOptions motion_data_options(std::optional<double> cutoff,
     o.filter.cutoff = *cutoff;
   }
   o.samples.root_gravity = root_gravity_of(root_gravity);
+  o.samples.level_gravity = level_gravity_of(level_gravity);
   return o;
 }
 
@@ -92,11 +94,12 @@ py::dict fourier_trajectory(const py::object& robot, int harmonics, double perio
 py::dict prepare_motion(const py::object& robot, const py::object& data,
                         std::optional<double> cutoff, std::optional<int> decimation,
                         std::optional<std::vector<double>> root_gravity,
+                        std::optional<std::vector<double>> level_gravity,
                         std::optional<std::string> sensor,
                         std::optional<std::map<std::string, double>> fixed,
                         std::optional<std::map<std::string, std::string>> columns) {
   const Model model = model_of(robot, sensor, fixed);
-  MotionDataOptions o = motion_data_options(cutoff, root_gravity);
+  MotionDataOptions o = motion_data_options(cutoff, root_gravity, level_gravity);
   o.samples.columns = column_names_of(columns);
   if (decimation) {
     if (*decimation < 1) throw InputError(fmt::format("decimation: {} is not >= 1", *decimation));
@@ -161,14 +164,17 @@ py::dict prepare_motion(const py::object& robot, const py::object& data,
 void bind_motion(py::module_& m) {
   m.def("prepare_motion", &prepare_motion, py::arg("robot"), py::arg("data"), py::kw_only(),
         py::arg("cutoff") = py::none(), py::arg("decimation") = py::none(),
-        py::arg("root_gravity") = py::none(), py::arg("sensor") = py::none(),
-        py::arg("fixed") = py::none(), py::arg("columns") = py::none(),
+        py::arg("root_gravity") = py::none(), py::arg("level_gravity") = py::none(),
+        py::arg("sensor") = py::none(), py::arg("fixed") = py::none(),
+        py::arg("columns") = py::none(),
         R"(The samples that identify(..., dynamic=True) and predict make of a motion log, as
 columns: t, joints, JOINT_vel, JOINT_acc (given, or derived from t and the positions by the
 zero-phase low-pass: cutoff Hz, default min(10, rate/20); the positions, gravity, sensor
 motion and wrench smoothed alike, the rows at each end of each block dropped, every
 decimation-th filtered row kept: default floor(rate / (2 cutoff)) as identify, 1 as
-predict), gx, gy, gz (from the upstream joints and root_gravity when the data have them),
+predict), gx, gy, gz (from the upstream joints and root_gravity when the data have them, or
+from tilt_x_deg, tilt_y_deg turning level_gravity: default root_gravity through the fixed joints
+above the sensor link),
 wx..az when the sensor moves, fx..mz when measured, block, and row: the data row (from 0)
 of each sample.)");
   m.def("fourier_trajectory", &fourier_trajectory, py::arg("robot"), py::arg("harmonics") = 5,

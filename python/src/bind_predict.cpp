@@ -215,11 +215,12 @@ CsvTable table_of(const py::handle& data) {
 // (table_of), its warnings raised as MassidWarning.
 LogPrediction predict_log_of(const IdentifiedModel& identified, CsvTable table,
                              const std::string& source, std::optional<double> cutoff,
-                             std::optional<std::vector<double>> root_gravity, bool checks,
+                             std::optional<std::vector<double>> root_gravity,
+                             std::optional<std::vector<double>> level_gravity, bool checks,
                              const ColumnNames& columns) {
   if (!identified.dynamic() && cutoff) throw InputError("cutoff goes with dynamic parameters");
   PredictLogOptions o;
-  o.motion = motion_data_options(cutoff, root_gravity);
+  o.motion = motion_data_options(cutoff, root_gravity, level_gravity);
   o.motion.samples.columns = columns;
   o.checks = checks;
   LogPrediction out;
@@ -236,10 +237,11 @@ LogPrediction predict_log_of(const IdentifiedModel& identified, CsvTable table,
 
 LogPrediction predict_log_of(const IdentifiedModel& identified, const py::object& data,
                              std::optional<double> cutoff,
-                             std::optional<std::vector<double>> root_gravity, bool checks,
+                             std::optional<std::vector<double>> root_gravity,
+                             std::optional<std::vector<double>> level_gravity, bool checks,
                              const ColumnNames& columns) {
   return predict_log_of(identified, table_of(data), is_path(data) ? path_of(data) : "data", cutoff,
-                        std::move(root_gravity), checks, columns);
+                        std::move(root_gravity), std::move(level_gravity), checks, columns);
 }
 
 // [N x 6] or [6] as numpy gives them, as a matrix of six columns.
@@ -477,14 +479,15 @@ void bind_predict(py::module_& m) {
       .def(
           "predict_log",
           [](const PyPredictor& p, const py::object& data, std::optional<double> cutoff,
-             std::optional<std::vector<double>> root_gravity, bool checks,
+             std::optional<std::vector<double>> root_gravity,
+             std::optional<std::vector<double>> level_gravity, bool checks,
              std::optional<std::map<std::string, std::string>> columns) {
-            return predict_log_of(p.identified, data, cutoff, std::move(root_gravity), checks,
-                                  column_names_of(columns));
+            return predict_log_of(p.identified, data, cutoff, std::move(root_gravity),
+                                  std::move(level_gravity), checks, column_names_of(columns));
           },
           py::arg("data"), py::kw_only(), py::arg("cutoff") = py::none(),
-          py::arg("root_gravity") = py::none(), py::arg("checks") = true,
-          py::arg("columns") = py::none(),
+          py::arg("root_gravity") = py::none(), py::arg("level_gravity") = py::none(),
+          py::arg("checks") = true, py::arg("columns") = py::none(),
           "massid predict on a log (a CSV path, or columns by name): the set-up checks (InputError "
           "with the CLI's message when they refuse; warnings as MassidWarning), the motion "
           "filter of a dynamic model's log without JOINT_vel/_acc, the predicted and "
@@ -511,16 +514,17 @@ void bind_predict(py::module_& m) {
       "predict",
       [](const py::object& robot, const py::object& params, const py::object& data,
          std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity,
-         bool physical, std::optional<std::map<std::string, std::string>> columns) {
+         std::optional<std::vector<double>> level_gravity, bool physical,
+         std::optional<std::map<std::string, std::string>> columns) {
         // massid predict's pipeline without its set-up checks (predict_log.hpp),
         // its notes of the clock delay applied raised as MassidWarning, and its
         // rows spread back over the data's: rows the filter drops are NaN.
         const auto p = make_predictor(robot, params, physical);
         CsvTable table = table_of(data);
         const std::vector<int> lines = table.line;
-        const LogPrediction out =
-            predict_log_of(p->identified, std::move(table), is_path(data) ? path_of(data) : "data",
-                           cutoff, std::move(root_gravity), false, column_names_of(columns));
+        const LogPrediction out = predict_log_of(
+            p->identified, std::move(table), is_path(data) ? path_of(data) : "data", cutoff,
+            std::move(root_gravity), std::move(level_gravity), false, column_names_of(columns));
         const size_t delay_notes = out.notes.size() - out.contact.size();
         for (size_t k = 0; k < delay_notes; ++k) warn_note(out.notes[k]);
         return PyPredictor::spread_rows(out.predicted, out.samples.line,
@@ -528,7 +532,8 @@ void bind_predict(py::module_& m) {
       },
       py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),
       py::arg("cutoff") = py::none(), py::arg("root_gravity") = py::none(),
-      py::arg("physical") = false, py::arg("columns") = py::none(),
+      py::arg("level_gravity") = py::none(), py::arg("physical") = false,
+      py::arg("columns") = py::none(),
       "[N, 6] the mechanism's predicted wrench at every row of data, WITHOUT the identified "
       "sensor offsets (massid predict's fx_pred..mz_pred; a Predictor's call and "
       "Predictor.offset give the offsets): data is a CSV path or columns by name "
@@ -537,6 +542,9 @@ void bind_predict(py::module_& m) {
       "JOINT_acc, or derived from t and the positions by the zero-phase low-pass of massid "
       "predict (cutoff Hz): the rows the filter drops at each end (of each block) are NaN. "
       "root_gravity: gravity in the URDF root frame (sensor below movable joints). "
+      "level_gravity: gravity in the sensor frame with the platform level, which tilt_x_deg, "
+      "tilt_y_deg turn in data without gx, gy, gz (default: root_gravity through the fixed "
+      "joints above the sensor link). "
       "columns: columns of other names read as roles, {ROLE: NAME} (as massid predict "
       "--columns). physical: from the params' physical parameters (identify physical=True), K "
       "pi_phys "
@@ -561,14 +569,16 @@ void bind_predict(py::module_& m) {
       "predict_log",
       [](const py::object& robot, const py::object& params, const py::object& data,
          std::optional<double> cutoff, std::optional<std::vector<double>> root_gravity,
-         bool physical, bool checks, std::optional<std::map<std::string, std::string>> columns) {
+         std::optional<std::vector<double>> level_gravity, bool physical, bool checks,
+         std::optional<std::map<std::string, std::string>> columns) {
         const auto p = make_predictor(robot, params, physical);
-        return predict_log_of(p->identified, data, cutoff, std::move(root_gravity), checks,
-                              column_names_of(columns));
+        return predict_log_of(p->identified, data, cutoff, std::move(root_gravity),
+                              std::move(level_gravity), checks, column_names_of(columns));
       },
       py::arg("robot"), py::arg("params"), py::arg("data"), py::kw_only(),
       py::arg("cutoff") = py::none(), py::arg("root_gravity") = py::none(),
-      py::arg("physical") = false, py::arg("checks") = true, py::arg("columns") = py::none(),
+      py::arg("level_gravity") = py::none(), py::arg("physical") = false, py::arg("checks") = true,
+      py::arg("columns") = py::none(),
       "Predictor(robot, params, physical=physical).predict_log(data, ...): massid predict's "
       "pipeline on a log, its set-up checks and contact notes included (a LogPrediction).");
 
@@ -577,6 +587,7 @@ void bind_predict(py::module_& m) {
       [](const py::object& robot, const py::object& plan, double noise_force, double noise_moment,
          std::optional<std::vector<double>> sensor_offset, std::uint64_t seed, int repeat,
          bool dynamic, std::optional<std::vector<double>> root_gravity,
+         std::optional<std::vector<double>> level_gravity,
          std::optional<std::vector<double>> offset,
          std::optional<std::map<std::string, std::string>> columns) {
         if (offset) {  // the old spelling of sensor_offset
@@ -590,6 +601,7 @@ void bind_predict(py::module_& m) {
         const Model model = model_of(robot, std::nullopt, std::nullopt);
         SampleOptions sopts;
         sopts.root_gravity = root_gravity_of(root_gravity);
+        sopts.level_gravity = level_gravity_of(level_gravity);
         sopts.columns = column_names_of(columns);
         sopts.sensor_motion = dynamic;
         py::dict in;
@@ -645,14 +657,17 @@ void bind_predict(py::module_& m) {
       py::arg("robot"), py::arg("plan"), py::kw_only(), py::arg("noise_force") = 0.0,
       py::arg("noise_moment") = 0.0, py::arg("sensor_offset") = py::none(), py::arg("seed") = 1,
       py::arg("repeat") = 1, py::arg("dynamic") = false, py::arg("root_gravity") = py::none(),
-      py::arg("offset") = py::none(), py::arg("columns") = py::none(),
+      py::arg("level_gravity") = py::none(), py::arg("offset") = py::none(),
+      py::arg("columns") = py::none(),
       "The plan's columns (each repeated `repeat` times) with the wrenches fx ... mz that the "
       "URDF's inertials would produce, plus Gaussian noise (N, N m) and a constant offset: a "
       "data set for identify.\n"
       "dynamic=True: the wrench in motion (weight and inertial forces, ten parameters per "
       "link) along a trajectory with JOINT_vel and JOINT_acc columns (fourier_trajectory), "
       "and the sensor's motion wx..az when given (massid simulate --dynamic). root_gravity: "
-      "gravity in the URDF root frame for a sensor below movable joints.");
+      "gravity in the URDF root frame for a sensor below movable joints. level_gravity: "
+      "gravity in the sensor frame with the platform level, which a plan's tilt_x_deg, "
+      "tilt_y_deg turn (default: root_gravity through the fixed joints above the sensor link).");
 
   // For massid.report: the CLI's atomic write (InputError naming the path).
   m.def(

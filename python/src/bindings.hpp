@@ -43,9 +43,11 @@ struct PyBase {
   BaseParameters base;
 };
 
-// The motion options of the cutoff and root_gravity arguments (cutoff: Hz, > 0).
+// The motion options of the cutoff, root_gravity and level_gravity arguments
+// (cutoff: Hz, > 0).
 MotionDataOptions motion_data_options(std::optional<double> cutoff,
-                                      const std::optional<std::vector<double>>& root_gravity);
+                                      const std::optional<std::vector<double>>& root_gravity,
+                                      const std::optional<std::vector<double>>& level_gravity = {});
 
 // massid.Plan: a designed experiment.
 struct Plan {

@@ -125,13 +125,27 @@ Samples samples_of(const Model& model, const py::handle& data, WrenchColumns wre
   return samples_from_columns(model, c.names, c.values, wrench, "data", options);
 }
 
+namespace {
+
+// Three finite numbers gx, gy, gz of the keyword `name`.
+Eigen::Vector3d gravity_vector_of(const std::vector<double>& g, const char* name) {
+  if (g.size() != 3) throw InputError(fmt::format("{}: three numbers gx, gy, gz", name));
+  for (double v : g)
+    if (!std::isfinite(v)) throw InputError(fmt::format("{}: {} is not a finite number", name, v));
+  return Eigen::Map<const Eigen::Vector3d>(g.data());
+}
+
+}  // namespace
+
 Eigen::Vector3d root_gravity_of(const std::optional<std::vector<double>>& root_gravity) {
   if (!root_gravity) return SampleOptions{}.root_gravity;
-  if (root_gravity->size() != 3) throw InputError("root_gravity: three numbers gx, gy, gz");
-  for (double v : *root_gravity)
-    if (!std::isfinite(v))
-      throw InputError(fmt::format("root_gravity: {} is not a finite number", v));
-  return Eigen::Map<const Eigen::Vector3d>(root_gravity->data());
+  return gravity_vector_of(*root_gravity, "root_gravity");
+}
+
+std::optional<Eigen::Vector3d> level_gravity_of(
+    const std::optional<std::vector<double>>& level_gravity) {
+  if (!level_gravity) return std::nullopt;
+  return gravity_vector_of(*level_gravity, "level_gravity");
 }
 
 ColumnNames column_names_of(const std::optional<std::map<std::string, std::string>>& columns) {

@@ -60,6 +60,10 @@ Samples samples_of(const Model& model, const py::handle& data, WrenchColumns wre
 
 // A root_gravity argument: three numbers gx, gy, gz (default 0, 0, -9.80665).
 Eigen::Vector3d root_gravity_of(const std::optional<std::vector<double>>& root_gravity);
+// A level_gravity argument (sensor frame, what tilt columns turn:
+// SampleOptions::level_gravity): three numbers gx, gy, gz; None: unset.
+std::optional<Eigen::Vector3d> level_gravity_of(
+    const std::optional<std::vector<double>>& level_gravity);
 // The columns= keyword ({ROLE: NAME}) as read_samples' ColumnNames.
 ColumnNames column_names_of(const std::optional<std::map<std::string, std::string>>& columns);
 // A column note (column_note, read_samples.hpp) as a MassidWarning, when there is one.

@@ -38,6 +38,8 @@ std::string library_name(Hint::Setting s) {
       return "sigma_moment";
     case Hint::Setting::RootGravity:
       return "root_gravity";
+    case Hint::Setting::LevelGravity:
+      return "level_gravity";
     default:
       return "setting";
   }
@@ -61,11 +63,11 @@ std::optional<double> seconds(const std::string& text) {
 }
 
 // Whether a data file has every joint's velocity column (JOINT_vel or
-// JOINT_deg_vel), the sign of a log in motion.
-bool has_velocity_columns(const Model& model, const std::string& path) {
+// JOINT_deg_vel), the sign of a log in motion; read as the fit read it.
+bool has_velocity_columns(const Model& model, const std::string& path, const SampleOptions& read) {
   if (model.num_joints() == 0) return false;
   std::vector<std::string> roles;
-  read_samples_head(model, path, 1, &roles);
+  read_samples_head(model, path, 1, &roles, read);
   for (const Joint& j : model.joints)
     if (std::find(roles.begin(), roles.end(), j.name + "_vel") == roles.end() &&
         std::find(roles.begin(), roles.end(), j.name + "_deg_vel") == roles.end())
@@ -98,10 +100,11 @@ void IdentifyRequest::validate(const SettingSpelling& spelling) const {
        {std::pair{sigma_force, S::SigmaForce}, std::pair{sigma_moment, S::SigmaMoment}})
     if (value && !(*value > 0 && std::isfinite(*value)))
       throw InputError(fmt::format("{}: {} is not a positive number", name(setting), *value));
-  if (root_gravity && !(root_gravity->allFinite() && root_gravity->norm() > 0))
-    throw InputError(fmt::format("{}: {},{},{} is not a finite, non-zero gravity vector",
-                                 name(S::RootGravity), (*root_gravity)[0], (*root_gravity)[1],
-                                 (*root_gravity)[2]));
+  for (const auto& [value, setting] :
+       {std::pair{root_gravity, S::RootGravity}, std::pair{level_gravity, S::LevelGravity}})
+    if (value && !(value->allFinite() && value->norm() > 0))
+      throw InputError(fmt::format("{}: {},{},{} is not a finite, non-zero gravity vector",
+                                   name(setting), (*value)[0], (*value)[1], (*value)[2]));
   // The combinations.
   if (dynamic && !rest.empty())
     throw InputError(fmt::format("{} goes with static identification ({} uses every row)",
@@ -137,6 +140,7 @@ MotionDataOptions IdentifyRequest::motion_options() const {
   MotionDataOptions o;
   if (cutoff) o.filter.cutoff = *cutoff;
   if (root_gravity) o.samples.root_gravity = *root_gravity;
+  o.samples.level_gravity = level_gravity;
   o.samples.columns = columns;
   o.samples.sensor_motion = dynamic;
   return o;
@@ -193,7 +197,9 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
     } catch (const IdentifiabilityError& e) {
       // A motion log identified at rest: its weight alone cannot determine what
       // the motion moves; the fix is --dynamic, not more poses.
-      if (!(in_memory ? velocity_in_memory : has_velocity_columns(out.model, source.path))) throw;
+      if (!(in_memory ? velocity_in_memory
+                      : has_velocity_columns(out.model, source.path, motion.samples)))
+        throw;
       throw IdentifiabilityError(
           fmt::format("{}: this file has velocity columns: a log in motion, which the weight alone "
                       "does not explain (identified at rest, {}); identify it in motion",

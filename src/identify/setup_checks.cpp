@@ -280,13 +280,25 @@ bool check_sign(Context& c, const Centred& k) {
   }
   if (!negative) return false;
   const double fitted = (c.F.array() * c.G.array()).sum() / c.G.squaredNorm();
+  // Gravity from the tilt columns (no gx,gy,gz, no joints above the sensor):
+  // the level gravity they turn may be the one upside down.
+  const auto has = [&](const char* n) {
+    return std::find(c.header.begin(), c.header.end(), n) != c.header.end();
+  };
+  const bool tilt = has("tilt_x_deg") && !has("gx") && !c.s.gravity_from_upstream;
   c.add(Severity::Error, "wrench-sign",
-        fmt::format("{}: the measured force points against gravity (gx,gy,gz) at {} of {} rows "
+        fmt::format("{}: the measured force points against gravity ({}) at {} of {} rows "
                     "({}; {}; total mass along gravity {:.4g} kg, the URDF's {:.4g} kg): massid "
                     "wants the wrench the bodies exert on the sensor, f = M g at rest. If the "
                     "sensor reports the reaction (MuJoCo, force plates), negate fx,fy,fz,mx,my,mz; "
-                    "if gx,gy,gz point up instead of along gravity, negate gx,gy,gz",
-                    c.s.source, against.size(), c.N, lines_text(c.s, against), how, fitted, c.M));
+                    "{}",
+                    c.s.source,
+                    tilt ? "the level gravity turned by tilt_x_deg,tilt_y_deg" : "gx,gy,gz",
+                    against.size(), c.N, lines_text(c.s, against), how, fitted, c.M,
+                    tilt ? "if the level gravity points up in the sensor frame, give it along "
+                           "gravity (sensor frame, platform level)"
+                         : "if gx,gy,gz point up instead of along gravity, negate gx,gy,gz"),
+        tilt ? std::vector<Hint>{{Hint::Setting::LevelGravity, ""}} : std::vector<Hint>{});
   return true;
 }
 

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "massid/core/errors.hpp"
+#include "massid/core/kinematics.hpp"
 #include "massid/io/read_samples.hpp"
 
 namespace massid::detail {
@@ -152,6 +153,23 @@ ColumnGroup position_columns(const std::vector<Joint>& joints,
     out.push_back(b);
   }
   return out;
+}
+
+Eigen::Vector3d level_gravity_of(const Model& model, GravityFrom from, const SampleOptions& options,
+                                 const std::string& where) {
+  if (from == GravityFrom::Tilt) return tilt_level_gravity(model, options, where);
+  if (options.level_gravity) {
+    const char* source = from == GravityFrom::Columns ? "its columns gx,gy,gz"
+                         : from == GravityFrom::UpstreamJoints
+                             ? "the joints above the sensor link and the root gravity"
+                             : "the measured force";
+    throw InputError(
+        fmt::format("{}: a level gravity is given, but the file has no tilt columns "
+                    "tilt_x_deg,tilt_y_deg for it to turn (its gravity comes from {}): drop it",
+                    where, source),
+        {Hint{Hint::Setting::LevelGravity, ""}});
+  }
+  return Eigen::Vector3d::Zero();
 }
 
 std::vector<std::pair<std::string, double>> unlogged_joints(const Model& model,
@@ -407,6 +425,11 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
   for (BoundColumn& b : m.tilt) b.scale = std::numbers::pi / 180.0;
   if (!m.gravity.empty())
     m.gravity_from = GravityFrom::Columns;
+  else if (!m.q_upstream.empty() && !m.tilt.empty())
+    throw InputError(fmt::format(
+        "{}: tilt_x_deg,tilt_y_deg and the joints above sensor link '{}' both turn gravity: give "
+        "gx,gy,gz (sensor frame) instead, or drop one",
+        where, model.sensor_link()));
   else if (!m.q_upstream.empty())
     m.gravity_from = GravityFrom::UpstreamJoints;
   else if (!m.tilt.empty())
@@ -453,3 +476,23 @@ ColumnMap map_columns(const Model& model, const std::vector<std::string>& header
 }
 
 }  // namespace massid::detail
+
+namespace massid {
+
+Eigen::Vector3d tilt_level_gravity(const Model& model, const SampleOptions& options,
+                                   const std::string& where) {
+  if (options.level_gravity) return *options.level_gravity;
+  if (model.num_upstream_joints() > 0) {
+    std::vector<std::string> names;
+    for (const Joint& j : model.upstream_joints) names.push_back(j.name);
+    throw InputError(
+        fmt::format("{}: tilt_x_deg,tilt_y_deg turn the level gravity in the sensor frame, and "
+                    "sensor link '{}' is below movable joints ({}) whose columns the file does "
+                    "not have: give the level gravity in the sensor frame, or those columns",
+                    where, model.sensor_link(), fmt::join(names, ", ")),
+        {Hint{Hint::Setting::LevelGravity, ""}});
+  }
+  return fixed_sensor_gravity(model, options.root_gravity);
+}
+
+}  // namespace massid

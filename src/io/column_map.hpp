@@ -23,9 +23,12 @@
 //                             (paper eq. 37)
 //   tilt_x_deg tilt_y_deg     the platform's tilt as design's plans write it,
 //                             degrees (read in rad): both or none; without
-//                             gx,gy,gz and upstream joints every reader turns
-//                             the level gravity (SampleOptions::root_gravity;
-//                             compensate: its --gravity) by it (tilted_gravity)
+//                             gx,gy,gz, beside upstream joints an error (both
+//                             would turn gravity); else every reader turns
+//                             the level gravity by it (tilted_gravity): the
+//                             one rule tilt_level_gravity (SampleOptions::
+//                             level_gravity, else root_gravity through the
+//                             fixed joints above the sensor link)
 //   t                         time, s
 //   block                     an integer: the sensor re-zeroed between blocks
 // Other columns are ignored. A column of another name is read as a role when
@@ -54,7 +57,7 @@ using ColumnGroup = std::vector<BoundColumn>;  // empty: the group is absent
 enum class GravityFrom {
   Columns,         // gx, gy, gz
   UpstreamJoints,  // the joints above the sensor link turn the root gravity
-  Tilt,            // tilt_x_deg, tilt_y_deg turn the level gravity (root_gravity): tilted_gravity
+  Tilt,            // tilt_x_deg, tilt_y_deg turn the level gravity (tilt_level_gravity)
   Force,           // the measured force's direction (eq. 37)
 };
 
@@ -90,6 +93,14 @@ struct ColumnMap {
 ColumnMap map_columns(const Model& model, const std::vector<std::string>& header,
                       const std::string& where, WrenchColumns wrench, const ColumnNames& names = {},
                       bool sensor_motion = true);
+
+// The level gravity that tilt columns turn (tilt_level_gravity,
+// read_samples.hpp) when `from` is GravityFrom::Tilt; otherwise zero, and
+// options.level_gravity given is an InputError starting with `where` (it would
+// go unused: the file's gravity comes from elsewhere). Every reader's one call
+// (samples_of, csv_stream's binding, and through it the compensator).
+Eigen::Vector3d level_gravity_of(const Model& model, GravityFrom from, const SampleOptions& options,
+                                 const std::string& where);
 
 // The joints of model.joints (below the sensor link) that `header` has no
 // position column for (JOINT, JOINT_deg, or a role `names` binds), each at

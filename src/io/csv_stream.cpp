@@ -110,8 +110,10 @@ SampleColumns bind(const Model& model, std::string_view text, const std::string&
     throw InputError(fmt::format("{}:{}:1: header but no data rows", source, c.header_line));
 
   // The one binding (column_map.hpp): every header error, read_samples' messages.
-  const ColumnMap map = map_columns(model, c.header, fmt::format("{}:{}", source, c.header_line),
-                                    WrenchColumns::Required, options.columns, motion);
+  const std::string where = fmt::format("{}:{}", source, c.header_line);
+  const ColumnMap map =
+      map_columns(model, c.header, where, WrenchColumns::Required, options.columns, motion);
+  c.level_gravity = level_gravity_of(model, map.gravity_from, options, where);
   c.note = map.note;
   c.roles = map.roles;
   c.num_joints = model.num_joints();

@@ -71,12 +71,13 @@ struct SampleColumns {
   bool gravity_from_force = false;
   bool gravity_from_upstream = false;  // no gx,gy,gz, upstream joint columns: gravity from them
   // No gx,gy,gz nor upstream joints, tilt_x_deg,tilt_y_deg: gravity is the
-  // root gravity turned by them (tilted_gravity), from the values at tilt_value.
+  // level gravity turned by them (tilted_gravity), from the values at tilt_value.
   bool gravity_from_tilt = false;
   int tilt_value = -1;
-  double g0 = 0.0;                        // |g| for gravity from the force (SampleOptions)
-  Eigen::Vector3d root_gravity{0, 0, 0};  // for gravity from the upstream joints (SampleOptions)
-  std::size_t data_begin = 0;             // byte offset of the line after the header
+  double g0 = 0.0;                         // |g| for gravity from the force (SampleOptions)
+  Eigen::Vector3d root_gravity{0, 0, 0};   // for gravity from the upstream joints (SampleOptions)
+  Eigen::Vector3d level_gravity{0, 0, 0};  // with gravity_from_tilt: tilt_level_gravity
+  std::size_t data_begin = 0;              // byte offset of the line after the header
   // Value offsets; -1 when the group is absent (or not bound: static binding
   // binds only joints, wrench, gravity and, for gravity, the upstream joints).
   int wrench = 0, gravity = 0;
@@ -274,7 +275,7 @@ std::size_t parse_block(std::string_view text, const SampleColumns& c, std::size
         check_pose(text, static_cast<std::size_t>(p - base), c, vals.data());
       if (c.gravity_from_tilt) {
         const Eigen::Vector3d gt =
-            tilted_gravity(c.root_gravity, Tilt{vals[c.tilt_value], vals[c.tilt_value + 1]});
+            tilted_gravity(c.level_gravity, Tilt{vals[c.tilt_value], vals[c.tilt_value + 1]});
         vals[g] = gt[0];
         vals[g + 1] = gt[1];
         vals[g + 2] = gt[2];

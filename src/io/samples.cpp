@@ -86,6 +86,8 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
                    WrenchColumns wrench, const SampleOptions& options) {
   const detail::ColumnMap map = detail::map_columns(model, table.names(), table.header_where(),
                                                     wrench, options.columns, options.sensor_motion);
+  const Eigen::Vector3d level =
+      detail::level_gravity_of(model, map.gravity_from, options, table.header_where());
   Samples s;
   s.source = source;
   s.root_gravity = options.root_gravity;
@@ -158,9 +160,8 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
       s.gravity.resize(N, 3);
       for (int r = 0; r < N; ++r)
         s.gravity.row(r) =
-            tilted_gravity(options.root_gravity,
-                           Tilt{map.tilt[0].scale * table.number(r, map.tilt[0].column),
-                                map.tilt[1].scale * table.number(r, map.tilt[1].column)})
+            tilted_gravity(level, Tilt{map.tilt[0].scale * table.number(r, map.tilt[0].column),
+                                       map.tilt[1].scale * table.number(r, map.tilt[1].column)})
                 .transpose();
       resolve_upstream(model, s);
       break;

@@ -115,7 +115,7 @@ Eigen::Vector3d Compensator::Impl::gravity(const double* v, FrameMotion& sensor)
   const detail::SampleColumns& c = columns;
   switch (gravity_from) {
     case GravityFrom::Tilt:
-      return tilted_gravity(options.level_gravity, Tilt{v[tilt], v[tilt + 1]});
+      return tilted_gravity(c.level_gravity, Tilt{v[tilt], v[tilt + 1]});
     case GravityFrom::Upstream:
     case GravityFrom::Columns:
       break;
@@ -144,6 +144,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   m.dynamic = identified.dynamic();
   SampleOptions read;
   read.root_gravity = options.root_gravity;
+  read.level_gravity = options.level_gravity;
   read.columns = options.columns;
   {  // the sensor's pose from columns, when the header has them
     detail::SampleColumns h;
@@ -164,13 +165,8 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
           where, w));
 
   // Gravity: gx,gy,gz, else the upstream joints, else the platform's tilt.
-  if (c.gravity_from_upstream) {
+  if (c.gravity_from_upstream) {  // (with the tilt columns too: map_columns' error)
     m.gravity_from = GravityFrom::Upstream;
-    if (!c.tilt.empty())
-      throw InputError(fmt::format(
-          "{}: tilt_x_deg,tilt_y_deg and the joints above sensor link '{}' both turn gravity: give "
-          "gx,gy,gz (sensor frame) instead",
-          where, model.sensor_link()));
   } else if (c.gravity_from_tilt) {  // bound by the reader (csv_stream.hpp), turned here
     m.gravity_from = GravityFrom::Tilt;
     m.tilt = c.tilt_value;

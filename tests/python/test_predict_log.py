@@ -147,3 +147,68 @@ def test_every_door_applies_the_params_clock_delay(massid: Any, logs: dict[str, 
                                   np.column_stack([written[a + "_pred"] for a in AXES]))
     undelayed = massid.predict(str(UR), str(logs["params"]), str(log))
     assert np.abs(by_predict - undelayed).max() > 1e-3
+
+
+# ---------------------------------------------------------------------------
+# The level gravity that tilt columns turn: level_gravity=, as the CLI's --gravity
+
+FLIPPED_URDF = """<robot name="flipped"><link name="base"/>
+  <joint name="mount" type="fixed"><parent link="base"/><child link="ft"/>
+    <origin xyz="0 0 0.3" rpy="3.141592653589793 0 0"/></joint>
+  <link name="ft"/>
+  <joint name="j1" type="revolute"><parent link="ft"/><child link="link1"/>
+    <origin xyz="0 0 0.05"/><axis xyz="0 0 1"/>
+    <limit lower="-3.2" upper="3.2" effort="10" velocity="1"/></joint>
+  <link name="link1"><inertial><origin xyz="0.10 0.02 0.04"/><mass value="2.0"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j2" type="revolute"><parent link="link1"/><child link="link2"/>
+    <origin xyz="0.2 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-1.6" upper="1.6" effort="10" velocity="1"/></joint>
+  <link name="link2"><inertial><origin xyz="0.15 0 0.03"/><mass value="1.0"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>
+"""
+
+
+def test_level_gravity_of_tilt_columns_is_the_clis(massid: Any, tmp_path: Path) -> None:
+    """A sensor mounted upside down (180 degrees about x under the root): its level gravity
+    is 0,0,+g. A tilt-only log simulated at that level gravity is identified in memory and
+    from the file with default keywords (the root gravity through the mount; the old
+    readers took 0,0,-g and refused the log) to the URDF's 3 kg, and Python's predict
+    equals massid predict's *_pred, by default and with level_gravity given; given for a
+    log with gx,gy,gz it is an error naming the keyword."""
+    urdf = tmp_path / "flipped.urdf"
+    urdf.write_text(FLIPPED_URDF)
+    model = massid.load_model(str(urdf), sensor="ft")
+    rng = np.random.default_rng(7)
+    n = 60
+    plan = {"j1": rng.uniform(-3, 3, n), "j2": rng.uniform(-1.5, 1.5, n),
+            "tilt_x_deg": rng.uniform(-25, 25, n), "tilt_y_deg": rng.uniform(-25, 25, n)}
+    up = [0.0, 0.0, 9.80665]
+    data = massid.simulate(model, plan, noise_force=0.01, noise_moment=0.001, level_gravity=up)
+    # The force is the weight, 3 kg times (Rx(tilt_x) Ry(tilt_y))^T (0, 0, +g).
+    tx, ty = np.radians(plan["tilt_x_deg"]), np.radians(plan["tilt_y_deg"])
+    g = 9.80665 * np.column_stack([-np.cos(tx) * np.sin(ty), np.sin(tx),
+                                   np.cos(tx) * np.cos(ty)])
+    np.testing.assert_allclose(np.column_stack([data["fx"], data["fy"], data["fz"]]), 3 * g,
+                               atol=0.05)
+    path = write_csv(tmp_path / "log.csv", data)
+    for source in (data, str(path)):
+        ident = massid.identify(model, source)
+        assert ident.total_mass == pytest.approx(3.0, abs=0.01)
+    params = tmp_path / "params.json"
+    r = run("identify", urdf, path, "--sensor", "ft", "-o", params)
+    assert r.returncode == 0, r.stderr
+    r = run("predict", urdf, params, path, "-o", tmp_path / "pred.csv")
+    assert r.returncode == 0, r.stderr
+    cli = massid.read_csv(str(tmp_path / "pred.csv"))
+    for keywords in ({}, {"level_gravity": up}):
+        predicted = massid.predict(str(urdf), str(params), str(path), **keywords)
+        for k, axis in enumerate(AXES):
+            np.testing.assert_allclose(predicted[:, k], cli[axis + "_pred"], atol=1e-9)
+        lp = massid.predict_log(str(urdf), str(params), str(path), **keywords)
+        np.testing.assert_allclose(lp.compensated, np.column_stack(
+            [cli[a + "_comp"] for a in AXES]), atol=1e-9)
+    with_g = dict(plan, gx=np.zeros(n), gy=np.zeros(n), gz=np.full(n, 9.80665))
+    with pytest.raises(massid.InputError, match=r"no tilt columns .*\(level_gravity\)"):
+        massid.identify(model, dict(with_g, **{a: data[a] for a in AXES}), level_gravity=up)

@@ -70,6 +70,10 @@ struct IdentifyRequest {
   // Gravity in the URDF root frame, for a sensor below movable joints whose
   // columns the data have and no gx,gy,gz (unset: 0,0,-9.80665).
   std::optional<Eigen::Vector3d> root_gravity;
+  // Gravity in the sensor frame with the platform level, for a log whose
+  // gravity comes from tilt_x_deg,tilt_y_deg (SampleOptions::level_gravity;
+  // unset: root_gravity through the fixed joints above the sensor link).
+  std::optional<Eigen::Vector3d> level_gravity;
   // Columns of the log read as roles under other names (read_samples.hpp).
   ColumnNames columns;
   // Keep every sample and the fitted wrenches in the result (Python, the
@@ -80,8 +84,8 @@ struct IdentifyRequest {
   // `spelling` spells it. The rules:
   //   drift is "", "linear" or "per-block"; rest is "", "auto" or "off";
   //   delay is "", "auto" or a finite number; cutoff, sigma_force and
-  //   sigma_moment are positive and finite; root_gravity is finite and not
-  //   zero; rest goes with static identification; delay and cutoff go with
+  //   sigma_moment are positive and finite; root_gravity and level_gravity
+  //   are finite and not zero; rest goes with static identification; delay and cutoff go with
   //   dynamic.
   void validate(const SettingSpelling& spelling = {}) const;
 
@@ -89,7 +93,7 @@ struct IdentifyRequest {
   bool with_offset() const { return offset || !drift.empty(); }
   // The estimator's options (validate() first: they assume a valid request).
   IdentifyOptions options() const;
-  // How a log is read (root gravity, column names; the sensor motion needed
+  // How a log is read (root and level gravity, column names; the sensor motion needed
   // only when dynamic) and, in motion, filtered (cutoff).
   MotionDataOptions motion_options() const;
   SampleOptions sample_options() const { return motion_options().samples; }

@@ -41,6 +41,13 @@ struct SampleOptions {
   // Gravity in the URDF root frame, for a sensor below movable joints whose
   // columns the file has (used when the file has no gx,gy,gz).
   Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};
+  // Gravity in the sensor frame with the platform level: what the tilt
+  // columns tilt_x_deg,tilt_y_deg turn (a file without gx,gy,gz and without
+  // the joints above the sensor link). Unset: root_gravity turned into the
+  // sensor frame through the fixed joints above the sensor link
+  // (tilt_level_gravity). Given for a file whose gravity comes from elsewhere:
+  // InputError (it would go unused).
+  std::optional<Eigen::Vector3d> level_gravity;
   // Columns bound to roles by other names.
   ColumnNames columns;
   // The reader's use needs the sensor frame's motion (a motion log): the
@@ -50,6 +57,16 @@ struct SampleOptions {
   bool sensor_motion = true;
 };
 
+// The level gravity (sensor frame) that a file's tilt columns turn, the one
+// rule of every reader and the compensator: options.level_gravity, else
+// options.root_gravity turned into the sensor frame by the fixed joints above
+// the sensor link (fixed_sensor_gravity, kinematics.hpp). InputError starting
+// with `where` when it is unset and the sensor link is below movable joints
+// (the file then lacks their columns: the sensor frame's orientation is
+// unknown).
+Eigen::Vector3d tilt_level_gravity(const Model& model, const SampleOptions& options,
+                                   const std::string& where);
+
 // The columns of a data file and what each means: src/io/column_map.hpp (the one
 // binding, shared with the streaming readers), listed for users in
 // docs/formats.md. In short: the joints (named as the joint, or JOINT_deg in
@@ -57,7 +74,8 @@ struct SampleOptions {
 // dwx..dwz, ax..az, the joints above the sensor link (Model::upstream_joints)
 // with their _vel/_acc, the wrench fx..mz, gravity gx,gy,gz, time t and an
 // integer block. Without gx,gy,gz, gravity is root_gravity turned into the
-// sensor frame by the upstream joints (gravity_from_upstream), else g0 times
+// sensor frame by the upstream joints (gravity_from_upstream), else the level
+// gravity (tilt_level_gravity) turned by tilt_x_deg,tilt_y_deg, else g0 times
 // the unit measured force (paper eq. 37); with the upstream joints'
 // velocities, the sensor motion follows from them too (unless the file gives
 // the sensor motion itself: wx..az columns win). Throws InputError naming

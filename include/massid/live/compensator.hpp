@@ -10,7 +10,8 @@
 // fx..mz, and the gravity in the sensor frame from gx,gy,gz, else from the
 // joints above the sensor link and the root gravity, else from
 // tilt_x_deg,tilt_y_deg (the platform's tilt as design's plans write it,
-// applied to the level gravity: tilted_gravity, design.hpp). A dynamic params
+// applied to the level gravity: tilted_gravity, design.hpp;
+// tilt_level_gravity, read_samples.hpp). A dynamic params
 // file (identified in motion) predicts the full wrench from JOINT_vel and
 // JOINT_acc, and the sensor frame's motion from wx..az or the upstream joints'
 // _vel/_acc. Other columns are carried through untouched.
@@ -18,6 +19,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -37,8 +39,11 @@ struct CompensatorOptions {
   // columns the stream has (and no gx,gy,gz).
   Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};
   // Gravity in the sensor frame with the platform level: tilt_x_deg,tilt_y_deg
-  // turn it (when the stream has no gx,gy,gz and no upstream joints).
-  Eigen::Vector3d level_gravity{0.0, 0.0, -kStandardGravity};
+  // turn it (when the stream has no gx,gy,gz and no upstream joints). Unset:
+  // root_gravity through the fixed joints above the sensor link, as every
+  // reader (SampleOptions::level_gravity, tilt_level_gravity); given for a
+  // stream without tilt columns: InputError.
+  std::optional<Eigen::Vector3d> level_gravity;
   // Columns of the stream read as roles under other names (read_samples.hpp).
   ColumnNames columns;
   // Track a payload and the drifting offsets (tracker.hpp; `compensate
