@@ -245,6 +245,30 @@ TEST_F(CliLevelGravity, AnUpsideDownLevelGravityIsNamedByTheChecks) {
       << r;
 }
 
+// A level gravity 10 degrees off the sensor frame's: the force turns with
+// the tilts about another vertical than the one given. The rotation check
+// names what gravity came from (the level gravity and its tilt columns, not
+// gx,gy,gz the log does not have) and the fix that applies to it.
+TEST_F(CliLevelGravity, ARotatedLevelGravityIsNamedByTheRotationCheck) {
+  const std::string robot = urdf(), data = log("fit.csv", 80, 8);
+  const Eigen::Vector3d off =
+      Eigen::AngleAxisd(10.0 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) *
+      Eigen::Vector3d(0, 0, kLevelG);  // the truth upside down is 0,0,+g
+  const Result r =
+      run({"identify", robot, data, "--sensor", "ft", "-o", path("params.json"), "--gravity",
+           num_text(off[0]) + "," + num_text(off[1]) + "," + num_text(off[2])});
+  EXPECT_EQ(r.code, 2) << r;
+  const std::string head =
+      "the force direction disagrees with the level gravity turned by tilt_x_deg,tilt_y_deg by ";
+  const std::size_t at = r.err.find(head);
+  ASSERT_NE(at, std::string::npos) << r;
+  EXPECT_NEAR(std::stod(r.err.substr(at + head.size())), 10.0, 0.5) << r;
+  EXPECT_NE(r.err.find("give it as R times it (--gravity, sensor frame, platform level)"),
+            std::string::npos)
+      << r;
+  EXPECT_EQ(r.err.find("gx,gy,gz by R"), std::string::npos) << r;
+}
+
 // design --evaluate of a plan without gx,gy,gz: its tilt columns turn
 // design's own level gravity (--gravity, default 0,0,-9.80665 in the sensor
 // frame: interface.md), as when design wrote them, not the readers' default

@@ -70,6 +70,15 @@ constexpr int kMinRows = 3;
 // this many rows is assumed for AR(1)-like noise with rho near 1.
 constexpr double kMaxCorrelationRows = 200.0;
 
+// Gravity from the tilt columns (no gx,gy,gz, no joints above the sensor):
+// the level gravity (--gravity, or --root-gravity through the fixed joints)
+// turned by tilt_x_deg,tilt_y_deg, not columns of the file.
+bool gravity_from_tilt(const Context& c) {
+  const auto has = [&](const char* n) {
+    return std::find(c.header.begin(), c.header.end(), n) != c.header.end();
+  };
+  return has("tilt_x_deg") && !has("gx") && !c.s.gravity_from_upstream;
+}
 // --- formatting ---------------------------------------------------------------
 
 // "line 4", "lines 4, 9, 12 and 3 more"; never empty: "no line" for no rows.
@@ -280,12 +289,9 @@ bool check_sign(Context& c, const Centred& k) {
   }
   if (!negative) return false;
   const double fitted = (c.F.array() * c.G.array()).sum() / c.G.squaredNorm();
-  // Gravity from the tilt columns (no gx,gy,gz, no joints above the sensor):
-  // the level gravity they turn may be the one upside down.
-  const auto has = [&](const char* n) {
-    return std::find(c.header.begin(), c.header.end(), n) != c.header.end();
-  };
-  const bool tilt = has("tilt_x_deg") && !has("gx") && !c.s.gravity_from_upstream;
+  // Gravity from the tilt columns: the level gravity they turn may be the one
+  // upside down.
+  const bool tilt = gravity_from_tilt(c);
   c.add(Severity::Error, "wrench-sign",
         fmt::format("{}: the measured force points against gravity ({}) at {} of {} rows "
                     "({}; {}; total mass along gravity {:.4g} kg, the URDF's {:.4g} kg): massid "
@@ -348,15 +354,30 @@ void check_rotation(Context& c, const Centred& k) {
   const double deg = angle / kDeg;
   if (!(deg > kRotationWarn && angle > kRotationSigmas * sigma_angle)) return;
   const Eigen::AngleAxisd aa(R);
+  // What gravity came from, and so what may be the rotated one.
+  const bool tilt = gravity_from_tilt(c);
+  const std::string gravity = tilt ? "the level gravity turned by tilt_x_deg,tilt_y_deg"
+                              : c.s.gravity_from_upstream
+                                  ? "gravity from the joints above the sensor link"
+                                  : "gx,gy,gz";
+  const std::string against = tilt                        ? "that gravity"
+                              : c.s.gravity_from_upstream ? "the URDF's sensor link"
+                                                          : "the gravity columns";
+  const std::string or_gravity =
+      tilt ? "or, if the level gravity is the rotated one, give it as R times it (--gravity, "
+             "sensor frame, platform level)"
+      : c.s.gravity_from_upstream ? "or check the joints above it and --root-gravity"
+                                  : "or gx,gy,gz by R if they are the rotated ones";
   c.add(deg > kRotationError ? Severity::Error : Severity::Warning, "frame-rotation",
-        fmt::format("{}: the force direction disagrees with gx,gy,gz by {:.2f} deg (noise explains "
-                    "{:.2g} deg) over lines {}-{}: the wrench frame is rotated against the gravity "
-                    "columns; best fit f = M R g with R = {} ({:.2f} deg about {}; {}). Rotate "
-                    "fx,fy,fz and mx,my,mz by R^T into the frame of gx,gy,gz (or gx,gy,gz by R if "
-                    "they are the rotated ones), or make the URDF's sensor link the sensor's frame",
-                    c.s.source, deg, kRotationSigmas * sigma_angle / kDeg, c.s.line.front(),
-                    c.s.line.back(), matrix_text(R), aa.angle() / kDeg, vec_text(aa.axis(), 3),
-                    basis));
+        fmt::format("{}: the force direction disagrees with {} by {:.2f} deg (noise explains "
+                    "{:.2g} deg) over lines {}-{}: the wrench frame is rotated against {}; best "
+                    "fit f = M R g with R = {} ({:.2f} deg about {}; {}). Rotate fx,fy,fz and "
+                    "mx,my,mz by R^T into the frame of that gravity ({}), or make the URDF's "
+                    "sensor link the sensor's frame",
+                    c.s.source, gravity, deg, kRotationSigmas * sigma_angle / kDeg,
+                    c.s.line.front(), c.s.line.back(), against, matrix_text(R), aa.angle() / kDeg,
+                    vec_text(aa.axis(), 3), basis, or_gravity),
+        tilt ? std::vector<Hint>{{Hint::Setting::LevelGravity, ""}} : std::vector<Hint>{});
 }
 
 // --- channel signs and swaps ------------------------------------------------
