@@ -70,15 +70,6 @@ constexpr int kMinRows = 3;
 // this many rows is assumed for AR(1)-like noise with rho near 1.
 constexpr double kMaxCorrelationRows = 200.0;
 
-// Gravity from the tilt columns (no gx,gy,gz, no joints above the sensor):
-// the level gravity (--gravity, or --root-gravity through the fixed joints)
-// turned by tilt_x_deg,tilt_y_deg, not columns of the file.
-bool gravity_from_tilt(const Context& c) {
-  const auto has = [&](const char* n) {
-    return std::find(c.header.begin(), c.header.end(), n) != c.header.end();
-  };
-  return has("tilt_x_deg") && !has("gx") && !c.s.gravity_from_upstream;
-}
 // --- formatting ---------------------------------------------------------------
 
 // "line 4", "lines 4, 9, 12 and 3 more"; never empty: "no line" for no rows.
@@ -164,6 +155,16 @@ struct Context {
     out.push_back({sev, code, std::move(message), std::move(hints)});
   }
 };
+
+// Gravity from the tilt columns (no gx,gy,gz, no joints above the sensor):
+// the level gravity (--gravity, or --root-gravity through the fixed joints)
+// turned by tilt_x_deg,tilt_y_deg, not columns of the file.
+bool gravity_from_tilt(const Context& c) {
+  const auto has = [&](const char* n) {
+    return std::find(c.header.begin(), c.header.end(), n) != c.header.end();
+  };
+  return has("tilt_x_deg") && !has("gx") && !c.s.gravity_from_upstream;
+}
 
 // The URDF's wrench and reach at a strided subset of the rows, gravity scaled
 // to g0 (so that a unit mistake in gx,gy,gz does not hide one in the wrench).
