@@ -195,14 +195,14 @@ int run_design_dynamic(const DesignCommand& c, Model model, const BaseParameterO
   o.criterion = c.criterion == "d-opt" ? Criterion::DOpt : Criterion::Cond;
   o.noise_force = c.noise_force;
   o.noise_moment = c.noise_moment;
-  if (!c.gravity.empty()) o.gravity = parse_numbers<3>(c.gravity, "--gravity", "gx,gy,gz");
+  if (!c.gravity.empty()) o.level_gravity = parse_numbers<3>(c.gravity, "--gravity", "gx,gy,gz");
   o.tilts = parse_tilts(c.tilts);
   if (c.app->count("--tilt-max")) {
     if (c.tilt_groups < 1)
       throw InputError(
           "design --dynamic --tilt-max: --tilt-groups must be at least 1 (the trajectory runs "
           "once per tilt)");
-    o.tilts = cone_tilts(o.gravity, c.tilt_max_deg * kDeg, c.tilt_groups);
+    o.tilts = cone_tilts(o.level_gravity, c.tilt_max_deg * kDeg, c.tilt_groups);
   }
   o.min_height = parse_min_height(c);
   o.min_height_required = c.app->count("--min-height") > 0;

@@ -226,7 +226,7 @@ void BM_DesignDynamic(benchmark::State& state) {
   BaseParameterOptions bo;
   bo.layout = ParameterLayout::full();
   bo.fixed_gravity = true;
-  bo.sensor_gravity = o.gravity;
+  bo.sensor_gravity = o.level_gravity;
   const BaseParameters base = find_base_parameters(model, bo);
   ExcitationSummary s;
   for (auto _ : state) s = design_excitation(model, base, o);

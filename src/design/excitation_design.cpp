@@ -255,7 +255,7 @@ class GridCriterion {
         self_clearance_(o.self_clearance),
         options_(o),
         R_(crit_.num_rows(), crit_.size()) {
-    design_.level_gravity = o.gravity;
+    design_.level_gravity = o.level_gravity;
     design_.min_height = o.min_height;
     if (model.num_upstream_joints() > 0 && o.move_arm) arm_.emplace(model, o.root_gravity);
   }
@@ -459,16 +459,16 @@ Samples written_samples(const Model& model, const FourierTrajectory& tr,
 }  // namespace
 
 std::vector<Eigen::Vector3d> block_gravities(const ExcitationOptions& o) {
-  if (o.tilts.empty()) return {o.gravity};
+  if (o.tilts.empty()) return {o.level_gravity};
   std::vector<Eigen::Vector3d> out;
-  for (const Tilt& t : o.tilts) out.push_back(tilted_gravity(o.gravity, t));
+  for (const Tilt& t : o.tilts) out.push_back(tilted_gravity(o.level_gravity, t));
   return out;
 }
 
 ExcitationSummary design_excitation(const Model& model, const BaseParameters& base,
                                     const ExcitationOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  if (!(o.gravity.norm() > 0.0))
+  if (!(o.level_gravity.norm() > 0.0))
     throw InputError("design: the level gravity vector is zero",
                      {{Hint::Setting::LevelGravity, ""}});
   const int K = std::max(1, o.harmonics);
@@ -483,7 +483,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   ExcitationOptions opts = o;
   if (o.min_height && !wrist) {  // the default height is dropped when no pose at all satisfies it
     DesignOptions d;
-    d.level_gravity = o.gravity;
+    d.level_gravity = o.level_gravity;
     d.min_height = o.min_height;
     DesignSpace probe(model, d);
     probe.relax_min_height_if_infeasible(o.min_height_required);
@@ -565,7 +565,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
                         {Hint::Setting::Limits, ""},
                         {Hint::Setting::MinHeight, "none"}});
     best = crit.scaled(coords, x);
-    const Samples one = sample_trajectory(best, o.duration, o.rate, o.gravity);
+    const Samples one = sample_trajectory(best, o.duration, o.rate, o.level_gravity);
     const Eigen::VectorXd s = limit_scale(best, bounds, one.time);
     for (int j = 0; j < best.num_joints(); ++j)
       if (s[j] < 1.0) {
@@ -573,7 +573,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
         best.b.row(j) *= s[j];
       }
     const Miss c = crit.miss(
-        arm_samples(model, sample_trajectory(best, o.duration, o.rate, o.gravity), o), 0.0);
+        arm_samples(model, sample_trajectory(best, o.duration, o.rate, o.level_gravity), o), 0.0);
     if (!(c.deficit > 0.0)) break;
     if (round == 3)
       throw InputError(fmt::format("design in motion: the trajectory {} at t = {:.4g} s, after 4 "

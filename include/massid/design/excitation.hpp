@@ -93,7 +93,7 @@ struct ExcitationOptions {
   double grid_rate = 0.0;    // Hz of the criterion's grid; 0: automatic (20 samples per period
                              // of the highest harmonic, at least 20 Hz, at most `rate`)
   std::uint64_t seed = 1;
-  Eigen::Vector3d gravity{0.0, 0.0, -kStandardGravity};  // sensor frame, platform level
+  Eigen::Vector3d level_gravity{0.0, 0.0, -kStandardGravity};  // sensor frame, platform level
   std::vector<Tilt> tilts;  // a block per tilt, in this order; empty: one level block
   Criterion criterion = Criterion::Cond;
   double noise_force = 0.1;    // N, for the criterion and the predicted std
@@ -110,7 +110,7 @@ struct ExcitationOptions {
   // A wrist (a sensor link below movable joints, Model::upstream_joints): the
   // trajectory moves the arm's joints too (trajectory_joints); gravity and the
   // sensor frame's motion follow from them and `root_gravity` (URDF root
-  // frame; `gravity` and `tilts` do not apply). min_height is then the height
+  // frame; `level_gravity` and `tilts` do not apply). min_height is then the height
   // above the floor, the plane through the root origin normal to root_gravity,
   // of the arm's moving link origins and the tool's points, and
   // self_clearance the least distance between the centre lines of two arm
@@ -119,7 +119,7 @@ struct ExcitationOptions {
   Eigen::Vector3d root_gravity{0.0, 0.0, -kStandardGravity};
   std::optional<double> self_clearance = kDefaultSelfClearance;
   // false: the arm is held still, the trajectory moves the joints below the
-  // sensor with gravity from `gravity` and `tilts` (DesignOptions::move_arm).
+  // sensor with gravity from `level_gravity` and `tilts` (DesignOptions::move_arm).
   bool move_arm = true;
 };
 
