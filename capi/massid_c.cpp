@@ -86,19 +86,11 @@ struct massid_predictor {
   const massid::Model& model() const { return identified.model(); }
 };
 
-// A tracker (massid::Tracker) and the joints' count its update checks.
+// A tracker: the library's, nothing beside it (its model, its time order:
+// massid::Tracker's own).
 struct massid_tracker {
   massid::Tracker tracker;
-  int num_joints = 0;
-  bool dynamic = false, sensor_moving = false;
-  bool started = false;  // an update went through; last_t its time
-  double last_t = 0.0;
-
-  massid_tracker(const massid_predictor& p, const massid::TrackerOptions& options)
-      : tracker(p.identified, options),
-        num_joints(p.num_joints()),
-        dynamic(p.identified.dynamic()),
-        sensor_moving(p.identified.sensor_moving()) {}
+  const massid::IdentifiedModel& identified() const { return tracker.identified(); }
 };
 
 namespace {
@@ -408,7 +400,7 @@ int massid_tracker_create(const massid_predictor* p, const char* payload_link,
     } else {
       options.noise = massid::tracker_noise(p->residual_rms);
     }
-    *out = new massid_tracker(*p, options);
+    *out = new massid_tracker{massid::Tracker(p->identified, options)};
     return MASSID_OK;
   } catch (const massid::InputError& e) {  // the payload link
     copy_message(e.what(), error, error_size);
@@ -463,29 +455,32 @@ int tracker_update(massid_tracker* tr, double t, const double* q, const double* 
                    const double* qdd, const double* gravity, const double* sensor_motion,
                    const double* measured, massid_tracker_estimate* estimate) {
   if (!tr || !gravity || !measured) return MASSID_ERROR_INVALID_ARGUMENT;
-  const int n = tr->num_joints;
-  if ((n > 0 && !q) || (tr->dynamic && n > 0 && !qd != !qdd)) return MASSID_ERROR_INVALID_ARGUMENT;
-  const bool motion = tr->dynamic && qd && qdd;
+  const massid::IdentifiedModel& identified = tr->identified();
+  const bool dynamic = identified.dynamic();
+  const int n = identified.num_joints();
+  if ((n > 0 && !q) || (dynamic && n > 0 && !qd != !qdd)) return MASSID_ERROR_INVALID_ARGUMENT;
+  const bool motion = dynamic && qd && qdd;
   if (!std::isfinite(t) || !finite(gravity, 3) || !finite(measured, 6) || !finite(q, n) ||
       (motion && (!finite(qd, n) || !finite(qdd, n))) ||
-      (tr->dynamic && sensor_motion && !finite(sensor_motion, 9)))
+      (dynamic && sensor_motion && !finite(sensor_motion, 9)))
     return MASSID_ERROR_NOT_FINITE;
-  if (tr->dynamic && sensor_motion && !tr->sensor_moving)
+  if (dynamic && sensor_motion && !identified.sensor_moving())
     for (int k = 0; k < 9; ++k)
       if (sensor_motion[k] != 0.0) return MASSID_ERROR_SENSOR_MOTION;
-  if (tr->started && !(t > tr->last_t)) return MASSID_ERROR_TIME_ORDER;
   massid::FrameMotion frame;
-  if (tr->dynamic && sensor_motion) {
+  if (dynamic && sensor_motion) {
     frame.omega = Eigen::Vector3d(sensor_motion);
     frame.omega_dot = Eigen::Vector3d(sensor_motion + 3);
     frame.accel = Eigen::Vector3d(sensor_motion + 6);
   }
-  copy_estimate(
-      tr->tracker.update(t, joint_array(q, n), motion ? qd : nullptr, motion ? qdd : nullptr,
-                         Eigen::Vector3d(gravity), frame, Eigen::Map<const Wrench>(measured)),
-      estimate);
-  tr->started = true;
-  tr->last_t = t;
+  try {
+    copy_estimate(
+        tr->tracker.update(t, joint_array(q, n), motion ? qd : nullptr, motion ? qdd : nullptr,
+                           Eigen::Vector3d(gravity), frame, Eigen::Map<const Wrench>(measured)),
+        estimate);
+  } catch (const massid::ArgumentError&) {  // t finite, so: it does not increase
+    return MASSID_ERROR_TIME_ORDER;
+  }
   return MASSID_OK;
 }
 
@@ -507,16 +502,16 @@ int massid_tracker_update_upstream(massid_tracker* tracker, double t, const doub
                                    const double* qdd, const double measured[6],
                                    massid_tracker_estimate* estimate) {
   try {
-    if (!tracker ||
-        (tracker->dynamic && tracker->tracker.identified().model().num_upstream_joints() > 0 &&
-         !qdu != !qddu))
+    if (!tracker) return MASSID_ERROR_INVALID_ARGUMENT;
+    const massid::IdentifiedModel& identified = tracker->identified();
+    if (identified.dynamic() && identified.model().num_upstream_joints() > 0 && !qdu != !qddu)
       return MASSID_ERROR_INVALID_ARGUMENT;
     // The sensor frame's motion from the upstream joints' rates for dynamic
     // parameters given them, as compensate takes it (static ones never read it).
-    const bool moving = tracker->dynamic && qdu && qddu;
+    const bool moving = identified.dynamic() && qdu && qddu;
     double gravity[3], sensor_motion[9];
-    const int code = sensor_frame(&tracker->tracker.identified().model(), qu, qdu, qddu,
-                                  root_gravity, gravity, moving ? sensor_motion : nullptr);
+    const int code = sensor_frame(&identified.model(), qu, qdu, qddu, root_gravity, gravity,
+                                  moving ? sensor_motion : nullptr);
     if (code != MASSID_OK) return code;
     return tracker_update(tracker, t, q, qd, qdd, gravity, moving ? sensor_motion : nullptr,
                           measured, estimate);

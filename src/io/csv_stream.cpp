@@ -324,8 +324,9 @@ void check_pose_line(const SampleColumns& c, int line_no, double* vals) {
 }
 
 void check_pose(std::string_view text, size_t line_begin, const SampleColumns& c, double* vals) {
-  if (!normalise_pose(c.pose, c.num_upstream, vals + c.q_up).empty())
-    check_pose_line(c, line_number(text, line_begin), vals);
+  const std::string why = normalise_pose(c.pose, c.num_upstream, vals + c.q_up);
+  if (!why.empty())  // the line's number counted only then
+    throw InputError(fmt::format("{}:{}: {}", c.source, line_number(text, line_begin), why));
 }
 
 void throw_zero_force(std::string_view text, size_t line_begin, const SampleColumns& c) {

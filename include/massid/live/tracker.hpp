@@ -115,7 +115,8 @@ class Tracker {
   // takes them (qd, qdd: num_joints values each, read only for a dynamic
   // model; may be null for a static one), gravity and the sensor's motion in
   // the sensor frame, the measured wrench. Returns the estimate after it
-  // (valid until the next call). No allocation.
+  // (valid until the next call). No allocation. ArgumentError (the tracker
+  // left as it was): t is not finite or does not increase.
   const TrackerEstimate& update(double t, const double* q, const double* qd, const double* qdd,
                                 const Eigen::Vector3d& gravity, const FrameMotion& sensor,
                                 const Wrench& measured);
