@@ -380,7 +380,7 @@ int run_compensate(const CompensateCommand& c) {
     options.track = true;
     options.time_tracker = c.stats;
     options.tracker.payload_link = c.payload_link;
-    options.tracker.noise = tracker_noise(params.residual_rms, c.sigma_force, c.sigma_moment);
+    options.tracker.noise = tracker_noise(identified.residual_rms(), c.sigma_force, c.sigma_moment);
   }
   if (!c.root_gravity.empty())
     options.root_gravity = parse_numbers<3>(c.root_gravity, "--root-gravity", "gx,gy,gz");

@@ -71,9 +71,6 @@ struct massid_predictor {
   // root gravity into the sensor frame (upstream_kinematics).
   massid::IdentifiedModel identified;
   std::string sensor_link;
-  // The params file's residual RMS per axis (the tracker's default noise,
-  // tracker_noise).
-  Wrench residual_rms = Wrench::Zero();
   // The workspace, mutable: written by every predict call through the C API's
   // const handle (a clone copies it: each handle has its own).
   mutable massid::IdentifiedModelData data;
@@ -108,9 +105,7 @@ std::unique_ptr<massid_predictor> load(const char* urdf_path, const char* params
     throw LoadError{MASSID_ERROR_FILE, e.what()};
   }
   try {
-    auto p = std::make_unique<massid_predictor>(massid::IdentifiedModel::load(urdf_path, params));
-    p->residual_rms = params.residual_rms;
-    return p;
+    return std::make_unique<massid_predictor>(massid::IdentifiedModel::load(urdf_path, params));
   } catch (const massid::InputError& e) {
     int code = MASSID_ERROR_FILE;
     try {
@@ -398,7 +393,7 @@ int massid_tracker_create(const massid_predictor* p, const char* payload_link,
       }
       options.noise = Eigen::Map<const Wrench>(noise);
     } else {
-      options.noise = massid::tracker_noise(p->residual_rms);
+      options.noise = massid::tracker_noise(p->identified.residual_rms());
     }
     *out = new massid_tracker{massid::Tracker(p->identified, options)};
     return MASSID_OK;

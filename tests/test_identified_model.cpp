@@ -128,6 +128,11 @@ TEST_P(IdentifiedModelTest, FromAParamsFileAndFromMemoryPredictTheSameBits) {
   for (Eigen::Index i = 0; i < file.stddev().size(); ++i)
     EXPECT_EQ(file.stddev()[i], ident.summary.stddev[i]);
   EXPECT_EQ(memory.covariance().rows(), ident.base.num_unknowns());
+  // The fit's residual RMS per axis travels with the model (the tracker's
+  // default noise, tracker_noise): read back from the file as it was written.
+  EXPECT_EQ(memory.residual_rms(), ident.summary.residual_rms);
+  EXPECT_EQ(file.residual_rms(), memory.residual_rms());
+  EXPECT_GT(file.residual_rms().minCoeff(), 0.0);
 
   // Fresh poses (another seed): the same bits through every prediction.
   const Samples fresh = random_samples(ident.model, 50, motion, 77);

@@ -51,7 +51,6 @@ struct PyPredictor {
   std::unique_ptr<IdentifiedModelData> data;
   std::optional<Eigen::Vector3d> level_gravity;  // dynamic, identified at one gravity
   std::optional<Wrench> offset;                  // the identified offsets
-  Wrench residual_rms = Wrench::Zero();          // the fit's, per axis (zero: unknown)
 
   explicit PyPredictor(IdentifiedModel m)
       : identified(std::move(m)),
@@ -172,19 +171,15 @@ std::unique_ptr<PyPredictor> make_predictor(const py::object& robot, const py::o
     }
     if (physical && !id.physical)
       throw InputError("physical=True needs an identification made with physical=True");
-    auto p = std::make_unique<PyPredictor>(IdentifiedModel::from_identification(id, options));
-    p->residual_rms = id.summary.residual_rms;
-    return p;
+    return std::make_unique<PyPredictor>(IdentifiedModel::from_identification(id, options));
   }
   const ParamsFile file = py::isinstance<ParamsFile>(params) ? params.cast<ParamsFile>()
                           : is_path(params)                  ? read_params(path_of(params))
                                                              : throw InputError(
                                                                    "params: expected a params file path, "
                                                                                     "massid.Params or massid.Identification");
-  auto p = std::make_unique<PyPredictor>(
+  return std::make_unique<PyPredictor>(
       IdentifiedModel::from_params(model_for(robot, file.sensor_link, file.held), file, options));
-  p->residual_rms = file.residual_rms;
-  return p;
 }
 
 // A data argument as a table: a CSV path read as the CLI reads it, or
@@ -253,20 +248,19 @@ std::optional<Wrench> optional_wrench(bool present, const Wrench& w) {
 
 }  // namespace
 
-std::pair<IdentifiedModel, Wrench> identified_of(const py::object& robot,
-                                                 const py::object& params) {
+IdentifiedModel identified_of(const py::object& robot, const py::object& params) {
   if (py::isinstance<PyPredictor>(robot)) {
     if (!params.is_none())
       throw InputError("params goes with a URDF or Model, not with a massid.Predictor");
     const auto& p = robot.cast<const PyPredictor&>();
-    return {p.identified, p.residual_rms};
+    return p.identified;
   }
   if (params.is_none())
     throw InputError(
         "params is needed: a params file path, massid.Params or "
         "massid.Identification (or give a massid.Predictor alone)");
   const std::unique_ptr<PyPredictor> p = make_predictor(robot, params);
-  return {p->identified, p->residual_rms};
+  return p->identified;
 }
 
 void bind_predict(py::module_& m) {

@@ -128,9 +128,10 @@ TrackInputs track_inputs(const IdentifiedModel& identified, const py::object& t,
 struct PyTracker {
   Tracker tracker;
 
-  PyTracker(std::pair<IdentifiedModel, Wrench> from, const std::optional<std::string>& link,
+  PyTracker(const IdentifiedModel& identified, const std::optional<std::string>& link,
             std::optional<double> sigma_force, std::optional<double> sigma_moment, bool exact_d2)
-      : tracker(from.first, options(from.second, link, sigma_force, sigma_moment, exact_d2)) {}
+      : tracker(identified,
+                options(identified.residual_rms(), link, sigma_force, sigma_moment, exact_d2)) {}
 
   static TrackerOptions options(const Wrench& residual_rms, const std::optional<std::string>& link,
                                 std::optional<double> sigma_force,

@@ -75,8 +75,8 @@ MotionArrays motion_arrays(const Model& model, Eigen::Index rows, const py::hand
                            const py::handle& qdd, const py::handle& sensor_motion);
 
 // The identified model of a massid.Predictor, or of Predictor's (robot,
-// params) arguments, and its fit's residual RMS per axis (zero when unknown).
-std::pair<IdentifiedModel, Wrench> identified_of(const py::object& robot, const py::object& params);
+// params) arguments (its residual_rms: the tracker's default noise).
+IdentifiedModel identified_of(const py::object& robot, const py::object& params);
 
 void bind_model(py::module_& m);     // Model, load_model, base_parameters, regressors
 void bind_motion(py::module_& m);    // fourier_trajectory

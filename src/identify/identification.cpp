@@ -443,7 +443,8 @@ IdentifiedModel IdentifiedModel::from_identification(const Identification& ident
                      options.physical ? Eigen::VectorXd() : ident.summary.stddev,
                      options.physical ? Eigen::MatrixXd() : ident.summary.covariance,
                      "the identification")
-      .with_delay(ident.summary.delay.applied ? ident.summary.delay.value : 0.0);
+      .with_delay(ident.summary.delay.applied ? ident.summary.delay.value : 0.0)
+      .with_residual_rms(ident.summary.residual_rms);
 }
 
 }  // namespace massid

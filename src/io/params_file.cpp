@@ -13,6 +13,7 @@
 #include "massid/core/errors.hpp"
 #include "massid/core/regressor.hpp"
 #include "massid/core/standard_parameters.hpp"
+#include "massid/io/read_samples.hpp"
 
 namespace massid {
 namespace {
@@ -87,6 +88,15 @@ ParamsFile read_params(const std::string& path) {
       }
     }
     p.condition_number = j.value("condition_number", 0.0);
+    if (j.contains("residual_rms")) {  // the tracker's default noise (tracker_noise)
+      const json& r = j["residual_rms"];
+      for (int k = 0; k < 6; ++k) {
+        p.residual_rms[k] = r.at(kWrenchColumns[k]).get<double>();
+        if (!(p.residual_rms[k] >= 0.0 && std::isfinite(p.residual_rms[k])))
+          fail(fmt::format("\"residual_rms\": \"{}\" is not a finite number >= 0",
+                           kWrenchColumns[k]));
+      }
+    }
     if (j.contains("delay")) {
       p.delay = j["delay"].at("value").get<double>();
       p.delay_std = j["delay"].value("std", 0.0);

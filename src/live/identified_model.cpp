@@ -20,9 +20,10 @@ struct IdentifiedModel::Impl {
   Eigen::MatrixXd covariance;
   std::string source;
   Wrench offset = Wrench::Zero();
-  double delay = 0.0;      // s, with_delay
-  Predictor predictor;     // static
-  MotionPredictor motion;  // dynamic
+  double delay = 0.0;                    // s, with_delay
+  Wrench residual_rms = Wrench::Zero();  // with_residual_rms
+  Predictor predictor;                   // static
+  MotionPredictor motion;                // dynamic
 };
 
 IdentifiedModel IdentifiedModel::from_values(Model model, BaseParameters base,
@@ -69,7 +70,16 @@ IdentifiedModel IdentifiedModel::from_params(Model model, const ParamsFile& para
   }
   return from_values(std::move(model), std::move(base), std::move(values), std::move(stddev), {},
                      params.source)
-      .with_delay(params.delay);
+      .with_delay(params.delay)
+      .with_residual_rms(params.residual_rms);
+}
+
+IdentifiedModel IdentifiedModel::with_residual_rms(const Wrench& rms) const {
+  auto impl = std::make_shared<Impl>(checked("IdentifiedModel::with_residual_rms"));
+  impl->residual_rms = rms;
+  IdentifiedModel out;
+  out.impl_ = std::move(impl);
+  return out;
 }
 
 IdentifiedModel IdentifiedModel::with_delay(double seconds) const {
@@ -134,6 +144,9 @@ const IdentifiedModel::Impl& IdentifiedModel::checked(const char* function) cons
 
 const Model& IdentifiedModel::model() const { return checked("IdentifiedModel::model").model; }
 double IdentifiedModel::delay() const { return checked("IdentifiedModel::delay").delay; }
+const Wrench& IdentifiedModel::residual_rms() const {
+  return checked("IdentifiedModel::residual_rms").residual_rms;
+}
 const BaseParameters& IdentifiedModel::base() const {
   return checked("IdentifiedModel::base").base;
 }

@@ -87,6 +87,11 @@ class IdentifiedModel {
   // for the joint stream at t_i - delay. from_params takes the file's
   // "delay", from_identification the delay the fit applied.
   IdentifiedModel with_delay(double seconds) const;
+  // The same model with the fit's residual RMS per axis (N, N m; zero:
+  // unknown), the tracker's default sensor noise (tracker_noise).
+  // from_params takes the file's "residual_rms", from_identification its
+  // summary's.
+  IdentifiedModel with_residual_rms(const Wrench& rms) const;
 
   bool empty() const { return !impl_; }
   const Model& model() const;
@@ -102,8 +107,9 @@ class IdentifiedModel {
   // Dynamic, identified at one gravity (a level platform): that gravity
   // (sensor frame); nullopt otherwise.
   std::optional<Eigen::Vector3d> fixed_gravity() const;
-  const Wrench& offset() const;  // f_0, m_0; zero without offsets
-  double delay() const;          // the clock delay, s; 0 without
+  const Wrench& offset() const;        // f_0, m_0; zero without offsets
+  double delay() const;                // the clock delay, s; 0 without
+  const Wrench& residual_rms() const;  // the fit's, per axis; zero when unknown
 
   // The compiled predictor of the model's kind (the other: ArgumentError).
   const Predictor& predictor() const;               // static

@@ -157,8 +157,8 @@ int farthest_link(const Model& model);
 // The sensor noise every door tracks with (compensate --track, massid.h's
 // massid_tracker_create, Python's massid.Tracker), std per axis: sigma_force
 // (N) and sigma_moment (N m) where given (> 0), else the identification's
-// residual RMS per axis where it has one (> 0, the params file's
-// "residual_rms"), else TrackerOptions' default.
+// residual RMS per axis where it has one (> 0: IdentifiedModel::residual_rms,
+// the params file's "residual_rms"), else TrackerOptions' default.
 Wrench tracker_noise(const Wrench& residual_rms, double sigma_force = 0.0,
                      double sigma_moment = 0.0);
 
