@@ -16,7 +16,8 @@ namespace {
 // it is reduced, and the per-chunk cost of R's rows is small against it.
 constexpr int kFoldRows = 128;
 
-// 1 / the norm of each column of G, 1 for a zero column.
+}  // namespace
+
 Eigen::VectorXd column_scale(const Eigen::MatrixXd& G) {
   Eigen::VectorXd scale(G.cols());
   for (Eigen::Index c = 0; c < G.cols(); ++c) {
@@ -25,8 +26,6 @@ Eigen::VectorXd column_scale(const Eigen::MatrixXd& G) {
   }
   return scale;
 }
-
-}  // namespace
 
 AxisFactors fold_stacked(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
                          const Eigen::VectorXd& w) {
@@ -62,17 +61,24 @@ AxisFactors fold_stacked(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
   return f;
 }
 
-Eigen::MatrixXd stacked_factors(const AxisFactors& f, int q) {
+Eigen::MatrixXd stacked_factors(const AxisFactors& f, int q, bool measured, const Vector6d& sigma,
+                                const Eigen::VectorXd& scale) {
+  const int extra = measured ? 1 : 0;
   int rows = 0;
-  for (const AxisFactor& ax : f) rows += static_cast<int>(ax.unknown.size());
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(rows, q);
+  for (const AxisFactor& ax : f) rows += static_cast<int>(ax.unknown.size()) + extra;
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(rows, q + extra);
   for (int a = 0, r0 = 0; a < 6; ++a) {
     const AxisFactor& ax = f[a];
     const int n = static_cast<int>(ax.unknown.size());
-    for (int i = 0; i < n; ++i)
-      for (int j = i; j < n; ++j)
-        if (ax.unknown[j] < q) G(r0 + i, ax.unknown[j]) = ax.R(i, j);
-    r0 += n;
+    for (int i = 0; i < n + extra; ++i) {
+      for (int j = i; j < n; ++j) {
+        const int c = ax.unknown[j];
+        if (c < q)
+          G(r0 + i, c) = (scale.size() > 0 ? ax.R(i, j) * scale[c] : ax.R(i, j)) / sigma[a];
+      }
+      if (measured) G(r0 + i, q) = ax.R(i, n) / sigma[a];
+    }
+    r0 += n + extra;
   }
   return G;
 }
@@ -115,19 +121,9 @@ void check_identifiable(const Model& model, const BaseParameters& base, const Sa
 FactorSolution solve_factors(const AxisFactors& f, int q, const Vector6d& sigma) {
   const Eigen::VectorXd scale = column_scale(stacked_factors(f, q));
   // W [max(sum_a n_a, q + 1) x (q + 1)]: the stacked [R_a S, R_a y] / sigma_a.
-  int rows = 0;
-  for (const AxisFactor& ax : f) rows += static_cast<int>(ax.R.rows());
-  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(std::max(rows, q + 1), q + 1);
-  for (int a = 0, r0 = 0; a < 6; ++a) {
-    const AxisFactor& ax = f[a];
-    const int n = static_cast<int>(ax.R.rows());
-    for (int i = 0; i < n; ++i) {
-      for (int j = i; j < n - 1; ++j)
-        W(r0 + i, ax.unknown[j]) = ax.R(i, j) * scale[ax.unknown[j]] / sigma[a];
-      W(r0 + i, q) = ax.R(i, n - 1) / sigma[a];
-    }
-    r0 += n;
-  }
+  const Eigen::MatrixXd stacked = stacked_factors(f, q, true, sigma, scale);
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(std::max<Eigen::Index>(stacked.rows(), q + 1), q + 1);
+  W.topRows(stacked.rows()) = stacked;
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
   const Eigen::MatrixXd Rw = qr.matrixQR().topRows(q + 1).triangularView<Eigen::Upper>();
   const auto Rp = Rw.topLeftCorner(q, q).triangularView<Eigen::Upper>();
@@ -359,15 +355,16 @@ void fill_summary(IdentifySummary& out, const NoiseFit& fit, int p, double used)
   out.chi2_per_dof = 6 * used > q ? chi2 / (6 * used - q) : 0.0;
 }
 
+Eigen::JacobiSVD<Eigen::MatrixXd> small_svd(const Eigen::MatrixXd& M, unsigned options) {
+  if (M.rows() <= M.cols()) return Eigen::JacobiSVD<Eigen::MatrixXd>(M, options);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(
+      qr.matrixQR().topRows(M.cols()).triangularView<Eigen::Upper>(), options);
+}
+
 double condition_number(const Eigen::MatrixXd& M) {
   if (M.cols() == 0) return 1.0;
-  Eigen::MatrixXd R = M;
-  if (M.rows() > M.cols()) {
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);
-    R = qr.matrixQR().topRows(M.cols()).triangularView<Eigen::Upper>();
-  }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R);
-  const auto& s = svd.singularValues();
+  const Eigen::VectorXd s = small_svd(M).singularValues();
   return s[s.size() - 1] > 0 ? s[0] / s[s.size() - 1] : INFINITY;
 }
 
@@ -376,23 +373,13 @@ double condition_number(const BaseParameters& base, const AxisFactors& f) {
   if (base.motion()) return scaled_condition_number(stacked_factors(f, p));
   // At rest: the moment axes' factors over the moment unknowns, stacked, have
   // the singular values of the stacked moment rows over those unknowns.
-  std::vector<int> position(p, -1);
-  int cols = 0;
+  std::vector<int> moment;
   for (int c = 0; c < p; ++c)
-    if (base.is_moment_unknown(c)) position[c] = cols++;
-  int rows = 0;
-  for (int a = 3; a < 6; ++a) rows += static_cast<int>(f[a].unknown.size());
-  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(rows, cols);
-  for (int a = 3, r0 = 0; a < 6; ++a) {
-    const AxisFactor& ax = f[a];
-    const int n = static_cast<int>(ax.unknown.size());
-    for (int i = 0; i < n; ++i)
-      for (int j = i; j < n; ++j)
-        if (ax.unknown[j] < p && position[ax.unknown[j]] >= 0)
-          M(r0 + i, position[ax.unknown[j]]) = ax.R(i, j);
-    r0 += n;
-  }
-  return condition_number(M);
+    if (base.is_moment_unknown(c)) moment.push_back(c);
+  Eigen::Index first = 0;  // the moment axes' first row
+  for (int a = 0; a < 3; ++a) first += static_cast<Eigen::Index>(f[a].unknown.size());
+  const Eigen::MatrixXd G = stacked_factors(f, p);
+  return condition_number(G(Eigen::seq(first, Eigen::last), moment));
 }
 
 }  // namespace massid::detail

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/SVD>
 #include <array>
 #include <string>
 #include <vector>
@@ -49,8 +50,16 @@ AxisFactors fold_stacked(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
                          const Eigen::VectorXd& w);
 
 // G [sum_a (n_a - 1) x q]: the factors' columns of unknowns below q stacked,
-// G^T G = M^T M over those unknowns (same singular values).
-Eigen::MatrixXd stacked_factors(const AxisFactors& f, int q);
+// G^T G = M^T M over those unknowns (same singular values). With `measured`,
+// [sum_a n_a x (q + 1)]: every row of each R_a, y's column last. Axis a's
+// rows divided by sigma_a, the unknowns' columns multiplied by `scale` (if
+// given).
+Eigen::MatrixXd stacked_factors(const AxisFactors& f, int q, bool measured = false,
+                                const Vector6d& sigma = Vector6d::Ones(),
+                                const Eigen::VectorXd& scale = Eigen::VectorXd());
+
+// 1 / the norm of each column of G, 1 for a zero column (column scaling).
+Eigen::VectorXd column_scale(const Eigen::MatrixXd& G);
 
 // ---------------------------------------------------------------- checks
 
@@ -181,5 +190,9 @@ void fill_summary(IdentifySummary& out, const NoiseFit& fit, int p, double used)
 double condition_number(const BaseParameters& base, const AxisFactors& f);
 // The condition number of a matrix, from the triangular factor of its QR.
 double condition_number(const Eigen::MatrixXd& M);
+// The SVD of M (`options`: Eigen::ComputeFullV for its right singular
+// vectors) from the triangular factor of its QR when M has more rows than
+// columns (the same singular values and right singular vectors).
+Eigen::JacobiSVD<Eigen::MatrixXd> small_svd(const Eigen::MatrixXd& M, unsigned options = 0);
 
 }  // namespace massid::detail

@@ -30,12 +30,7 @@ Eigen::MatrixXd stacked_regressor(const Model& model, const BaseParameters& base
 }
 
 double scaled_condition_number(const Eigen::MatrixXd& A) {
-  Eigen::VectorXd scale(A.cols());
-  for (Eigen::Index c = 0; c < A.cols(); ++c) {
-    const double n = A.col(c).norm();
-    scale[c] = n > 0 ? 1.0 / n : 1.0;
-  }
-  return detail::condition_number(A * scale.asDiagonal());
+  return detail::condition_number(A * detail::column_scale(A).asDiagonal());
 }
 
 double moment_condition_number(const BaseParameters& base, const Eigen::MatrixXd& A) {

@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <random>
 
+#include "identify/axis_least_squares.hpp"
 #include "massid/core/base_regressor.hpp"
 
 namespace massid {
@@ -69,23 +69,15 @@ bool completes(const Eigen::MatrixXd& rows, const Eigen::VectorXd& scale,
   return svd.singularValues().minCoeff() > 1e-6 * largest;
 }
 
-// Numerical rank of rows with unit-norm columns (singular values above
-// tolerance * the largest).
+// Numerical rank (singular values above tolerance * the largest), of rows
+// with unit-norm columns.
+int rank(const Eigen::VectorXd& sv, double tolerance) {
+  return sv.size() ? static_cast<int>((sv.array() > tolerance * sv[0]).count()) : 0;
+}
+
 int scaled_rank(const Eigen::MatrixXd& rows, double tolerance) {
-  Eigen::MatrixXd A = rows;
-  for (Eigen::Index c = 0; c < A.cols(); ++c) {
-    const double n = A.col(c).norm();
-    if (n > 0) A.col(c) /= n;
-  }
-  if (A.rows() > A.cols()) {
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
-    A = qr.matrixQR().topRows(A.cols()).triangularView<Eigen::Upper>();
-  }
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(A).singularValues();
-  int rank = 0;
-  for (Eigen::Index i = 0; i < sv.size(); ++i)
-    if (sv[i] > tolerance * sv[0]) ++rank;
-  return rank;
+  return rank(detail::small_svd(rows * detail::column_scale(rows).asDiagonal()).singularValues(),
+              tolerance);
 }
 
 // Independent equations that n samples can give at best: the rank of n
@@ -123,25 +115,10 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
   IdentifiabilityReport report;
   const int p = static_cast<int>(A.cols());
   report.unknowns = p;
-  Eigen::VectorXd scale(p);
-  for (int c = 0; c < p; ++c) {
-    const double n = A.col(c).norm();
-    scale[c] = n > 0 ? 1.0 / n : 1.0;
-  }
-  // Singular values of A S from the small triangular factor of its QR.
-  Eigen::MatrixXd R;
-  if (A.rows() >= p) {
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr(A * scale.asDiagonal());
-    R = qr.matrixQR().topRows(p).triangularView<Eigen::Upper>();
-  } else {
-    R = A * scale.asDiagonal();
-  }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeFullV);
-  const Eigen::VectorXd& sv = svd.singularValues();
-  const double smax = sv.size() ? sv[0] : 0.0;
-  report.rank = 0;
-  for (int i = 0; i < sv.size(); ++i)
-    if (sv[i] > tolerance * smax) ++report.rank;
+  const Eigen::VectorXd scale = detail::column_scale(A);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd =
+      detail::small_svd(A * scale.asDiagonal(), Eigen::ComputeFullV);
+  report.rank = rank(svd.singularValues(), tolerance);
   if (report.ok()) return report;
 
   const Eigen::MatrixXd null = svd.matrixV().rightCols(p - report.rank);
