@@ -131,7 +131,7 @@ void moment_rows(const Step* steps, int num_steps, const Col* cols, int K, int c
 }  // namespace
 
 StreamRegressor::StreamRegressor(const Model& model, const BaseParameters& base, int capacity)
-    : num_joints_(model.num_joints()), capacity_((capacity + 1) / 2 * 2) {
+    : capacity_((capacity + 1) / 2 * 2) {
   const int cap = capacity_;
   pose_.assign(static_cast<std::size_t>(model.num_links()) * 12 * cap, 0.0);
   angle_.assign(cap, 0.0);

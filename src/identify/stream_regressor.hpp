@@ -29,8 +29,6 @@ class StreamRegressor {
   StreamRegressor(const Model& model, const BaseParameters& base, int capacity);
 
   int size() const { return static_cast<int>(cols_.size()); }  // K
-  int capacity() const { return capacity_; }
-  int num_joints() const { return num_joints_; }
   // Unknown index of moment mass unknown i < K.
   const std::vector<int>& unknown() const { return unknown_; }
 
@@ -62,7 +60,6 @@ class StreamRegressor {
   std::vector<Step> steps_;  // links 1.. in order (parents first)
   std::vector<Col> cols_;    // [K] the moment mass unknowns in unknown order
   std::vector<int> unknown_;
-  int num_joints_ = 0;
   int capacity_ = 0;  // rounded up to even (two sincos lanes)
   // Per link 12 arrays of `capacity_` samples: R(r, c) at 3 c + r, p(r) at 9 + r.
   std::vector<double> pose_;

@@ -2,25 +2,14 @@
 // chunk by chunk, merged in a fixed order, solved like identify() does; motion
 // rows from a direct sensor-frame kernel (motion_rows.hpp). Motion logs from
 // CSV: motion_csv_identify.cpp.
-#include <fmt/format.h>
-
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
-#include <condition_variable>
-#include <cstring>
-#include <deque>
-#include <exception>
 #include <limits>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <thread>
-#include <unordered_map>
 
 #include "identify/axis_least_squares.hpp"
 #include "identify/householder_fold.hpp"
@@ -30,8 +19,7 @@
 #include "io/csv_stream.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/kinematics.hpp"
-#include "massid/core/regressor.hpp"
-#include "massid/identify/motion_filter.hpp"
+#include "massid/core/parameters.hpp"
 #include "massid/identify/streaming.hpp"
 #include "massid/io/read_samples.hpp"
 
@@ -66,23 +54,23 @@ struct AccumulatorState {
   std::vector<double> qbuf, gbuf, wbuf;
   // Motion (base->motion()): each sample's rows are computed when it is added
   // (MotionRows) and written straight into the axes' B; the pending samples
-  // are kept whole (q, qd, qdd, g, sensor motion, w) for the residual tracking.
+  // are kept whole (store_sample) for the residual tracking.
   bool motion = false;
   std::optional<MotionRows> mrows;
   std::vector<double> yrow;             // [6 num_mass + 1]: the sample's rows, then 1 (offsets)
   std::array<std::vector<int>, 6> src;  // per axis and column: its value in yrow
   int sample_size = 0;                  // 3 num_joints + 3 + 9 + 6
   std::vector<double> pending_samples;  // [kChunk x sample_size]
-  // The first `keep` samples and the joint ranges, for the identifiability
-  // diagnosis (check_identifiability re-tests the data's first max(3p, 30)
-  // samples with perturbed poses, and names joints that never move).
+  // The first `keep` samples (store_sample) and the joint ranges, for the
+  // identifiability diagnosis (check_identifiability re-tests the data's
+  // first max(3p, 30) samples with perturbed poses, and names joints that
+  // never move).
   int keep = 0;
-  std::vector<double> kept_q, kept_g;
-  std::vector<double> kept_qd, kept_qdd, kept_sm;  // motion (zeros where a sample had none)
+  std::vector<double> kept;  // [kept_line.size() x sample_size]
   std::vector<int> kept_line;
   std::vector<double> qmin, qmax;
   std::string source = "<samples>";
-  // Filtered rows: their noise correlation (set_noise_correlation) and the
+  // Filtered rows: their noise correlation (set_noise_lags) and the
   // lagged products of the covariance's sandwich (axis_least_squares.hpp).
   LagProducts lags;
   LagProducts::Rows lag_rows;
@@ -124,18 +112,22 @@ struct AccumulatorState {
   std::array<std::vector<Candidate>, 6> candidates;
   std::array<double, 6> dropped{}, anorm2{}, admit{};
   std::array<std::vector<double>, 6> amax;  // per axis and column: the largest |a_c|
-  std::vector<double> pred, norm2;          // [kChunk] scratch of track_rows
+  std::vector<double> pred, norm2;          // [kChunk] scratch of predict
+  // ResidualMax: the rows are not folded, only their largest residual at
+  // xhat per axis is kept (residual_rows).
+  bool residual_only = false;
+  Vector6d largest = Vector6d::Zero();
 
   AccumulatorState(const Model& m, const BaseParameters& b)
       : model(&m), base(&b), motion(b.motion()) {
     const int off = b.offset ? 1 : 0;
     const int nj = m.num_joints();
+    sample_size = 3 * nj + 3 + 9 + 6;
     if (motion) {
       mrows.emplace(m, b);
       const int nm = b.num_mass(), P = b.layout.per_link();
       yrow.assign(6 * static_cast<size_t>(nm) + 1, 0.0);
       yrow.back() = 1.0;
-      sample_size = 3 * nj + 3 + 9 + 6;
       pending_samples.resize(static_cast<size_t>(kChunk) * sample_size);
       for (int a = 0; a < 6; ++a) {
         Axis& ax = axes[a];
@@ -194,32 +186,13 @@ struct AccumulatorState {
       double* const out[3] = {axes[3].B.data(), axes[4].B.data(), axes[5].B.data()};
       reg->compute(m, qbuf.data(), gbuf.data(), kChunk, out, kChunk);
     }
-    if (track) track_rows(m);
-    for (Axis& ax : axes) fold_rows(ax.R.data(), ax.n, ax.B.data(), m, kChunk);
+    if (residual_only) {
+      residual_rows(m);
+    } else {
+      if (track) track_rows(m);
+      for (Axis& ax : axes) fold_rows(ax.R.data(), ax.n, ax.B.data(), m, kChunk);
+    }
     pending = 0;
-  }
-
-  void add(const double* q, const double* g, const double* w, int line) {
-    if (motion) {
-      add_motion(MotionRow{q, nullptr, nullptr, g, nullptr, w, line});
-      return;
-    }
-    const int r = pending;
-    const int nj = reg->num_joints();
-    for (int j = 0; j < nj; ++j) qbuf[j * kChunk + r] = q[j];
-    for (int k = 0; k < 3; ++k) gbuf[k * kChunk + r] = g[k];
-    for (int k = 0; k < 6; ++k) wbuf[k * kChunk + r] = w[k];
-    if (++pending == kChunk) flush();
-    if (count < keep) {
-      kept_q.insert(kept_q.end(), q, q + nj);
-      kept_g.insert(kept_g.end(), g, g + 3);
-      kept_line.push_back(line);
-    }
-    for (int j = 0; j < nj; ++j) {
-      qmin[j] = std::min(qmin[j], q[j]);
-      qmax[j] = std::max(qmax[j], q[j]);
-    }
-    ++count;
   }
 
   // The sample as kept: q, qd, qdd, g, sensor motion, w (zeros for null parts).
@@ -240,44 +213,37 @@ struct AccumulatorState {
     put(s.wrench, 6);
   }
 
-  void add_motion(const MotionRow& s) {
-    if (!motion) {
-      add(s.q, s.gravity, s.wrench, s.line);
-      return;
-    }
+  void add(const MotionRow& s) {
     const int r = pending;
     const int nj = model->num_joints();
-    mrows->compute(s.q, s.qd, s.qdd, s.gravity, s.sensor_motion, yrow.data());
-    const double* y = yrow.data();
-    for (int a = 0; a < 6; ++a) {
-      Axis& ax = axes[a];
-      double* B = ax.B.data() + r;
-      const int* from = src[a].data();
-      const int nc = ax.n - 1;
-      for (int c = 0; c < nc; ++c) B[static_cast<size_t>(c) * kChunk] = y[from[c]];
-      B[static_cast<size_t>(nc) * kChunk] = s.wrench[a];
-    }
-    if (track) store_sample(s, pending_samples.data() + static_cast<size_t>(r) * sample_size);
-    if (lags.active()) {
-      lag_rows.setZero();
-      for (int a = 0; a < 6; ++a)
-        for (size_t c = 0; c < src[a].size(); ++c) lag_rows(axes[a].unknown[c], a) = y[src[a][c]];
-      lag_rows.bottomRows<1>() = Eigen::Map<const Eigen::Matrix<double, 1, 6>>(s.wrench);
-      lags.add(lag_rows, s.run);
+    if (motion) {
+      mrows->compute(s.q, s.qd, s.qdd, s.gravity, s.sensor_motion, yrow.data());
+      const double* y = yrow.data();
+      for (int a = 0; a < 6; ++a) {
+        Axis& ax = axes[a];
+        double* B = ax.B.data() + r;
+        const int* from = src[a].data();
+        const int nc = ax.n - 1;
+        for (int c = 0; c < nc; ++c) B[static_cast<size_t>(c) * kChunk] = y[from[c]];
+        B[static_cast<size_t>(nc) * kChunk] = s.wrench[a];
+      }
+      if (track) store_sample(s, pending_samples.data() + static_cast<size_t>(r) * sample_size);
+      if (lags.active()) {
+        lag_rows.setZero();
+        for (int a = 0; a < 6; ++a)
+          for (size_t c = 0; c < src[a].size(); ++c) lag_rows(axes[a].unknown[c], a) = y[src[a][c]];
+        lag_rows.bottomRows<1>() = Eigen::Map<const Eigen::Matrix<double, 1, 6>>(s.wrench);
+        lags.add(lag_rows, s.run);
+      }
+    } else {
+      for (int j = 0; j < nj; ++j) qbuf[j * kChunk + r] = s.q[j];
+      for (int k = 0; k < 3; ++k) gbuf[k * kChunk + r] = s.gravity[k];
+      for (int k = 0; k < 6; ++k) wbuf[k * kChunk + r] = s.wrench[k];
     }
     if (++pending == kChunk) flush();
     if (count < keep) {
-      const auto put = [](std::vector<double>& v, const double* x, int n) {
-        if (x)
-          v.insert(v.end(), x, x + n);
-        else
-          v.insert(v.end(), n, 0.0);
-      };
-      put(kept_q, s.q, nj);
-      put(kept_qd, s.qd, nj);
-      put(kept_qdd, s.qdd, nj);
-      put(kept_g, s.gravity, 3);
-      put(kept_sm, s.sensor_motion, 9);
+      kept.resize(kept.size() + sample_size);
+      store_sample(s, kept.data() + kept.size() - sample_size);
       kept_line.push_back(s.line);
     }
     for (int j = 0; j < nj; ++j) {
@@ -285,6 +251,13 @@ struct AccumulatorState {
       qmax[j] = std::max(qmax[j], s.q[j]);
     }
     ++count;
+  }
+
+  // The six factors (of the rows folded so far).
+  AxisFactors factors() const {
+    AxisFactors f;
+    for (int a = 0; a < 6; ++a) f[a] = axes[a];
+    return f;
   }
 
   void track_residuals(const Eigen::VectorXd& estimate) {
@@ -300,13 +273,11 @@ struct AccumulatorState {
     st.flush();
     auto lev = std::make_shared<Leverage>();
     const int p = base->num_unknowns();
-    int rows = 0;
-    for (const Axis& ax : st.axes) rows += ax.n - 1;
     // Each axis weighted by its noise as the pilot sees it (|R_a [xhat; -1]|^2
     // is its residual sum of squares), so that the metric suits every axis.
-    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(std::max(rows, p), p);
+    Vector6d sigmas;
     const double dof = std::max(1.0, static_cast<double>(st.count) - p / 6.0);
-    for (int a = 0, r0 = 0; a < 6; ++a) {
+    for (int a = 0; a < 6; ++a) {
       const Axis& ax = st.axes[a];
       Eigen::VectorXd xa(ax.n);
       for (int j = 0; j < ax.n - 1; ++j) xa[j] = xhat[ax.unknown[j]];
@@ -315,10 +286,11 @@ struct AccumulatorState {
       const double signal = ax.R.col(ax.n - 1).norm();
       const double sigma = std::max(std::sqrt(ssr / dof), 1e-13 * signal + 1e-300);
       lev->admit[a] = 2.0 * sigma;
-      for (int i = 0; i < ax.n - 1; ++i)
-        for (int j = i; j < ax.n - 1; ++j) G(r0 + i, ax.unknown[j]) = ax.R(i, j) / sigma;
-      r0 += ax.n - 1;
+      sigmas[a] = sigma;
     }
+    const Eigen::MatrixXd stacked = stacked_factors(st.factors(), p, false, sigmas);
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(std::max<Eigen::Index>(stacked.rows(), p), p);
+    G.topRows(stacked.rows()) = stacked;
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(G);
     lev->R = qr.matrixQR().topRows(p).triangularView<Eigen::Upper>();
     const Eigen::VectorXd d = lev->R.diagonal().cwiseAbs();
@@ -363,25 +335,39 @@ struct AccumulatorState {
     admit[a] = std::max(admit[a], static_cast<int>(c.size()) == K ? c.back().value : -1.0);
   }
 
-  // The residuals at xhat of the m pending rows, whose regressor rows are in
-  // the axes' B (before folding), in row order.
-  void track_rows(int m) {
+  // pred = A_a xhat and norm2 = |row of A_a|^2 of the m pending rows of axis
+  // a (in B, before folding), column by column (over rows r).
+  void predict(const Axis& ax, int m) {
     pred.resize(kChunk);
     norm2.resize(kChunk);
     const double* x = xhat.data();
+    for (int r = 0; r < m; ++r) pred[r] = norm2[r] = 0.0;
+    for (int c = 0; c + 1 < ax.n; ++c) {
+      const double* col = ax.B.data() + c * kChunk;
+      const double xc = x[ax.unknown[c]];
+      for (int r = 0; r < m; ++r) {
+        pred[r] += col[r] * xc;
+        norm2[r] += col[r] * col[r];
+      }
+    }
+  }
+
+  // ResidualMax: the largest |y - A_a xhat| per axis, over the m pending rows.
+  void residual_rows(int m) {
+    for (int a = 0; a < 6; ++a) {
+      predict(axes[a], m);
+      const double* y = axes[a].B.data() + (axes[a].n - 1) * kChunk;
+      for (int r = 0; r < m; ++r) largest[a] = std::max(largest[a], std::abs(y[r] - pred[r]));
+    }
+  }
+
+  // The residuals at xhat of the m pending rows, whose regressor rows are in
+  // the axes' B (before folding), in row order.
+  void track_rows(int m) {
     const int nj = model->num_joints();
     for (int a = 0; a < 6; ++a) {
-      // pred = A_a xhat, norm2 = |row of A_a|^2, column by column (over rows r).
       const Axis& ax = axes[a];
-      for (int r = 0; r < m; ++r) pred[r] = norm2[r] = 0.0;
-      for (int c = 0; c + 1 < ax.n; ++c) {
-        const double* col = ax.B.data() + c * kChunk;
-        const double xc = x[ax.unknown[c]];
-        for (int r = 0; r < m; ++r) {
-          pred[r] += col[r] * xc;
-          norm2[r] += col[r] * col[r];
-        }
-      }
+      predict(ax, m);
       if (motion && !leverage) {  // per column too (the static rows are proven without)
         std::vector<double>& big = amax[a];
         big.resize(ax.n - 1, 0.0);
@@ -412,11 +398,11 @@ struct AccumulatorState {
         if (motion) {
           const double* sample = pending_samples.data() + static_cast<size_t>(r) * sample_size;
           c.row.assign(sample, sample + sample_size);
-        } else {
-          c.row.resize(nj + 9);
+        } else {  // (as store_sample lays it out)
+          c.row.assign(sample_size, 0.0);
           for (int j = 0; j < nj; ++j) c.row[j] = qbuf[j * kChunk + r];
-          for (int k = 0; k < 3; ++k) c.row[nj + k] = gbuf[k * kChunk + r];
-          for (int k = 0; k < 6; ++k) c.row[nj + 3 + k] = wbuf[k * kChunk + r];
+          for (int k = 0; k < 3; ++k) c.row[3 * nj + k] = gbuf[k * kChunk + r];
+          for (int k = 0; k < 6; ++k) c.row[3 * nj + 12 + k] = wbuf[k * kChunk + r];
         }
         candidates[a].push_back(std::move(c));
         if (static_cast<int>(candidates[a].size()) >= 2 * max_candidates) prune(a);
@@ -438,20 +424,10 @@ struct AccumulatorState {
         fold_rows(ax.R.data(), ax.n, B.data(), ax.n, ax.n);
       }
     }
-    const int nj = model->num_joints();
-    const auto append = [](std::vector<double>& to, const std::vector<double>& from, size_t i,
-                           int n) {
-      if (!from.empty()) to.insert(to.end(), from.begin() + i * n, from.begin() + (i + 1) * n);
-    };
-    for (size_t i = 0; i < later.kept_line.size() && static_cast<int>(kept_line.size()) < keep;
-         ++i) {
-      append(kept_q, later.kept_q, i, nj);
-      append(kept_g, later.kept_g, i, 3);
-      append(kept_qd, later.kept_qd, i, nj);
-      append(kept_qdd, later.kept_qdd, i, nj);
-      append(kept_sm, later.kept_sm, i, 9);
-      kept_line.push_back(later.kept_line[i]);
-    }
+    const size_t take = std::min(later.kept_line.size(),
+                                 std::max<size_t>(keep, kept_line.size()) - kept_line.size());
+    kept.insert(kept.end(), later.kept.begin(), later.kept.begin() + take * sample_size);
+    kept_line.insert(kept_line.end(), later.kept_line.begin(), later.kept_line.begin() + take);
     count += later.count;
     lags.merge(later.lags);
     if (track) {
@@ -466,7 +442,7 @@ struct AccumulatorState {
         prune(a);
       }
     }
-    for (int j = 0; j < nj; ++j) {
+    for (size_t j = 0; j < qmin.size(); ++j) {
       qmin[j] = std::min(qmin[j], later.qmin[j]);
       qmax[j] = std::max(qmax[j], later.qmax[j]);
     }
@@ -642,15 +618,15 @@ IdentifyAccumulator& IdentifyAccumulator::operator=(IdentifyAccumulator&&) noexc
 
 void IdentifyAccumulator::add(const double* q, const double* gravity, const double* wrench,
                               int line) {
-  state_->add(q, gravity, wrench, line);
+  state_->add(MotionRow{q, nullptr, nullptr, gravity, nullptr, wrench, line});
 }
 
-void IdentifyAccumulator::add(const MotionRow& row) { state_->add_motion(row); }
+void IdentifyAccumulator::add(const MotionRow& row) { state_->add(row); }
 
 void IdentifyAccumulator::add(const Samples& samples) {
   if (state_->count == 0 && samples.noise_lags > 0) set_noise_lags(samples.noise_lags);
   const SamplesRows rows(samples, state_->motion, 1, -1);
-  rows.range(0, rows.size(), [&](const MotionRow& r) { state_->add_motion(r); });
+  rows.range(0, rows.size(), [&](const MotionRow& r) { state_->add(r); });
 }
 
 void IdentifyAccumulator::merge(IdentifyAccumulator&& later) { state_->merge(*later.state_); }
@@ -692,25 +668,10 @@ Eigen::VectorXd IdentifyAccumulator::rough_estimate() const {
   AccumulatorState st = *state_;  // the pending rows folded in (a copy: this is const)
   st.flush();
   const int p = st.base->num_unknowns();
-  std::array<Eigen::MatrixXd, 6> R;
-  for (int a = 0; a < 6; ++a) R[a] = st.axes[a].R;
-  int rows = 0;
-  for (const auto& ax : st.axes) rows += ax.n;
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, p);
-  Eigen::VectorXd y(rows);
-  for (int a = 0, r0 = 0; a < 6; ++a) {
-    const detail::Axis& ax = st.axes[a];
-    for (int i = 0; i < ax.n; ++i) {
-      for (int j = i; j < ax.n - 1; ++j) A(r0 + i, ax.unknown[j]) = R[a](i, j);
-      y[r0 + i] = R[a](i, ax.n - 1);
-    }
-    r0 += ax.n;
-  }
-  Eigen::VectorXd scale(p);
-  for (int c = 0; c < p; ++c) {
-    const double n = A.col(c).norm();
-    scale[c] = n > 0 ? 1.0 / n : 1.0;
-  }
+  const Eigen::MatrixXd Ay = detail::stacked_factors(st.factors(), p, true);  // [A y]
+  const auto A = Ay.leftCols(p);
+  const Eigen::VectorXd y = Ay.col(p);
+  const Eigen::VectorXd scale = detail::column_scale(A);
   const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A * scale.asDiagonal());
   return scale.asDiagonal() * cod.solve(y);
 }
@@ -737,8 +698,7 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
   const int p = base.num_unknowns();
 
   detail::check_unknowns(st.source, base, st.gravity_from_force, N);
-  detail::AxisFactors factors;
-  for (int a = 0; a < 6; ++a) factors[a] = static_cast<const detail::AxisFactor&>(st.axes[a]);
+  const detail::AxisFactors factors = st.factors();
 
   // Identifiability on the factors, which have the singular values (and
   // right singular vectors) of the stacked regressor. The perturbed-pose hints need samples:
@@ -752,25 +712,21 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
     Samples sub;
     sub.source = st.source;
     sub.gravity_from_force = st.gravity_from_force;
+    // The kept samples as store_sample laid them out, one a row.
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const Eigen::Map<const RowMajor> K(st.kept.data(), kept, st.sample_size);
     sub.q.resize(kept + extra, nj);
     sub.gravity.resize(kept + extra, 3);
+    sub.q.topRows(kept) = K.leftCols(nj);
+    sub.gravity.topRows(kept) = K.middleCols(3 * nj, 3);
     sub.line = st.kept_line;
-    for (int i = 0; i < kept; ++i) {
-      for (int j = 0; j < nj; ++j) sub.q(i, j) = st.kept_q[static_cast<size_t>(i) * nj + j];
-      for (int k = 0; k < 3; ++k) sub.gravity(i, k) = st.kept_g[3 * static_cast<size_t>(i) + k];
-    }
     if (st.motion) {  // the kept samples' motion (zero for the two range rows)
       sub.qd = Eigen::MatrixXd::Zero(kept + extra, nj);
       sub.qdd = Eigen::MatrixXd::Zero(kept + extra, nj);
       sub.sensor_motion = Eigen::MatrixXd::Zero(kept + extra, 9);
-      for (int i = 0; i < kept; ++i) {
-        for (int j = 0; j < nj; ++j) {
-          sub.qd(i, j) = st.kept_qd[static_cast<size_t>(i) * nj + j];
-          sub.qdd(i, j) = st.kept_qdd[static_cast<size_t>(i) * nj + j];
-        }
-        for (int k = 0; k < 9; ++k)
-          sub.sensor_motion(i, k) = st.kept_sm[9 * static_cast<size_t>(i) + k];
-      }
+      sub.qd.topRows(kept) = K.middleCols(nj, nj);
+      sub.qdd.topRows(kept) = K.middleCols(2 * nj, nj);
+      sub.sensor_motion.topRows(kept) = K.middleCols(3 * nj + 3, 9);
     }
     for (int e = 0; e < extra; ++e) {
       for (int j = 0; j < nj; ++j) sub.q(kept + e, j) = e == 0 ? st.qmin[j] : st.qmax[j];
@@ -795,11 +751,8 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
     const int nj = model.num_joints();
     for (const auto& axis : st.candidates)
       for (const auto& c : axis) {
-        const double* v = c.row.data();
-        if (st.motion)
-          exact.add(MotionRow{v, v + nj, v + 2 * nj, v + 3 * nj, v + 3 * nj + 3, v + 3 * nj + 12});
-        else
-          exact.add(v, v + nj, v + nj + 3);
+        const double* v = c.row.data();  // (store_sample's layout)
+        exact.add(MotionRow{v, v + nj, v + 2 * nj, v + 3 * nj, v + 3 * nj + 3, v + 3 * nj + 12});
       }
     const Vector6d M = exact.max();
     bool proven = true;
@@ -829,111 +782,33 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
 
 // --------------------------------------------------------------- ResidualMax
 
-namespace detail {
-
-// ResidualMax's samples are buffered like the accumulator's and evaluated a
-// chunk at a time (StreamRegressor is a batch kernel).
-struct ResidualMaxState {
-  std::optional<StreamRegressor> reg;  // static bases
-  std::optional<MotionRows> mrows;     // motion bases: one sample at a time
-  Eigen::VectorXd value;
-  Vector6d max = Vector6d::Zero();
-  int total_mass = 0;
-  int offset = -1;  // first offset unknown, -1 without offsets
-  int pending = 0;
-  std::vector<double> qbuf, gbuf, wbuf, moment;  // [values x kChunk], moment [3 K x kChunk]
-  std::vector<double> yrow;                      // motion: [6 num_mass]
-
-  ResidualMaxState(const Model& model, const BaseParameters& base, const Eigen::VectorXd& x)
-      : value(x), total_mass(base.total_mass), offset(base.offset ? base.num_mass() : -1) {
-    if (base.motion()) {
-      mrows.emplace(model, base);
-      yrow.resize(6 * static_cast<size_t>(base.num_mass()));
-      return;
-    }
-    reg.emplace(model, base, kChunk);
-    qbuf.resize(static_cast<size_t>(model.num_joints()) * kChunk);
-    gbuf.resize(3 * kChunk);
-    wbuf.resize(6 * kChunk);
-    moment.resize(3 * static_cast<size_t>(reg->size()) * kChunk);
-  }
-
-  void flush() {
-    if (pending == 0) return;
-    const int m = pending, K = reg->size();
-    double* const out[3] = {moment.data(), moment.data() + static_cast<size_t>(K) * kChunk,
-                            moment.data() + 2 * static_cast<size_t>(K) * kChunk};
-    reg->compute(m, qbuf.data(), gbuf.data(), kChunk, out, kChunk);
-    const double* x = value.data();
-    for (int r = 0; r < m; ++r) {
-      for (int a = 0; a < 3; ++a) {
-        double pred = gbuf[a * kChunk + r] * x[total_mass];
-        if (offset >= 0) pred += x[offset + a];
-        max[a] = std::max(max[a], std::abs(wbuf[a * kChunk + r] - pred));
-      }
-      for (int a = 0; a < 3; ++a) {
-        const double* mr = out[a] + r;
-        double pred = 0.0;
-        for (int i = 0; i < K; ++i) pred += mr[i * kChunk] * x[reg->unknown()[i]];
-        if (offset >= 0) pred += x[offset + 3 + a];
-        max[3 + a] = std::max(max[3 + a], std::abs(wbuf[(3 + a) * kChunk + r] - pred));
-      }
-    }
-    pending = 0;
-  }
-
-  void add_motion(const MotionRow& s) {
-    mrows->compute(s.q, s.qd, s.qdd, s.gravity, s.sensor_motion, yrow.data());
-    const int nm = mrows->num_mass();
-    const double* x = value.data();
-    for (int a = 0; a < 6; ++a) {
-      double pred = 0.0;
-      for (int i = 0; i < nm; ++i) pred += yrow[6 * i + a] * x[i];
-      if (offset >= 0) pred += x[offset + a];
-      max[a] = std::max(max[a], std::abs(s.wrench[a] - pred));
-    }
-  }
-};
-
-}  // namespace detail
-
+// The accumulator's rows, not folded: their residuals at `value`.
 ResidualMax::ResidualMax(const Model& model, const BaseParameters& base,
                          const Eigen::VectorXd& value)
-    : state_(std::make_unique<detail::ResidualMaxState>(model, base, value)) {}
+    : state_(std::make_unique<AccumulatorState>(model, base)) {
+  state_->residual_only = true;
+  state_->keep = 0;
+  state_->xhat = value;
+}
 ResidualMax::~ResidualMax() = default;
 ResidualMax::ResidualMax(ResidualMax&&) noexcept = default;
 
 void ResidualMax::add(const double* q, const double* gravity, const double* wrench) {
-  detail::ResidualMaxState& st = *state_;
-  if (st.mrows) {
-    st.add_motion(MotionRow{q, nullptr, nullptr, gravity, nullptr, wrench});
-    return;
-  }
-  const int r = st.pending, nj = st.reg->num_joints();
-  for (int j = 0; j < nj; ++j) st.qbuf[j * detail::kChunk + r] = q[j];
-  for (int k = 0; k < 3; ++k) st.gbuf[k * detail::kChunk + r] = gravity[k];
-  for (int k = 0; k < 6; ++k) st.wbuf[k * detail::kChunk + r] = wrench[k];
-  if (++st.pending == detail::kChunk) st.flush();
+  state_->add(MotionRow{q, nullptr, nullptr, gravity, nullptr, wrench});
 }
 
-void ResidualMax::add(const MotionRow& row) {
-  detail::ResidualMaxState& st = *state_;
-  if (st.mrows)
-    st.add_motion(row);
-  else
-    add(row.q, row.gravity, row.wrench);
-}
+void ResidualMax::add(const MotionRow& row) { state_->add(row); }
 
 void ResidualMax::merge(const ResidualMax& other) {
   other.state_->flush();
   state_->flush();
-  state_->max = state_->max.cwiseMax(other.state_->max);
+  state_->largest = state_->largest.cwiseMax(other.state_->largest);
 }
 
 // (Evaluates the samples still buffered: logically const.)
 Eigen::Matrix<double, 6, 1> ResidualMax::max() const {
   state_->flush();
-  return state_->max;
+  return state_->largest;
 }
 
 // --------------------------------------------------------------- drivers

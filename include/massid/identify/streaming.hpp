@@ -105,7 +105,6 @@ struct MotionRow {
 
 namespace detail {
 struct AccumulatorState;
-struct ResidualMaxState;
 }  // namespace detail
 
 // Folds samples into the six per-axis triangular factors. Not thread-safe:
@@ -193,7 +192,7 @@ class ResidualMax {
   Eigen::Matrix<double, 6, 1> max() const;
 
  private:
-  std::unique_ptr<detail::ResidualMaxState> state_;  // samples are evaluated in batches
+  std::unique_ptr<detail::AccumulatorState> state_;  // samples are evaluated in batches
 };
 
 // identify(), streamed over samples already in memory (blocks on threads).
