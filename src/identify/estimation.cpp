@@ -402,17 +402,12 @@ Eigen::MatrixXd fitted_wrenches(const Model& model, const BaseParameters& base,
     base_regressor(model, base, data, samples, i);
     W.row(i) = (data.base * summary.value).transpose();  // eq. 29
   }
-  if (summary.drift == Drift::Linear && summary.drift_value.size() == 6) {
-    const double t_end = samples.time.maxCoeff();
-    for (int i = 0; i < N; ++i)
-      W.row(i) += (samples.time[i] - t_end) * summary.drift_value.transpose();
-  } else if (summary.drift == Drift::PerBlock && N > 0) {
-    const std::vector<int> others = other_blocks(samples);
-    for (int i = 0; i < N; ++i) {
-      const auto it = std::find(others.begin(), others.end(), samples.block[i]);
-      if (it != others.end())
-        W.row(i) += summary.drift_value.segment<6>(6 * (it - others.begin())).transpose();
-    }
+  if (summary.drift != Drift::None && N > 0) {  // the drift columns' part
+    const Eigen::MatrixXd E = drift_columns(samples, summary.drift).E;
+    const Eigen::VectorXd drift = E.cols() == summary.drift_value.size()
+                                      ? Eigen::VectorXd(E * summary.drift_value)
+                                      : Eigen::VectorXd::Zero(6 * N);
+    W += Eigen::Map<const Eigen::MatrixXd>(drift.data(), 6, N).transpose();
   }
   return W;
 }
