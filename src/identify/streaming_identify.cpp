@@ -114,7 +114,8 @@ struct AccumulatorState {
   std::array<std::vector<double>, 6> amax;  // per axis and column: the largest |a_c|
   std::vector<double> pred, norm2;          // [kChunk] scratch of predict
   // ResidualMax: the rows are not folded, only their largest residual at
-  // xhat per axis is kept (residual_rows).
+  // xhat per axis is kept (residual_rows; in motion add() finds it row by
+  // row, sparing the scatter into B).
   bool residual_only = false;
   Vector6d largest = Vector6d::Zero();
 
@@ -219,6 +220,14 @@ struct AccumulatorState {
     if (motion) {
       mrows->compute(s.q, s.qd, s.qdd, s.gravity, s.sensor_motion, yrow.data());
       const double* y = yrow.data();
+      if (residual_only) {  // ResidualMax: the residuals now (as predict, one row)
+        for (int a = 0; a < 6; ++a) {
+          double p = 0.0;
+          for (size_t c = 0; c < src[a].size(); ++c) p += y[src[a][c]] * xhat[axes[a].unknown[c]];
+          largest[a] = std::max(largest[a], std::abs(s.wrench[a] - p));
+        }
+        return;
+      }
       for (int a = 0; a < 6; ++a) {
         Axis& ax = axes[a];
         double* B = ax.B.data() + r;
@@ -335,9 +344,10 @@ struct AccumulatorState {
     admit[a] = std::max(admit[a], static_cast<int>(c.size()) == K ? c.back().value : -1.0);
   }
 
-  // pred = A_a xhat and norm2 = |row of A_a|^2 of the m pending rows of axis
-  // a (in B, before folding), column by column (over rows r).
-  void predict(const Axis& ax, int m) {
+  // pred = A_a xhat (and with `norms`, norm2 = |row of A_a|^2) of the m
+  // pending rows of axis a (in B, before folding), column by column (over
+  // rows r).
+  void predict(const Axis& ax, int m, bool norms) {
     pred.resize(kChunk);
     norm2.resize(kChunk);
     const double* x = xhat.data();
@@ -345,17 +355,16 @@ struct AccumulatorState {
     for (int c = 0; c + 1 < ax.n; ++c) {
       const double* col = ax.B.data() + c * kChunk;
       const double xc = x[ax.unknown[c]];
-      for (int r = 0; r < m; ++r) {
-        pred[r] += col[r] * xc;
-        norm2[r] += col[r] * col[r];
-      }
+      for (int r = 0; r < m; ++r) pred[r] += col[r] * xc;
+      if (norms)
+        for (int r = 0; r < m; ++r) norm2[r] += col[r] * col[r];
     }
   }
 
   // ResidualMax: the largest |y - A_a xhat| per axis, over the m pending rows.
   void residual_rows(int m) {
     for (int a = 0; a < 6; ++a) {
-      predict(axes[a], m);
+      predict(axes[a], m, false);
       const double* y = axes[a].B.data() + (axes[a].n - 1) * kChunk;
       for (int r = 0; r < m; ++r) largest[a] = std::max(largest[a], std::abs(y[r] - pred[r]));
     }
@@ -367,7 +376,7 @@ struct AccumulatorState {
     const int nj = model->num_joints();
     for (int a = 0; a < 6; ++a) {
       const Axis& ax = axes[a];
-      predict(ax, m);
+      predict(ax, m, true);
       if (motion && !leverage) {  // per column too (the static rows are proven without)
         std::vector<double>& big = amax[a];
         big.resize(ax.n - 1, 0.0);
@@ -568,42 +577,42 @@ struct CsvRows {
   }
 };
 
-// Every row of `src` folded, blocks on threads merged in block order; with
-// `xhat`, each tracking the residuals at it (track_residuals).
+// Every row of `src` added to a partial per block (make(): an empty one, for
+// every block and the total), blocks on threads merged in block order.
+template <class Partial, class Source, class Make>
+Partial reduce_rows(const Source& src, const StreamOptions& stream, Make make) {
+  Partial total = make();
+  ordered_blocks<Partial>(
+      src.blocks(), thread_count(stream),
+      [&](size_t k) {
+        Partial part = make();
+        src.block(k, [&](const MotionRow& r) { part.add(r); });
+        return part;
+      },
+      [&](Partial&& part) { total.merge(std::move(part)); });
+  return total;
+}
+
+// Every row of `src` folded; with `xhat`, each partial tracking the residuals
+// at it (track_residuals).
 template <class Source>
 IdentifyAccumulator accumulate_rows(const Model& model, const BaseParameters& base,
                                     const Source& src, const StreamOptions& stream,
                                     const std::optional<Eigen::VectorXd>& xhat = std::nullopt) {
-  IdentifyAccumulator total(model, base);
-  src.set_source(total);
-  if (xhat) total.track_residuals(*xhat);
-  ordered_blocks<IdentifyAccumulator>(
-      src.blocks(), thread_count(stream),
-      [&](size_t k) {
-        IdentifyAccumulator acc(model, base);
-        src.set_source(acc);  // (the noise lags: the partials pair their rows)
-        if (xhat) acc.track_residuals(*xhat);
-        src.block(k, [&](const MotionRow& r) { acc.add(r); });
-        return acc;
-      },
-      [&](IdentifyAccumulator&& acc) { total.merge(std::move(acc)); });
-  return total;
+  return reduce_rows<IdentifyAccumulator>(src, stream, [&] {
+    IdentifyAccumulator acc(model, base);
+    src.set_source(acc);  // (the noise lags: the partials pair their rows)
+    if (xhat) acc.track_residuals(*xhat);
+    return acc;
+  });
 }
 
 // The largest residual per axis of `value` over every row of `src`.
 template <class Source>
 Vector6d residual_max_rows(const Model& model, const BaseParameters& base, const Source& src,
                            const Eigen::VectorXd& value, const StreamOptions& stream) {
-  ResidualMax total(model, base, value);
-  ordered_blocks<ResidualMax>(
-      src.blocks(), thread_count(stream),
-      [&](size_t k) {
-        ResidualMax part(model, base, value);
-        src.block(k, [&](const MotionRow& r) { part.add(r); });
-        return part;
-      },
-      [&](ResidualMax&& part) { total.merge(part); });
-  return total.max();
+  return reduce_rows<ResidualMax>(src, stream, [&] { return ResidualMax(model, base, value); })
+      .max();
 }
 
 }  // namespace
@@ -676,16 +685,12 @@ Eigen::VectorXd IdentifyAccumulator::rough_estimate() const {
   return scale.asDiagonal() * cod.solve(y);
 }
 
-long long IdentifyAccumulator::samples() const { return state_->count; }
-
 void IdentifyAccumulator::set_source(const std::string& source, bool gravity_from_force,
                                      bool gravity_from_upstream) {
   state_->source = source;
   state_->gravity_from_force = gravity_from_force;
   state_->gravity_from_upstream = gravity_from_upstream;
 }
-bool IdentifyAccumulator::gravity_from_force() const { return state_->gravity_from_force; }
-const std::string& IdentifyAccumulator::source() const { return state_->source; }
 
 IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) const {
   // The pending rows folded in (and tracked), on a copy: finish is const.

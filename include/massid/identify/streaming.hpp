@@ -153,7 +153,6 @@ class IdentifyAccumulator {
   // they do not determine every unknown).
   Eigen::VectorXd rough_estimate() const;
 
-  long long samples() const;
   // Filtered rows (Samples::noise_lags; before the first add): the
   // covariance accounts for the correlation of the noise of rows up to `lags`
   // apart within a run (MotionRow::run), estimated from the residuals
@@ -165,8 +164,6 @@ class IdentifyAccumulator {
   // sensor link (IdentifySummary::gravity_from_upstream).
   void set_source(const std::string& source, bool gravity_from_force,
                   bool gravity_from_upstream = false);
-  bool gravity_from_force() const;
-  const std::string& source() const;
 
   // The weighted least-squares solve of identify(), with the same checks and
   // errors (IdentifiabilityError). residual_max needs the final estimate: it
