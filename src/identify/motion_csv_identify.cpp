@@ -377,21 +377,18 @@ struct LogShape {
   void see(const FinalRow& r) {
     if (!any) {
       any = true;
-      g0 = Eigen::Vector3d(r.g[0], r.g[1], r.g[2]);
+      g0 = Eigen::Map<const Eigen::Vector3d>(r.g);
       tolerance = 1e-6 * std::max(g0.norm(), 1e-300);
     }
     gravity_varies = gravity_varies || varies(r);
     sensor_moves = sensor_moves || moves(r);
   }
+  // (motion_base_options' tests, on one sample.)
   bool varies(const FinalRow& r) const {
-    const double d0 = r.g[0] - g0[0], d1 = r.g[1] - g0[1], d2 = r.g[2] - g0[2];
-    return std::sqrt(d0 * d0 + d1 * d1 + d2 * d2) > tolerance;
+    return (Eigen::Map<const Eigen::Vector3d>(r.g) - g0).norm() > tolerance;
   }
   static bool moves(const FinalRow& r) {
-    if (!r.sm) return false;
-    for (int k = 0; k < 9; ++k)
-      if (std::abs(r.sm[k]) > 0.0) return true;
-    return false;
+    return r.sm && Eigen::Map<const Eigen::Matrix<double, 9, 1>>(r.sm).cwiseAbs().maxCoeff() > 0.0;
   }
 };
 
@@ -442,7 +439,7 @@ namespace {
 // or a ResidualMax), merged in block order. `check` sees every prepared row.
 template <class Part, class Make, class Add, class Merge>
 detail::Carry stream_motion(std::string_view text, const detail::MappedFile& file,
-                            const detail::MotionPlan& plan, const detail::FilterSetup* f,
+                            const detail::MotionPlan& plan, const FilterPlan* f,
                             const StreamOptions& stream, Make make, Add add, Merge merge) {
   using detail::ParsedBlock;
   const detail::SampleColumns& c = plan.cols;
@@ -508,40 +505,11 @@ detail::Carry stream_motion(std::string_view text, const detail::MappedFile& fil
         return part;
       },
       merge);
-  if (carry.any && carry.run_length < f->length())
+  if (carry.any && carry.run_length < f->kernels.size())
     detail::throw_short_run(plan, *f, carry.run_length, carry.run_first_line, carry.last_line,
                             carry.run_block);
   return carry;
 }
-
-// A copy of a prepared row whose arrays it owns (the filter's buffers are reused).
-struct OwnedRow {
-  std::vector<double> v;
-  detail::FinalRow row{};
-  explicit OwnedRow(const detail::FinalRow& r, const detail::MotionPlan& p) {
-    const int nj = p.nj, nu = p.nu;
-    v.resize(3 * static_cast<size_t>(nj) + 3 * static_cast<size_t>(nu) + 18);
-    double* o = v.data();
-    const auto put = [&](const double* x, int n) -> const double* {
-      if (!x) return nullptr;
-      std::copy_n(x, n, o);
-      o += n;
-      return o - n;
-    };
-    row = r;
-    row.q = put(r.q, nj);
-    row.qd = put(r.qd, nj);
-    row.qdd = put(r.qdd, nj);
-    row.qu = put(r.qu, nu);
-    row.qdu = put(r.qdu, nu);
-    row.qddu = put(r.qddu, nu);
-    row.g = put(r.g, 3);
-    row.sm = put(r.sm, 9);
-    row.w = put(r.w, 6);
-  }
-  OwnedRow(const OwnedRow&) = delete;
-  OwnedRow& operator=(const OwnedRow&) = delete;
-};
 
 // Prepared samples kept for the largest residual while they fit in the
 // budget (StreamOptions::keep_bytes; whether they all fit does not depend on
@@ -683,7 +651,7 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
         path));
   // The filter: what filter_motion learns from t first (order, runs, the
   // median step), from a scan of t alone, then its checks in its order.
-  std::optional<detail::FilterSetup> filter;
+  std::optional<FilterPlan> filter;
   if (plan.derived) {
     const detail::TimeScan ts = detail::scan_log_times(file, plan, stream);
     if (ts.rows < 2)
@@ -694,27 +662,28 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
       throw InputError(fmt::format(
           "{}: every block has a single sample: filtering the motion needs a time series",
           detail::where(path, ts.first_line)));
-    filter = detail::filter_setup(plan, ts.dt, data.filter, ts.first_line, ts.last_line);
+    filter = plan_filter(ts.dt, data.filter, plan.cols.source, ts.first_line, ts.last_line);
     for (const detail::Run& r : ts.runs)
-      if (r.length < filter->length())
+      if (r.length < filter->kernels.size())
         detail::throw_short_run(plan, *filter, r.length, r.first_line, r.last_line, r.block);
   }
-  const detail::FilterSetup* f = filter ? &*filter : nullptr;
+  const FilterPlan* f = filter ? &*filter : nullptr;
 
   // The head prepared: the log's first samples (the gravity motion_base_options
   // compares with; whether gravity varies or the sensor moves there), the
   // pilot estimate, the head returned.
-  const detail::Head head = detail::read_head(text, plan, stream, f ? f->length() : 0);
+  const detail::Head head = detail::read_head(text, plan, stream, f ? f->kernels.size() : 0);
   detail::Carry head_carry;
   detail::ParsedBlock hb = head.rows;
   hb.lines = 0;  // (its lines are absolute already)
   detail::sequence_rows(plan, f, head_carry, hb);
-  std::vector<std::unique_ptr<OwnedRow>> head_rows;
+  detail::SampleCollector head_rows(plan);
   detail::LogShape shape;
   detail::prepared_rows(plan, f, hb, [&](const detail::FinalRow& r) {
     shape.see(r);
-    head_rows.push_back(std::make_unique<OwnedRow>(r, plan));
+    head_rows.add(r);
   });
+  const Samples head_samples = head_rows.take(path);
 
   MotionIdentification out;
   bool gravity_varies = shape.gravity_varies, sensor_moves = shape.sensor_moves;
@@ -738,13 +707,13 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
       const double expected = rows_per_byte *
                               static_cast<double>(text.size() - plan.cols.data_begin) /
                               (f ? f->decimation : 1);
-      const bool keep = track && expected * static_cast<double>(sample_bytes) <=
-                                     static_cast<double>(stream.keep_bytes);
+      const bool keep = head.complete || (track && expected * static_cast<double>(sample_bytes) <=
+                                                       static_cast<double>(stream.keep_bytes));
       std::optional<Eigen::VectorXd> xhat;
       std::optional<IdentifyAccumulator> pilot;
-      if (track && !keep && !head_rows.empty()) {
+      if (track && !keep && head_samples.size() > 0) {
         pilot.emplace(model, base);
-        for (const auto& r : head_rows) pilot->add(r->row.motion());
+        pilot->add(head_samples);
         if (!f) add_spread_rows(file, plan, head.end, *pilot);
         xhat = pilot->rough_estimate();
       }
@@ -758,7 +727,9 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
       const double block_samples = rows_per_byte *
                                    static_cast<double>(std::max<size_t>(stream.block_bytes, 1)) /
                                    (f ? f->decimation : 1);
-      KeptSamples kept(plan, keep, stream.keep_bytes,
+      // (The whole log in the head: every sample kept, whatever the budget.)
+      KeptSamples kept(plan, keep,
+                       head.complete ? std::numeric_limits<size_t>::max() : stream.keep_bytes,
                        static_cast<size_t>(std::min(1.1 * block_samples + 64, double{1 << 20})) *
                            KeptSamples::sample_size(plan));
       ++out.passes;
@@ -792,16 +763,11 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
         out.report.kernels = f->kernels;
         out.report.decimation = f->decimation;
       }
-      detail::SampleCollector head_out(plan);
-      for (const auto& r : head_rows) head_out.add(r->row);
-      out.head = head_out.take(path);
-      // The largest residual: from the head when it is the whole log, else
-      // proven by the tracked candidates, else a pass of its own.
-      if (head.complete) {
-        ResidualMax rmax(model, base, out.summary.value);
-        for (const auto& r : head_rows) rmax.add(r->row.motion());
-        out.summary.residual_max = rmax.max();
-      } else if (kept.complete()) {
+      out.head = head_samples;
+      // The largest residual: from the kept samples (every one when the head
+      // is the whole log), else proven by the tracked candidates, else a
+      // pass of its own.
+      if (kept.complete()) {
         out.summary.residual_max =
             kept.residual_max(model, base, out.summary.value, thread_count(stream));
       } else if (stream.residual_max && out.summary.residual_max.hasNaN()) {

@@ -168,7 +168,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   detail::SampleColumns cols = detail::columns_of(samples);
   cols.source = source;
   const detail::MotionPlan plan(nullptr, cols, false);
-  const detail::FilterSetup f = detail::filter_setup(plan, dt, options, line_of(0), line_of(n - 1));
+  const FilterPlan f = plan_filter(dt, options, source, line_of(0), line_of(n - 1));
   detail::ParsedBlock b;
   b.stride = plan.stride;
   b.rows.resize(static_cast<std::size_t>(n) * plan.stride);
@@ -181,7 +181,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   b.n = n;
   detail::Carry carry;
   detail::sequence_rows(plan, &f, carry, b);
-  if (carry.run_length < f.length())
+  if (carry.run_length < f.kernels.size())
     detail::throw_short_run(plan, f, carry.run_length, carry.run_first_line, carry.last_line,
                             carry.run_block);
   detail::SampleCollector out(plan);
