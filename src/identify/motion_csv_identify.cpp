@@ -157,27 +157,24 @@ struct StepCounts {
   std::unordered_map<std::uint64_t, long long> count;
   bool overflow = false;
   long long total = 0;
-  void add(double step, long long n = 1) {
+  // n steps of the bit pattern `bits`.
+  void add(std::uint64_t bits, long long n = 1) {
     total += n;
     if (overflow) return;
-    count[bits_of(step)] += n;
+    count[bits] += n;
     if (count.size() > kMaxDistinct) {
       overflow = true;
       count.clear();
     }
   }
   void merge(const StepCounts& o) {
-    total += o.total;
-    if (overflow || o.overflow) {
+    if (o.overflow) {
       overflow = true;
       count.clear();
+      total += o.total;
       return;
     }
-    for (const auto& [b, n] : o.count) count[b] += n;
-    if (count.size() > kMaxDistinct) {
-      overflow = true;
-      count.clear();
-    }
+    for (const auto& [b, n] : o.count) add(b, n);
   }
   // The step of rank total / 2 (nth_element's median); NaN when overflowed.
   double median() const {
@@ -228,7 +225,7 @@ TimePart scan_time_block(std::string_view text, const SampleColumns& tc, size_t 
         part.error = OrderError{line, part.last_line, t, part.last_t};
         return false;  // the first error of the block; what follows is not read
       }
-      part.steps.add(t - part.last_t);
+      part.steps.add(bits_of(t - part.last_t));
       Run& r = part.runs.back();
       ++r.length;
       r.last_line = line;
@@ -336,7 +333,7 @@ TimeScan scan_log_times(const MappedFile& file, const MotionPlan& plan,
             // The run goes on from the previous block: the step between them.
             const double t = part.first_t;
             if (!(t > last_t)) OrderError{r.first_line, out.last_line, t, last_t}.raise(tc.source);
-            out.steps.add(t - last_t);
+            out.steps.add(bits_of(t - last_t));
             out.runs.back().length += r.length;
             out.runs.back().last_line = r.last_line;
           } else {
@@ -654,14 +651,7 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
   std::optional<FilterPlan> filter;
   if (plan.derived) {
     const detail::TimeScan ts = detail::scan_log_times(file, plan, stream);
-    if (ts.rows < 2)
-      throw InputError(
-          fmt::format("{}: only {} sample(s): filtering the motion needs a time series",
-                      ts.rows > 0 ? detail::where(path, ts.first_line) : path, ts.rows));
-    if (ts.steps.total == 0)
-      throw InputError(fmt::format(
-          "{}: every block has a single sample: filtering the motion needs a time series",
-          detail::where(path, ts.first_line)));
+    detail::check_time_series(path, ts.rows, ts.steps.total, ts.first_line);
     filter = plan_filter(ts.dt, data.filter, plan.cols.source, ts.first_line, ts.last_line);
     for (const detail::Run& r : ts.runs)
       if (r.length < filter->kernels.size())

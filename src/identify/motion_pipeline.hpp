@@ -221,6 +221,19 @@ inline std::string where(const std::string& source, int line) {
   return fmt::format("{}:{}", source, line);
 }
 
+// filter_motion's errors for a log that is no time series: fewer than two
+// samples (`rows`), or no two in one block (no `steps` within blocks).
+inline void check_time_series(const std::string& source, long long rows, long long steps,
+                              int first_line) {
+  if (rows < 2)
+    throw InputError(fmt::format("{}: only {} sample(s): filtering the motion needs a time series",
+                                 rows > 0 ? where(source, first_line) : source, rows));
+  if (steps == 0)
+    throw InputError(
+        fmt::format("{}: every block has a single sample: filtering the motion needs a time series",
+                    where(source, first_line)));
+}
+
 // filter_motion's message for a run (block) shorter than the filter.
 [[noreturn]] inline void throw_short_run(const MotionPlan& plan, const FilterPlan& f, long long m,
                                          int first_line, int last_line, double block) {
