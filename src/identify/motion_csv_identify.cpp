@@ -53,8 +53,8 @@ std::uint64_t bits_of(double x) {
 }
 
 // The t (and block) column alone, for the sample period: the columns bound
-// as two values (t, block), so that parse_line_slow reads and checks them
-// as read_samples would.
+// as two values (t, block), so that parse_block reads and checks them as
+// read_samples would (the other cells are skipped, their fields counted).
 SampleColumns time_columns(const SampleColumns& cols) {
   SampleColumns tc = cols;
   tc.target.assign(cols.header.size(), -1);
@@ -71,83 +71,11 @@ SampleColumns time_columns(const SampleColumns& cols) {
     tc.block = 1;
   }
   tc.num_values = static_cast<int>(tc.column_of.size());
-  tc.gravity_from_force = false;
+  tc.gravity_from_force = tc.gravity_from_tilt = false;
   tc.gravity_from_upstream = false;
   tc.wrench = tc.gravity = 0;
   tc.qd = tc.qdd = tc.sensor = tc.q_up = tc.qd_up = tc.qdd_up = -1;
   return tc;
-}
-
-// Calls use(t, block, pos, line) for the samples whose lines start in
-// [begin, end) (line: counted from the one at `begin`), reading only the t
-// and block cells: up to them by commas, the rest of the line skipped (the
-// stream checks it). A line with a quote, too few fields or a cell the fast
-// path does not read goes to parse_line_slow, which reads it as read_csv
-// does or throws its error. Stops when use() returns false. Returns the
-// number of lines.
-template <class Use>
-size_t scan_times(std::string_view text, const SampleColumns& tc, size_t begin, size_t end,
-                  Use&& use) {
-  const int ncols = static_cast<int>(tc.header.size());
-  const int ct = tc.column_of[0], cb = tc.block >= 0 ? tc.column_of[1] : -1;
-  const int last = std::max(ct, cb);
-  const char* const base = text.data();
-  const char* const eof = base + text.size();
-  const char* p = base + begin;
-  const char* const stop = base + end;
-  size_t lines = 0;
-  double vals[2] = {0.0, 0.0};
-  while (p < stop) {
-    const void* found = std::memchr(p, '\n', static_cast<size_t>(eof - p));
-    const char* nl = found ? static_cast<const char*>(found) : eof;
-    const char* le = nl;
-    if (le > p && le[-1] == '\r') --le;
-    const char* q = p;
-    while (q < le && csv_fast::blank(*q)) ++q;
-    if (q < le && *q != '#') {
-      bool ok = !std::memchr(p, '"', static_cast<size_t>(le - p));
-      const char* f = p;
-      for (int col = 0; ok && col <= last; ++col) {
-        if (col != ct && col != cb) {
-          const void* comma = std::memchr(f, ',', static_cast<size_t>(le - f));
-          if (!comma) {
-            ok = false;
-          } else {
-            f = static_cast<const char*>(comma) + 1;
-          }
-          continue;
-        }
-        while (f < le && csv_fast::blank(*f)) ++f;
-        if (f < le && *f == '+') ++f;
-        double x;
-        const char* next = csv_fast::plain_decimal(f, le, x);
-        if (!next) {
-          const auto r = fast_float::from_chars(f, le, x);
-          if (r.ec != std::errc() || !std::isfinite(x)) {
-            ok = false;
-            break;
-          }
-          next = r.ptr;
-        }
-        vals[col == ct ? 0 : 1] = x;
-        while (next < le && csv_fast::blank(*next)) ++next;
-        if (next < le && *next == ',') {
-          f = next + 1;
-        } else if (next != le || col + 1 < ncols) {
-          ok = false;
-        }
-      }
-      if (!ok)
-        parse_line_slow(text, static_cast<size_t>(p - base), static_cast<size_t>(le - base), tc,
-                        vals);
-      if (!use(vals[0], vals[1], static_cast<size_t>(p - base), static_cast<int>(lines)))
-        return lines;
-    }
-    ++lines;
-    if (nl == eof) break;
-    p = nl + 1;
-  }
-  return lines;
 }
 
 // The steps of t within runs as (bits, count) of their distinct values,
@@ -218,29 +146,34 @@ struct TimeScan {
 TimePart scan_time_block(std::string_view text, const SampleColumns& tc, size_t begin, size_t end) {
   TimePart part;
   const bool blocks = tc.block >= 0;
-  part.lines = scan_times(text, tc, begin, end, [&](double t, double b, size_t pos, int line) {
-    if (blocks && !is_block_number(b)) throw_not_integer(text, pos, tc, b);
-    if (part.rows > 0 && (!blocks || b == part.runs.back().block)) {
-      if (!(t > part.last_t)) {
-        part.error = OrderError{line, part.last_line, t, part.last_t};
-        return false;  // the first error of the block; what follows is not read
+  try {
+    part.lines = parse_block(text, tc, begin, end, [&](const double* v, size_t pos, int line) {
+      const double t = v[0], b = blocks ? v[1] : 0.0;
+      if (part.error) return;  // what follows the block's first error is not used
+      if (blocks && !is_block_number(b)) throw_not_integer(text, pos, tc, b);
+      if (part.rows > 0 && (!blocks || b == part.runs.back().block)) {
+        if (!(t > part.last_t)) {
+          part.error = OrderError{line, part.last_line, t, part.last_t};
+          return;
+        }
+        part.steps.add(bits_of(t - part.last_t));
+        Run& r = part.runs.back();
+        ++r.length;
+        r.last_line = line;
+      } else {
+        if (part.rows == 0) {
+          part.first_t = t;
+          part.first_line = line;
+        }
+        part.runs.push_back({1, line, line, b});
       }
-      part.steps.add(bits_of(t - part.last_t));
-      Run& r = part.runs.back();
-      ++r.length;
-      r.last_line = line;
-    } else {
-      if (part.rows == 0) {
-        part.first_t = t;
-        part.first_line = line;
-      }
-      part.runs.push_back({1, line, line, b});
-    }
-    ++part.rows;
-    part.last_t = t;
-    part.last_line = line;
-    return true;
-  });
+      ++part.rows;
+      part.last_t = t;
+      part.last_line = line;
+    });
+  } catch (const InputError&) {
+    if (!part.error) throw;  // (an error after the block's first is not its first)
+  }
   return part;
 }
 
@@ -252,12 +185,12 @@ double radix_median_step(std::string_view text, const SampleColumns& tc, long lo
   const auto for_each_step = [&](auto&& use) {
     bool any = false;
     double last_t = 0.0, last_b = 0.0;
-    scan_times(text, tc, tc.data_begin, text.size(), [&](double t, double b, size_t, int) {
+    parse_block(text, tc, tc.data_begin, text.size(), [&](const double* v, size_t) {
+      const double t = v[0], b = blocks ? v[1] : 0.0;
       if (any && (!blocks || b == last_b)) use(t - last_t);
       any = true;
       last_t = t;
       last_b = b;
-      return true;
     });
   };
   constexpr int kDigit = 16;
