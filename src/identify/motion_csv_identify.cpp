@@ -134,13 +134,10 @@ struct TimePart {
   std::optional<OrderError> error;  // relative lines
 };
 
-// What filter_motion learns from t before it filters.
-struct TimeScan {
-  long long rows = 0;
-  int first_line = 0, last_line = 0;
-  std::vector<Run> runs;
-  StepCounts steps;
-  double dt = std::numeric_limits<double>::quiet_NaN();  // the median step within runs
+// What filter_motion learns from t before it filters: the blocks' parts
+// joined (absolute lines), and the median step within runs.
+struct TimeScan : TimePart {
+  double dt = std::numeric_limits<double>::quiet_NaN();
 };
 
 TimePart scan_time_block(std::string_view text, const SampleColumns& tc, size_t begin, size_t end) {
@@ -241,8 +238,6 @@ TimeScan scan_log_times(const MappedFile& file, const MotionPlan& plan,
   const size_t bytes = std::max<size_t>(stream.block_bytes, 1);
   TimeScan out;
   int line_base = tc.header_line + 1;
-  bool any = false;
-  double last_t = 0.0;
   ordered_blocks<TimePart>(
       num_blocks(text, tc, bytes), thread_count(stream),
       [&](size_t k) {
@@ -254,19 +249,16 @@ TimeScan scan_log_times(const MappedFile& file, const MotionPlan& plan,
       [&](TimePart&& part) {
         const int base = line_base;
         line_base += static_cast<int>(part.lines);
-        if (part.rows == 0) {
-          if (part.error) OrderError{*part.error}.raise(tc.source);
-          return;
-        }
         for (size_t i = 0; i < part.runs.size(); ++i) {
           Run r = part.runs[i];
           r.first_line += base;
           r.last_line += base;
-          if (i == 0 && any && r.block == out.runs.back().block) {
+          if (i == 0 && out.rows > 0 && r.block == out.runs.back().block) {
             // The run goes on from the previous block: the step between them.
             const double t = part.first_t;
-            if (!(t > last_t)) OrderError{r.first_line, out.last_line, t, last_t}.raise(tc.source);
-            out.steps.add(bits_of(t - last_t));
+            if (!(t > out.last_t))
+              OrderError{r.first_line, out.last_line, t, out.last_t}.raise(tc.source);
+            out.steps.add(bits_of(t - out.last_t));
             out.runs.back().length += r.length;
             out.runs.back().last_line = r.last_line;
           } else {
@@ -279,11 +271,11 @@ TimeScan scan_log_times(const MappedFile& file, const MotionPlan& plan,
           e.previous_line += base;
           e.raise(tc.source);
         }
-        if (!any) out.first_line = base + part.first_line;
-        any = true;
+        if (part.rows == 0) return;
+        if (out.rows == 0) out.first_line = base + part.first_line;
         out.rows += part.rows;
         out.last_line = base + part.last_line;
-        last_t = part.last_t;
+        out.last_t = part.last_t;
         out.steps.merge(part.steps);
       });
   if (out.steps.total > 0)
@@ -337,23 +329,16 @@ Head read_head(std::string_view text, const MotionPlan& plan, const StreamOption
   std::size_t bytes = std::max<std::size_t>(stream.pilot_bytes, 1);
   while (true) {
     Head h;
-    const std::size_t end = block_range(text, c, bytes, 0).second;
-    h.complete = end >= text.size();
-    h.end = end;
-    h.rows = parse_rows(text, plan, c.data_begin, end);
-    for (int& l : h.rows.line) l += c.header_line + 1;
+    h.end = block_range(text, c, bytes, 0).second;
+    h.complete = h.end >= text.size();
+    h.rows = parse_rows(text, plan, c.data_begin, h.end);
     const ParsedBlock& b = h.rows;
-    if (h.complete) return h;
-    if (!plan.derived) {
-      if (b.n > 0) return h;
-    } else {
-      const int W = plan.width;
-      int first_run = 0;
-      while (first_run < b.n &&
-             (first_run == 0 || c.block < 0 || b.row(first_run)[W + 1] == b.row(0)[W + 1]))
-        ++first_run;
-      if (first_run < b.n || first_run >= window) return h;
-    }
+    const int W = plan.width;
+    int first_run = 0;  // the rows of the first run (window: 0 without the filter)
+    while (first_run < b.n &&
+           (first_run == 0 || c.block < 0 || b.row(first_run)[W + 1] == b.row(0)[W + 1]))
+      ++first_run;
+    if (h.complete || first_run < b.n || (b.n > 0 && first_run >= window)) return h;
     bytes *= 2;
   }
 }
@@ -468,13 +453,7 @@ class KeptSamples {
     const size_t at = to.size();
     to.resize(at + size_);
     double* o = to.data() + at;
-    const auto put = [&](const double* v, int n) {
-      if (v)
-        std::copy_n(v, n, o);
-      else
-        std::fill_n(o, n, 0.0);
-      o += n;
-    };
+    const auto put = [&](const double* v, int n) { o = std::copy_n(v, n, o); };
     put(r.q, nj_);
     if (velocities_) {
       put(r.qd, nj_);
@@ -595,14 +574,13 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
   // The head prepared: the log's first samples (the gravity motion_base_options
   // compares with; whether gravity varies or the sensor moves there), the
   // pilot estimate, the head returned.
-  const detail::Head head = detail::read_head(text, plan, stream, f ? f->kernels.size() : 0);
+  detail::Head head = detail::read_head(text, plan, stream, f ? f->kernels.size() : 0);
   detail::Carry head_carry;
-  detail::ParsedBlock hb = head.rows;
-  hb.lines = 0;  // (its lines are absolute already)
-  detail::sequence_rows(plan, f, head_carry, hb);
+  head_carry.line_base = plan.cols.header_line + 1;
+  detail::sequence_rows(plan, f, head_carry, head.rows);
   detail::SampleCollector head_rows(plan);
   detail::LogShape shape;
-  detail::prepared_rows(plan, f, hb, [&](const detail::FinalRow& r) {
+  detail::prepared_rows(plan, f, head.rows, [&](const detail::FinalRow& r) {
     shape.see(r);
     head_rows.add(r);
   });

@@ -208,7 +208,6 @@ struct Carry {
   int line_base = 0;  // file line of the next block's first line
   long long rows = 0;
   bool any = false;
-  double last_t = 0.0, last_block = 0.0;
   int last_line = 0;
   long long run_length = 0;  // rows of the current run so far
   int run_first_line = 0;
@@ -277,9 +276,9 @@ inline void sequence_rows(const MotionPlan& plan, const FilterPlan* f, Carry& c,
   int run_start = 0;  // first row of the block in the run that ends the block
   for (int i = 0; i < b.n; ++i) {
     const double* r = b.row(i);
-    const double t = r[plan.width], blk = r[plan.width + 1];
+    const double blk = r[plan.width + 1];
     const int line = b.line[i];
-    if (!c.any || (blocks && blk != c.last_block)) {
+    if (!c.any || (blocks && blk != c.run_block)) {
       if (c.any && c.run_length < L)
         throw_short_run(plan, *f, c.run_length, c.run_first_line, c.last_line, c.run_block);
       c.run_length = 0;
@@ -291,8 +290,6 @@ inline void sequence_rows(const MotionPlan& plan, const FilterPlan* f, Carry& c,
     }
     ++c.run_length;
     c.any = true;
-    c.last_t = t;
-    c.last_block = blk;
     c.last_line = line;
   }
   // The tail: the last `keep` rows of the current run.
