@@ -362,37 +362,8 @@ detail::Carry stream_motion(std::string_view text, const detail::MappedFile& fil
   const size_t blocks = detail::num_blocks(text, c, bytes);
   detail::Carry carry;
   carry.line_base = c.header_line + 1;
-  if (!f) {
-    // No filter: each block parsed straight into its partial (the lines of
-    // its samples are not known, and not needed: 0).
-    struct Counted {
-      Part part;
-      long long rows;
-    };
-    ordered_blocks<Counted>(
-        blocks, thread_count(stream),
-        [&](size_t k) {
-          const auto [begin, end] = detail::block_range(text, c, bytes, k);
-          Counted out{make(), 0};
-          std::vector<double> row(plan.stride);
-          detail::parse_block(text, c, begin, end, [&](const double* v, size_t pos) {
-            if (c.block >= 0 && !detail::is_block_number(v[c.block]))
-              detail::throw_not_integer(text, pos, c, v[c.block]);
-            plan.read_row(v, row.data());
-            add(out.part, detail::unfiltered(plan, row.data(), 0));
-            ++out.rows;
-          });
-          file.release(begin, end);
-          return out;
-        },
-        [&](Counted&& part) {
-          carry.rows += part.rows;
-          merge(std::move(part.part));
-        });
-    return carry;
-  }
-  // The filter: parsed blocks, then the margins in order, then filtered on
-  // the threads. Row buffers are recycled.
+  // Parsed blocks, then their lines (with the filter: the margins) in order,
+  // then prepared (filtered) on the threads. Row buffers are recycled.
   std::mutex pool_mutex;
   std::vector<std::vector<double>> pool;
   detail::ordered_pipeline<ParsedBlock, Part>(
@@ -420,7 +391,7 @@ detail::Carry stream_motion(std::string_view text, const detail::MappedFile& fil
         return part;
       },
       merge);
-  if (carry.any && carry.run_length < f->kernels.size())
+  if (f && carry.any && carry.run_length < f->kernels.size())
     detail::throw_short_run(plan, *f, carry.run_length, carry.run_first_line, carry.last_line,
                             carry.run_block);
   return carry;
