@@ -4,35 +4,19 @@
 // margin, the rows folded by IdentifyAccumulator (streaming_identify.cpp).
 #include <fmt/format.h>
 
-#include <Eigen/Cholesky>
-#include <Eigen/QR>
-#include <Eigen/SVD>
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <cmath>
-#include <condition_variable>
 #include <cstring>
-#include <deque>
-#include <exception>
 #include <limits>
-#include <map>
-#include <memory>
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <unordered_map>
 
-#include "identify/householder_fold.hpp"
 #include "identify/motion_pipeline.hpp"
-#include "identify/motion_rows.hpp"
 #include "identify/ordered_blocks.hpp"
-#include "identify/stream_regressor.hpp"
 #include "io/csv_stream.hpp"
 #include "massid/core/errors.hpp"
-#include "massid/core/kinematics.hpp"
-#include "massid/core/regressor.hpp"
-#include "massid/identify/identifiability.hpp"
 #include "massid/identify/motion_filter.hpp"
 #include "massid/identify/streaming.hpp"
 
