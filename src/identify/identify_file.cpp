@@ -41,17 +41,23 @@ bool continuous_log(const Model& model, const std::string& path, const RestWindo
 
 }  // namespace
 
+IdentifySummary identify_at_rest(const Model& model, const BaseParameters& base, Samples all,
+                                 const IdentifyOptions& options, Samples* samples) {
+  const RestWindows windows = find_rest_windows(model, all, options.rest);
+  Samples s = windows.continuous ? rest_samples(all, windows) : std::move(all);
+  IdentifySummary summary = identify(model, base, s, options);
+  summary.rest = windows;
+  if (samples) *samples = std::move(s);
+  return summary;
+}
+
 IdentifySummary identify_file(const Model& model, const BaseParameters& base,
                               const std::string& path, const IdentifyOptions& options,
                               Samples* samples, const SampleOptions& read) {
   const auto in_memory = [&] {
-    Samples all = read_samples(model, read_csv(path), WrenchColumns::Required, read);
-    const RestWindows windows = find_rest_windows(model, all, options.rest);
-    Samples s = windows.continuous ? rest_samples(all, windows) : std::move(all);
-    IdentifySummary summary = identify(model, base, s, options);
-    summary.rest = windows;
-    if (samples) *samples = std::move(s);
-    return summary;
+    return identify_at_rest(model, base,
+                            read_samples(model, read_csv(path), WrenchColumns::Required, read),
+                            options, samples);
   };
   if (options.robust || options.drift != Drift::None) return in_memory();   // iterated fits
   if (continuous_log(model, path, options.rest, read)) return in_memory();  // rest windows

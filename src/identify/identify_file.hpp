@@ -18,6 +18,12 @@
 
 namespace massid {
 
+// identify() on the rest windows of `all` when it is a continuous log
+// (find_rest_windows with the model), on every sample otherwise; the windows
+// in the summary's `rest`, the samples fitted in `samples` (when given).
+IdentifySummary identify_at_rest(const Model& model, const BaseParameters& base, Samples all,
+                                 const IdentifyOptions& options, Samples* samples = nullptr);
+
 // The same summary as identify(model, base, read_samples(..., read)). With
 // `samples` given, the file's samples are returned there too (read in
 // pieces: memory for the samples alone).

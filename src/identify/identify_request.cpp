@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <utility>
 
 #include "identify/identify_file.hpp"
@@ -21,28 +22,18 @@ namespace {
 
 // The library's own words for the settings the rules name.
 std::string library_name(Hint::Setting s) {
-  switch (s) {
-    case Hint::Setting::Drift:
-      return "drift";
-    case Hint::Setting::Rest:
-      return "rest";
-    case Hint::Setting::Delay:
-      return "delay";
-    case Hint::Setting::Dynamic:
-      return "dynamic";
-    case Hint::Setting::Cutoff:
-      return "cutoff";
-    case Hint::Setting::SigmaForce:
-      return "sigma_force";
-    case Hint::Setting::SigmaMoment:
-      return "sigma_moment";
-    case Hint::Setting::RootGravity:
-      return "root_gravity";
-    case Hint::Setting::LevelGravity:
-      return "level_gravity";
-    default:
-      return "setting";
-  }
+  using S = Hint::Setting;
+  static const std::map<S, std::string> names{{S::Drift, "drift"},
+                                              {S::Rest, "rest"},
+                                              {S::Delay, "delay"},
+                                              {S::Dynamic, "dynamic"},
+                                              {S::Cutoff, "cutoff"},
+                                              {S::SigmaForce, "sigma_force"},
+                                              {S::SigmaMoment, "sigma_moment"},
+                                              {S::RootGravity, "root_gravity"},
+                                              {S::LevelGravity, "level_gravity"}};
+  const auto it = names.find(s);
+  return it == names.end() ? "setting" : it->second;
 }
 
 std::string library_spell(const Hint& h) {
@@ -185,11 +176,8 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
       bo.offset = with_offset;
       out.base = find_base_parameters(out.model, bo);
       if (in_memory) {  // as identify_file: only the rest windows of a continuous log
-        Samples all = std::move(*source.samples);
-        const RestWindows windows = find_rest_windows(out.model, all, options.rest);
-        out.samples = windows.continuous ? rest_samples(all, windows) : std::move(all);
-        out.summary = identify(out.model, out.base, out.samples, options);
-        out.summary.rest = windows;
+        out.summary = identify_at_rest(out.model, out.base, std::move(*source.samples), options,
+                                       &out.samples);
       } else {
         out.summary =
             identify_file(out.model, out.base, source.path, options, kept, motion.samples);

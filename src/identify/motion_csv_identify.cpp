@@ -4,35 +4,19 @@
 // margin, the rows folded by IdentifyAccumulator (streaming_identify.cpp).
 #include <fmt/format.h>
 
-#include <Eigen/Cholesky>
-#include <Eigen/QR>
-#include <Eigen/SVD>
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <cmath>
-#include <condition_variable>
 #include <cstring>
-#include <deque>
-#include <exception>
 #include <limits>
-#include <map>
-#include <memory>
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <unordered_map>
 
-#include "identify/householder_fold.hpp"
 #include "identify/motion_pipeline.hpp"
-#include "identify/motion_rows.hpp"
 #include "identify/ordered_blocks.hpp"
-#include "identify/stream_regressor.hpp"
 #include "io/csv_stream.hpp"
 #include "massid/core/errors.hpp"
-#include "massid/core/kinematics.hpp"
-#include "massid/core/regressor.hpp"
-#include "massid/identify/identifiability.hpp"
 #include "massid/identify/motion_filter.hpp"
 #include "massid/identify/streaming.hpp"
 
@@ -53,8 +37,8 @@ std::uint64_t bits_of(double x) {
 }
 
 // The t (and block) column alone, for the sample period: the columns bound
-// as two values (t, block), so that parse_line_slow reads and checks them
-// as read_samples would.
+// as two values (t, block), so that parse_block reads and checks them as
+// read_samples would (the other cells are skipped, their fields counted).
 SampleColumns time_columns(const SampleColumns& cols) {
   SampleColumns tc = cols;
   tc.target.assign(cols.header.size(), -1);
@@ -71,83 +55,11 @@ SampleColumns time_columns(const SampleColumns& cols) {
     tc.block = 1;
   }
   tc.num_values = static_cast<int>(tc.column_of.size());
-  tc.gravity_from_force = false;
+  tc.gravity_from_force = tc.gravity_from_tilt = false;
   tc.gravity_from_upstream = false;
   tc.wrench = tc.gravity = 0;
   tc.qd = tc.qdd = tc.sensor = tc.q_up = tc.qd_up = tc.qdd_up = -1;
   return tc;
-}
-
-// Calls use(t, block, pos, line) for the samples whose lines start in
-// [begin, end) (line: counted from the one at `begin`), reading only the t
-// and block cells: up to them by commas, the rest of the line skipped (the
-// stream checks it). A line with a quote, too few fields or a cell the fast
-// path does not read goes to parse_line_slow, which reads it as read_csv
-// does or throws its error. Stops when use() returns false. Returns the
-// number of lines.
-template <class Use>
-size_t scan_times(std::string_view text, const SampleColumns& tc, size_t begin, size_t end,
-                  Use&& use) {
-  const int ncols = static_cast<int>(tc.header.size());
-  const int ct = tc.column_of[0], cb = tc.block >= 0 ? tc.column_of[1] : -1;
-  const int last = std::max(ct, cb);
-  const char* const base = text.data();
-  const char* const eof = base + text.size();
-  const char* p = base + begin;
-  const char* const stop = base + end;
-  size_t lines = 0;
-  double vals[2] = {0.0, 0.0};
-  while (p < stop) {
-    const void* found = std::memchr(p, '\n', static_cast<size_t>(eof - p));
-    const char* nl = found ? static_cast<const char*>(found) : eof;
-    const char* le = nl;
-    if (le > p && le[-1] == '\r') --le;
-    const char* q = p;
-    while (q < le && csv_fast::blank(*q)) ++q;
-    if (q < le && *q != '#') {
-      bool ok = !std::memchr(p, '"', static_cast<size_t>(le - p));
-      const char* f = p;
-      for (int col = 0; ok && col <= last; ++col) {
-        if (col != ct && col != cb) {
-          const void* comma = std::memchr(f, ',', static_cast<size_t>(le - f));
-          if (!comma) {
-            ok = false;
-          } else {
-            f = static_cast<const char*>(comma) + 1;
-          }
-          continue;
-        }
-        while (f < le && csv_fast::blank(*f)) ++f;
-        if (f < le && *f == '+') ++f;
-        double x;
-        const char* next = csv_fast::plain_decimal(f, le, x);
-        if (!next) {
-          const auto r = fast_float::from_chars(f, le, x);
-          if (r.ec != std::errc() || !std::isfinite(x)) {
-            ok = false;
-            break;
-          }
-          next = r.ptr;
-        }
-        vals[col == ct ? 0 : 1] = x;
-        while (next < le && csv_fast::blank(*next)) ++next;
-        if (next < le && *next == ',') {
-          f = next + 1;
-        } else if (next != le || col + 1 < ncols) {
-          ok = false;
-        }
-      }
-      if (!ok)
-        parse_line_slow(text, static_cast<size_t>(p - base), static_cast<size_t>(le - base), tc,
-                        vals);
-      if (!use(vals[0], vals[1], static_cast<size_t>(p - base), static_cast<int>(lines)))
-        return lines;
-    }
-    ++lines;
-    if (nl == eof) break;
-    p = nl + 1;
-  }
-  return lines;
 }
 
 // The steps of t within runs as (bits, count) of their distinct values,
@@ -157,27 +69,24 @@ struct StepCounts {
   std::unordered_map<std::uint64_t, long long> count;
   bool overflow = false;
   long long total = 0;
-  void add(double step, long long n = 1) {
+  // n steps of the bit pattern `bits`.
+  void add(std::uint64_t bits, long long n = 1) {
     total += n;
     if (overflow) return;
-    count[bits_of(step)] += n;
+    count[bits] += n;
     if (count.size() > kMaxDistinct) {
       overflow = true;
       count.clear();
     }
   }
   void merge(const StepCounts& o) {
-    total += o.total;
-    if (overflow || o.overflow) {
+    if (o.overflow) {
       overflow = true;
       count.clear();
+      total += o.total;
       return;
     }
-    for (const auto& [b, n] : o.count) count[b] += n;
-    if (count.size() > kMaxDistinct) {
-      overflow = true;
-      count.clear();
-    }
+    for (const auto& [b, n] : o.count) add(b, n);
   }
   // The step of rank total / 2 (nth_element's median); NaN when overflowed.
   double median() const {
@@ -209,41 +118,43 @@ struct TimePart {
   std::optional<OrderError> error;  // relative lines
 };
 
-// What filter_motion learns from t before it filters.
-struct TimeScan {
-  long long rows = 0;
-  int first_line = 0, last_line = 0;
-  std::vector<Run> runs;
-  StepCounts steps;
-  double dt = std::numeric_limits<double>::quiet_NaN();  // the median step within runs
+// What filter_motion learns from t before it filters: the blocks' parts
+// joined (absolute lines), and the median step within runs.
+struct TimeScan : TimePart {
+  double dt = std::numeric_limits<double>::quiet_NaN();
 };
 
 TimePart scan_time_block(std::string_view text, const SampleColumns& tc, size_t begin, size_t end) {
   TimePart part;
   const bool blocks = tc.block >= 0;
-  part.lines = scan_times(text, tc, begin, end, [&](double t, double b, size_t pos, int line) {
-    if (blocks && !is_block_number(b)) throw_not_integer(text, pos, tc, b);
-    if (part.rows > 0 && (!blocks || b == part.runs.back().block)) {
-      if (!(t > part.last_t)) {
-        part.error = OrderError{line, part.last_line, t, part.last_t};
-        return false;  // the first error of the block; what follows is not read
+  try {
+    part.lines = parse_block(text, tc, begin, end, [&](const double* v, size_t pos, int line) {
+      const double t = v[0], b = blocks ? v[1] : 0.0;
+      if (part.error) return;  // what follows the block's first error is not used
+      if (blocks && !is_block_number(b)) throw_not_integer(text, pos, tc, b);
+      if (part.rows > 0 && (!blocks || b == part.runs.back().block)) {
+        if (!(t > part.last_t)) {
+          part.error = OrderError{line, part.last_line, t, part.last_t};
+          return;
+        }
+        part.steps.add(bits_of(t - part.last_t));
+        Run& r = part.runs.back();
+        ++r.length;
+        r.last_line = line;
+      } else {
+        if (part.rows == 0) {
+          part.first_t = t;
+          part.first_line = line;
+        }
+        part.runs.push_back({1, line, line, b});
       }
-      part.steps.add(t - part.last_t);
-      Run& r = part.runs.back();
-      ++r.length;
-      r.last_line = line;
-    } else {
-      if (part.rows == 0) {
-        part.first_t = t;
-        part.first_line = line;
-      }
-      part.runs.push_back({1, line, line, b});
-    }
-    ++part.rows;
-    part.last_t = t;
-    part.last_line = line;
-    return true;
-  });
+      ++part.rows;
+      part.last_t = t;
+      part.last_line = line;
+    });
+  } catch (const InputError&) {
+    if (!part.error) throw;  // (an error after the block's first is not its first)
+  }
   return part;
 }
 
@@ -255,12 +166,12 @@ double radix_median_step(std::string_view text, const SampleColumns& tc, long lo
   const auto for_each_step = [&](auto&& use) {
     bool any = false;
     double last_t = 0.0, last_b = 0.0;
-    scan_times(text, tc, tc.data_begin, text.size(), [&](double t, double b, size_t, int) {
+    parse_block(text, tc, tc.data_begin, text.size(), [&](const double* v, size_t) {
+      const double t = v[0], b = blocks ? v[1] : 0.0;
       if (any && (!blocks || b == last_b)) use(t - last_t);
       any = true;
       last_t = t;
       last_b = b;
-      return true;
     });
   };
   constexpr int kDigit = 16;
@@ -311,8 +222,6 @@ TimeScan scan_log_times(const MappedFile& file, const MotionPlan& plan,
   const size_t bytes = std::max<size_t>(stream.block_bytes, 1);
   TimeScan out;
   int line_base = tc.header_line + 1;
-  bool any = false;
-  double last_t = 0.0;
   ordered_blocks<TimePart>(
       num_blocks(text, tc, bytes), thread_count(stream),
       [&](size_t k) {
@@ -324,19 +233,16 @@ TimeScan scan_log_times(const MappedFile& file, const MotionPlan& plan,
       [&](TimePart&& part) {
         const int base = line_base;
         line_base += static_cast<int>(part.lines);
-        if (part.rows == 0) {
-          if (part.error) OrderError{*part.error}.raise(tc.source);
-          return;
-        }
         for (size_t i = 0; i < part.runs.size(); ++i) {
           Run r = part.runs[i];
           r.first_line += base;
           r.last_line += base;
-          if (i == 0 && any && r.block == out.runs.back().block) {
+          if (i == 0 && out.rows > 0 && r.block == out.runs.back().block) {
             // The run goes on from the previous block: the step between them.
             const double t = part.first_t;
-            if (!(t > last_t)) OrderError{r.first_line, out.last_line, t, last_t}.raise(tc.source);
-            out.steps.add(t - last_t);
+            if (!(t > out.last_t))
+              OrderError{r.first_line, out.last_line, t, out.last_t}.raise(tc.source);
+            out.steps.add(bits_of(t - out.last_t));
             out.runs.back().length += r.length;
             out.runs.back().last_line = r.last_line;
           } else {
@@ -349,11 +255,11 @@ TimeScan scan_log_times(const MappedFile& file, const MotionPlan& plan,
           e.previous_line += base;
           e.raise(tc.source);
         }
-        if (!any) out.first_line = base + part.first_line;
-        any = true;
+        if (part.rows == 0) return;
+        if (out.rows == 0) out.first_line = base + part.first_line;
         out.rows += part.rows;
         out.last_line = base + part.last_line;
-        last_t = part.last_t;
+        out.last_t = part.last_t;
         out.steps.merge(part.steps);
       });
   if (out.steps.total > 0)
@@ -377,21 +283,18 @@ struct LogShape {
   void see(const FinalRow& r) {
     if (!any) {
       any = true;
-      g0 = Eigen::Vector3d(r.g[0], r.g[1], r.g[2]);
+      g0 = Eigen::Map<const Eigen::Vector3d>(r.g);
       tolerance = 1e-6 * std::max(g0.norm(), 1e-300);
     }
     gravity_varies = gravity_varies || varies(r);
     sensor_moves = sensor_moves || moves(r);
   }
+  // (motion_base_options' tests, on one sample.)
   bool varies(const FinalRow& r) const {
-    const double d0 = r.g[0] - g0[0], d1 = r.g[1] - g0[1], d2 = r.g[2] - g0[2];
-    return std::sqrt(d0 * d0 + d1 * d1 + d2 * d2) > tolerance;
+    return (Eigen::Map<const Eigen::Vector3d>(r.g) - g0).norm() > tolerance;
   }
   static bool moves(const FinalRow& r) {
-    if (!r.sm) return false;
-    for (int k = 0; k < 9; ++k)
-      if (std::abs(r.sm[k]) > 0.0) return true;
-    return false;
+    return r.sm && Eigen::Map<const Eigen::Matrix<double, 9, 1>>(r.sm).cwiseAbs().maxCoeff() > 0.0;
   }
 };
 
@@ -410,23 +313,16 @@ Head read_head(std::string_view text, const MotionPlan& plan, const StreamOption
   std::size_t bytes = std::max<std::size_t>(stream.pilot_bytes, 1);
   while (true) {
     Head h;
-    const std::size_t end = block_range(text, c, bytes, 0).second;
-    h.complete = end >= text.size();
-    h.end = end;
-    h.rows = parse_rows(text, plan, c.data_begin, end);
-    for (int& l : h.rows.line) l += c.header_line + 1;
+    h.end = block_range(text, c, bytes, 0).second;
+    h.complete = h.end >= text.size();
+    h.rows = parse_rows(text, plan, c.data_begin, h.end);
     const ParsedBlock& b = h.rows;
-    if (h.complete) return h;
-    if (!plan.derived) {
-      if (b.n > 0) return h;
-    } else {
-      const int W = plan.width;
-      int first_run = 0;
-      while (first_run < b.n &&
-             (first_run == 0 || c.block < 0 || b.row(first_run)[W + 1] == b.row(0)[W + 1]))
-        ++first_run;
-      if (first_run < b.n || first_run >= window) return h;
-    }
+    const int W = plan.width;
+    int first_run = 0;  // the rows of the first run (window: 0 without the filter)
+    while (first_run < b.n &&
+           (first_run == 0 || c.block < 0 || b.row(first_run)[W + 1] == b.row(0)[W + 1]))
+      ++first_run;
+    if (h.complete || first_run < b.n || (b.n > 0 && first_run >= window)) return h;
     bytes *= 2;
   }
 }
@@ -442,7 +338,7 @@ namespace {
 // or a ResidualMax), merged in block order. `check` sees every prepared row.
 template <class Part, class Make, class Add, class Merge>
 detail::Carry stream_motion(std::string_view text, const detail::MappedFile& file,
-                            const detail::MotionPlan& plan, const detail::FilterSetup* f,
+                            const detail::MotionPlan& plan, const FilterPlan* f,
                             const StreamOptions& stream, Make make, Add add, Merge merge) {
   using detail::ParsedBlock;
   const detail::SampleColumns& c = plan.cols;
@@ -450,37 +346,8 @@ detail::Carry stream_motion(std::string_view text, const detail::MappedFile& fil
   const size_t blocks = detail::num_blocks(text, c, bytes);
   detail::Carry carry;
   carry.line_base = c.header_line + 1;
-  if (!f) {
-    // No filter: each block parsed straight into its partial (the lines of
-    // its samples are not known, and not needed: 0).
-    struct Counted {
-      Part part;
-      long long rows;
-    };
-    ordered_blocks<Counted>(
-        blocks, thread_count(stream),
-        [&](size_t k) {
-          const auto [begin, end] = detail::block_range(text, c, bytes, k);
-          Counted out{make(), 0};
-          std::vector<double> row(plan.stride);
-          detail::parse_block(text, c, begin, end, [&](const double* v, size_t pos) {
-            if (c.block >= 0 && !detail::is_block_number(v[c.block]))
-              detail::throw_not_integer(text, pos, c, v[c.block]);
-            plan.read_row(v, row.data());
-            add(out.part, detail::unfiltered(plan, row.data(), 0));
-            ++out.rows;
-          });
-          file.release(begin, end);
-          return out;
-        },
-        [&](Counted&& part) {
-          carry.rows += part.rows;
-          merge(std::move(part.part));
-        });
-    return carry;
-  }
-  // The filter: parsed blocks, then the margins in order, then filtered on
-  // the threads. Row buffers are recycled.
+  // Parsed blocks, then their lines (with the filter: the margins) in order,
+  // then prepared (filtered) on the threads. Row buffers are recycled.
   std::mutex pool_mutex;
   std::vector<std::vector<double>> pool;
   detail::ordered_pipeline<ParsedBlock, Part>(
@@ -508,40 +375,11 @@ detail::Carry stream_motion(std::string_view text, const detail::MappedFile& fil
         return part;
       },
       merge);
-  if (carry.any && carry.run_length < f->length())
+  if (f && carry.any && carry.run_length < f->kernels.size())
     detail::throw_short_run(plan, *f, carry.run_length, carry.run_first_line, carry.last_line,
                             carry.run_block);
   return carry;
 }
-
-// A copy of a prepared row whose arrays it owns (the filter's buffers are reused).
-struct OwnedRow {
-  std::vector<double> v;
-  detail::FinalRow row{};
-  explicit OwnedRow(const detail::FinalRow& r, const detail::MotionPlan& p) {
-    const int nj = p.nj, nu = p.nu;
-    v.resize(3 * static_cast<size_t>(nj) + 3 * static_cast<size_t>(nu) + 18);
-    double* o = v.data();
-    const auto put = [&](const double* x, int n) -> const double* {
-      if (!x) return nullptr;
-      std::copy_n(x, n, o);
-      o += n;
-      return o - n;
-    };
-    row = r;
-    row.q = put(r.q, nj);
-    row.qd = put(r.qd, nj);
-    row.qdd = put(r.qdd, nj);
-    row.qu = put(r.qu, nu);
-    row.qdu = put(r.qdu, nu);
-    row.qddu = put(r.qddu, nu);
-    row.g = put(r.g, 3);
-    row.sm = put(r.sm, 9);
-    row.w = put(r.w, 6);
-  }
-  OwnedRow(const OwnedRow&) = delete;
-  OwnedRow& operator=(const OwnedRow&) = delete;
-};
 
 // Prepared samples kept for the largest residual while they fit in the
 // budget (StreamOptions::keep_bytes; whether they all fit does not depend on
@@ -570,13 +408,7 @@ class KeptSamples {
     const size_t at = to.size();
     to.resize(at + size_);
     double* o = to.data() + at;
-    const auto put = [&](const double* v, int n) {
-      if (v)
-        std::copy_n(v, n, o);
-      else
-        std::fill_n(o, n, 0.0);
-      o += n;
-    };
+    const auto put = [&](const double* v, int n) { o = std::copy_n(v, n, o); };
     put(r.q, nj_);
     if (velocities_) {
       put(r.qd, nj_);
@@ -683,38 +515,31 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
         path));
   // The filter: what filter_motion learns from t first (order, runs, the
   // median step), from a scan of t alone, then its checks in its order.
-  std::optional<detail::FilterSetup> filter;
+  std::optional<FilterPlan> filter;
   if (plan.derived) {
     const detail::TimeScan ts = detail::scan_log_times(file, plan, stream);
-    if (ts.rows < 2)
-      throw InputError(
-          fmt::format("{}: only {} sample(s): filtering the motion needs a time series",
-                      ts.rows > 0 ? detail::where(path, ts.first_line) : path, ts.rows));
-    if (ts.steps.total == 0)
-      throw InputError(fmt::format(
-          "{}: every block has a single sample: filtering the motion needs a time series",
-          detail::where(path, ts.first_line)));
-    filter = detail::filter_setup(plan, ts.dt, data.filter, ts.first_line, ts.last_line);
+    detail::check_time_series(path, ts.rows, ts.steps.total, ts.first_line);
+    filter = plan_filter(ts.dt, data.filter, plan.cols.source, ts.first_line, ts.last_line);
     for (const detail::Run& r : ts.runs)
-      if (r.length < filter->length())
+      if (r.length < filter->kernels.size())
         detail::throw_short_run(plan, *filter, r.length, r.first_line, r.last_line, r.block);
   }
-  const detail::FilterSetup* f = filter ? &*filter : nullptr;
+  const FilterPlan* f = filter ? &*filter : nullptr;
 
   // The head prepared: the log's first samples (the gravity motion_base_options
   // compares with; whether gravity varies or the sensor moves there), the
   // pilot estimate, the head returned.
-  const detail::Head head = detail::read_head(text, plan, stream, f ? f->length() : 0);
+  detail::Head head = detail::read_head(text, plan, stream, f ? f->kernels.size() : 0);
   detail::Carry head_carry;
-  detail::ParsedBlock hb = head.rows;
-  hb.lines = 0;  // (its lines are absolute already)
-  detail::sequence_rows(plan, f, head_carry, hb);
-  std::vector<std::unique_ptr<OwnedRow>> head_rows;
+  head_carry.line_base = plan.cols.header_line + 1;
+  detail::sequence_rows(plan, f, head_carry, head.rows);
+  detail::SampleCollector head_rows(plan);
   detail::LogShape shape;
-  detail::prepared_rows(plan, f, hb, [&](const detail::FinalRow& r) {
+  detail::prepared_rows(plan, f, head.rows, [&](const detail::FinalRow& r) {
     shape.see(r);
-    head_rows.push_back(std::make_unique<OwnedRow>(r, plan));
+    head_rows.add(r);
   });
+  const Samples head_samples = head_rows.take(path);
 
   MotionIdentification out;
   bool gravity_varies = shape.gravity_varies, sensor_moves = shape.sensor_moves;
@@ -738,13 +563,13 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
       const double expected = rows_per_byte *
                               static_cast<double>(text.size() - plan.cols.data_begin) /
                               (f ? f->decimation : 1);
-      const bool keep = track && expected * static_cast<double>(sample_bytes) <=
-                                     static_cast<double>(stream.keep_bytes);
+      const bool keep = head.complete || (track && expected * static_cast<double>(sample_bytes) <=
+                                                       static_cast<double>(stream.keep_bytes));
       std::optional<Eigen::VectorXd> xhat;
       std::optional<IdentifyAccumulator> pilot;
-      if (track && !keep && !head_rows.empty()) {
+      if (track && !keep && head_samples.size() > 0) {
         pilot.emplace(model, base);
-        for (const auto& r : head_rows) pilot->add(r->row.motion());
+        pilot->add(head_samples);
         if (!f) add_spread_rows(file, plan, head.end, *pilot);
         xhat = pilot->rough_estimate();
       }
@@ -758,7 +583,9 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
       const double block_samples = rows_per_byte *
                                    static_cast<double>(std::max<size_t>(stream.block_bytes, 1)) /
                                    (f ? f->decimation : 1);
-      KeptSamples kept(plan, keep, stream.keep_bytes,
+      // (The whole log in the head: every sample kept, whatever the budget.)
+      KeptSamples kept(plan, keep,
+                       head.complete ? std::numeric_limits<size_t>::max() : stream.keep_bytes,
                        static_cast<size_t>(std::min(1.1 * block_samples + 64, double{1 << 20})) *
                            KeptSamples::sample_size(plan));
       ++out.passes;
@@ -792,16 +619,11 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
         out.report.kernels = f->kernels;
         out.report.decimation = f->decimation;
       }
-      detail::SampleCollector head_out(plan);
-      for (const auto& r : head_rows) head_out.add(r->row);
-      out.head = head_out.take(path);
-      // The largest residual: from the head when it is the whole log, else
-      // proven by the tracked candidates, else a pass of its own.
-      if (head.complete) {
-        ResidualMax rmax(model, base, out.summary.value);
-        for (const auto& r : head_rows) rmax.add(r->row.motion());
-        out.summary.residual_max = rmax.max();
-      } else if (kept.complete()) {
+      out.head = head_samples;
+      // The largest residual: from the kept samples (every one when the head
+      // is the whole log), else proven by the tracked candidates, else a
+      // pass of its own.
+      if (kept.complete()) {
         out.summary.residual_max =
             kept.residual_max(model, base, out.summary.value, thread_count(stream));
       } else if (stream.residual_max && out.summary.residual_max.hasNaN()) {

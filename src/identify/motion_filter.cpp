@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "identify/motion_pipeline.hpp"
 #include "massid/core/errors.hpp"
 
 namespace massid {
@@ -80,10 +81,6 @@ void taper(std::vector<double>& g, double dt, int H, double sign, int a, double 
     const long double tau = k * dt;
     g[k + H] = static_cast<double>(g[k + H] * (alpha + beta * tau * tau));
   }
-}
-
-std::string where(const std::string& source, int line) {
-  return fmt::format("{}:{}", source, line);
 }
 
 }  // namespace
@@ -229,26 +226,23 @@ void MotionFilter::reset() {
 void MotionFilter::push(const double* row, double t, int line) {
   if (ready_) throw std::logic_error("MotionFilter::push: pop() the ready row first");
   if (!std::isfinite(t))
-    throw InputError(fmt::format("{}: t = {} is not a finite time", where(source_, line), t));
+    throw InputError(
+        fmt::format("{}: t = {} is not a finite time", detail::where(source_, line), t));
   if (count_ > 0) {
     const double step = t - last_t_;
-    if (step == 0.0)
-      throw InputError(fmt::format("{}: t = {} repeats the time of line {} (t must increase)",
-                                   where(source_, line), t, last_line_));
-    if (step < 0.0)
-      throw InputError(fmt::format("{}: t = {} is before t = {} of line {} (t must increase)",
-                                   where(source_, line), t, last_t_, last_line_));
+    if (step <= 0.0) detail::OrderError{line, last_line_, t, last_t_}.raise(source_);
     const double dev = std::abs(step - k_.dt) / k_.dt;
     if (dev > kUniformTolerance) {
       if (step > 1.5 * k_.dt)
         throw InputError(fmt::format(
             "{}: gap in t: step {:.6g} s from line {} where the sample period is {:.6g} s "
             "(about {:.0f} samples missing); the filter needs uniformly sampled t",
-            where(source_, line), step, last_line_, k_.dt, std::round(step / k_.dt) - 1));
+            detail::where(source_, line), step, last_line_, k_.dt, std::round(step / k_.dt) - 1));
       throw InputError(fmt::format(
           "{}: non-uniform t: step {:.6g} s from line {} differs from the sample period "
           "{:.6g} s by {:.3g}% (more than {}%); the filter needs uniformly sampled t",
-          where(source_, line), step, last_line_, k_.dt, 100 * dev, 100 * kUniformTolerance));
+          detail::where(source_, line), step, last_line_, k_.dt, 100 * dev,
+          100 * kUniformTolerance));
     }
   }
   last_t_ = t;

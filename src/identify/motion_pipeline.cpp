@@ -133,9 +133,6 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
         fmt::format("{}: filtering the motion needs the time column t (to derive velocities and "
                     "accelerations from the positions)",
                     source));
-  if (n < 2)
-    throw InputError(fmt::format("{}: only {} sample(s): filtering the motion needs a time series",
-                                 n > 0 ? detail::where(source, line_of(0)) : source, n));
   const bool blocks = samples.block.size() == static_cast<std::size_t>(n);
   for (const Eigen::MatrixXd* m :
        {&samples.qd, &samples.qdd, &samples.q_upstream, &samples.qd_upstream, &samples.qdd_upstream,
@@ -146,7 +143,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   // Order, then the sample period: the median step within blocks (what the
   // file's scan of t finds, scan_log_times).
   std::vector<double> steps;
-  steps.reserve(n - 1);
+  steps.reserve(static_cast<std::size_t>(std::max(n - 1, 0)));
   for (int i = 1; i < n; ++i) {
     if (blocks && samples.block[i] != samples.block[i - 1]) continue;
     const double t0 = samples.time[i - 1], t1 = samples.time[i];
@@ -157,10 +154,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
     if (t1 <= t0) detail::OrderError{line_of(i), line_of(i - 1), t1, t0}.raise(source);
     steps.push_back(t1 - t0);
   }
-  if (steps.empty())
-    throw InputError(
-        fmt::format("{}: every block has a single sample: filtering the motion needs a time series",
-                    detail::where(source, line_of(0))));
+  detail::check_time_series(source, n, static_cast<long long>(steps.size()), line_of(0));
   const double dt = detail::median(std::move(steps));
 
   // The pipeline over one block that holds every sample, without resolving
@@ -168,7 +162,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   detail::SampleColumns cols = detail::columns_of(samples);
   cols.source = source;
   const detail::MotionPlan plan(nullptr, cols, false);
-  const detail::FilterSetup f = detail::filter_setup(plan, dt, options, line_of(0), line_of(n - 1));
+  const FilterPlan f = plan_filter(dt, options, source, line_of(0), line_of(n - 1));
   detail::ParsedBlock b;
   b.stride = plan.stride;
   b.rows.resize(static_cast<std::size_t>(n) * plan.stride);
@@ -181,7 +175,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   b.n = n;
   detail::Carry carry;
   detail::sequence_rows(plan, &f, carry, b);
-  if (carry.run_length < f.length())
+  if (carry.run_length < f.kernels.size())
     detail::throw_short_run(plan, f, carry.run_length, carry.run_first_line, carry.last_line,
                             carry.run_block);
   detail::SampleCollector out(plan);

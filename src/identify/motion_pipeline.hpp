@@ -149,14 +149,6 @@ struct FinalRow {
   MotionRow motion() const { return MotionRow{q, qd, qdd, g, sm, w, line, block}; }
 };
 
-// The filter, its kernels and decimation (filter_motion's, for a period).
-struct FilterSetup {
-  double dt = 0.0;
-  FilterKernels kernels;
-  int decimation = 1;
-  int length() const { return kernels.size(); }
-};
-
 // A block of the file parsed into rows (stride values each).
 struct ParsedBlock {
   std::vector<double> rows;
@@ -216,7 +208,6 @@ struct Carry {
   int line_base = 0;  // file line of the next block's first line
   long long rows = 0;
   bool any = false;
-  double last_t = 0.0, last_block = 0.0;
   int last_line = 0;
   long long run_length = 0;  // rows of the current run so far
   int run_first_line = 0;
@@ -229,11 +220,24 @@ inline std::string where(const std::string& source, int line) {
   return fmt::format("{}:{}", source, line);
 }
 
+// filter_motion's errors for a log that is no time series: fewer than two
+// samples (`rows`), or no two in one block (no `steps` within blocks).
+inline void check_time_series(const std::string& source, long long rows, long long steps,
+                              int first_line) {
+  if (rows < 2)
+    throw InputError(fmt::format("{}: only {} sample(s): filtering the motion needs a time series",
+                                 rows > 0 ? where(source, first_line) : source, rows));
+  if (steps == 0)
+    throw InputError(
+        fmt::format("{}: every block has a single sample: filtering the motion needs a time series",
+                    where(source, first_line)));
+}
+
 // filter_motion's message for a run (block) shorter than the filter.
-[[noreturn]] inline void throw_short_run(const MotionPlan& plan, const FilterSetup& f, long long m,
+[[noreturn]] inline void throw_short_run(const MotionPlan& plan, const FilterPlan& f, long long m,
                                          int first_line, int last_line, double block) {
-  const double dt = f.dt, rate = 1.0 / dt;
-  const int L = f.length(), H = f.kernels.half_width;
+  const double dt = f.kernels.dt, rate = 1.0 / dt;
+  const int L = f.kernels.size(), H = f.kernels.half_width;
   throw InputError(
       fmt::format(
           "{}: only {} samples (lines {}-{}{}, {:.4g} s at {:.6g} Hz) but the filter at cutoff "
@@ -248,12 +252,12 @@ inline std::string where(const std::string& source, int line) {
 // The sequential stage of block b: absolute lines; with the filter, the runs
 // (a short one is filter_motion's error) and the margin of rows before the
 // block that its filter needs.
-inline void sequence_rows(const MotionPlan& plan, const FilterSetup* f, Carry& c, ParsedBlock& b) {
+inline void sequence_rows(const MotionPlan& plan, const FilterPlan* f, Carry& c, ParsedBlock& b) {
   for (int& l : b.line) l += c.line_base;
   c.line_base += static_cast<int>(b.lines);
   c.rows += b.n;
   if (!f) return;
-  const int stride = plan.stride, L = f->length(), D = f->decimation;
+  const int stride = plan.stride, L = f->kernels.size(), D = f->decimation;
   const size_t keep = static_cast<size_t>(L) + D - 2;  // rows a margin can need
   const bool blocks = plan.cols.block >= 0;
   // The margin: rows [s, run_length) of the current run, s a multiple of D
@@ -272,9 +276,9 @@ inline void sequence_rows(const MotionPlan& plan, const FilterSetup* f, Carry& c
   int run_start = 0;  // first row of the block in the run that ends the block
   for (int i = 0; i < b.n; ++i) {
     const double* r = b.row(i);
-    const double t = r[plan.width], blk = r[plan.width + 1];
+    const double blk = r[plan.width + 1];
     const int line = b.line[i];
-    if (!c.any || (blocks && blk != c.last_block)) {
+    if (!c.any || (blocks && blk != c.run_block)) {
       if (c.any && c.run_length < L)
         throw_short_run(plan, *f, c.run_length, c.run_first_line, c.last_line, c.run_block);
       c.run_length = 0;
@@ -286,8 +290,6 @@ inline void sequence_rows(const MotionPlan& plan, const FilterSetup* f, Carry& c
     }
     ++c.run_length;
     c.any = true;
-    c.last_t = t;
-    c.last_block = blk;
     c.last_line = line;
   }
   // The tail: the last `keep` rows of the current run.
@@ -307,8 +309,7 @@ inline void sequence_rows(const MotionPlan& plan, const FilterSetup* f, Carry& c
 // (the margin is pushed first, its outputs are the previous block's), then
 // resolve_upstream as prepare_motion_samples runs it after the filter.
 template <class Sink>
-void prepared_rows(const MotionPlan& plan, const FilterSetup* f, const ParsedBlock& b,
-                   Sink&& sink) {
+void prepared_rows(const MotionPlan& plan, const FilterPlan* f, const ParsedBlock& b, Sink&& sink) {
   const int W = plan.width;
   if (!f) {
     for (int i = 0; i < b.n; ++i) sink(unfiltered(plan, b.row(i), b.line[i]));
@@ -316,7 +317,7 @@ void prepared_rows(const MotionPlan& plan, const FilterSetup* f, const ParsedBlo
   }
   MotionFilter filter(f->kernels, W, plan.nd, f->decimation);
   filter.set_source(plan.cols.source);
-  std::vector<double> value(W), first(std::max(plan.nd, 1)), second(std::max(plan.nd, 1));
+  std::vector<double> value(W + 2), first(std::max(plan.nd, 1)), second(std::max(plan.nd, 1));
   double gravity[3], sensor[9];
   const bool blocks = plan.cols.block >= 0;
   // A quaternion of the sensor's pose is filtered with its sign continuous
@@ -351,20 +352,18 @@ void prepared_rows(const MotionPlan& plan, const FilterSetup* f, const ParsedBlo
     double t;
     int line;
     if (!filter.pop(value.data(), first.data(), second.data(), &t, &line)) continue;
-    const double* v = value.data();
-    FinalRow out{
-        v + plan.o_q,
-        plan.derive_q ? first.data() + plan.d_q : (plan.has_qd ? v + plan.o_qd : nullptr),
-        plan.derive_q ? second.data() + plan.d_q : (plan.has_qd ? v + plan.o_qdd : nullptr),
-        plan.up ? v + plan.o_qu : nullptr,
-        plan.derive_up ? first.data() + plan.d_qu : (plan.has_qdu ? v + plan.o_qdu : nullptr),
-        plan.derive_up ? second.data() + plan.d_qu : (plan.has_qdu ? v + plan.o_qddu : nullptr),
-        v + plan.o_g,
-        plan.has_sensor ? v + plan.o_sm : nullptr,
-        v + plan.o_w,
-        t,
-        r[W + 1],
-        line};
+    // The stored layout, with the derivatives the filter derives.
+    FinalRow out = unfiltered(plan, value.data(), line);
+    out.t = t;
+    out.block = r[W + 1];
+    if (plan.derive_q) {
+      out.qd = first.data() + plan.d_q;
+      out.qdd = second.data() + plan.d_q;
+    }
+    if (plan.derive_up) {
+      out.qdu = first.data() + plan.d_qu;
+      out.qddu = second.data() + plan.d_qu;
+    }
     if (plan.post_resolve) {
       upstream_sensor_frame(*plan.model, out.qu, out.qdu, out.qddu, plan.cols.root_gravity,
                             plan.cols.gravity_from_upstream ? gravity : nullptr,
@@ -374,18 +373,6 @@ void prepared_rows(const MotionPlan& plan, const FilterSetup* f, const ParsedBlo
     }
     sink(out);
   }
-}
-
-// filter_motion's checks of the period and the options, and its filter
-// (first_line, last_line: of the log's first and last samples, for messages).
-inline FilterSetup filter_setup(const MotionPlan& plan, double dt,
-                                const MotionFilterOptions& options, int first_line, int last_line) {
-  FilterPlan p = plan_filter(dt, options, plan.cols.source, first_line, last_line);
-  FilterSetup f;
-  f.dt = dt;
-  f.decimation = p.decimation;
-  f.kernels = std::move(p.kernels);
-  return f;
 }
 
 // A run of rows of one block value (the whole log without a block column).

@@ -308,18 +308,14 @@ void check_quasi_static(const Model& model, const Samples& s, const RestWindowOp
     }
   }
   if (!slow) return;
-  const RestWindows windows = out;
-  out = every_row(n);
+  // Every row a sample (as every_row), with the numbers that justify it.
+  out.windowed_samples = out.samples;
+  out.windows = every_row(n).windows;
+  out.samples = n;
+  out.continuous = false;
+  out.trimmed = 0;
+  out.longest_settling = 0.0;
   out.quasi_static = true;
-  out.inertia_checked = true;
-  out.criterion = windows.criterion;
-  out.moving = windows.moving;
-  out.max_speed = windows.max_speed;
-  out.inertial_force = windows.inertial_force;
-  out.inertial_moment = windows.inertial_moment;
-  out.noise_force = windows.noise_force;
-  out.noise_moment = windows.noise_moment;
-  out.windowed_samples = windows.samples;
 }
 
 }  // namespace
