@@ -329,11 +329,15 @@ void check_pose(std::string_view text, size_t line_begin, const SampleColumns& c
     throw InputError(fmt::format("{}:{}: {}", c.source, line_number(text, line_begin), why));
 }
 
-void throw_zero_force(std::string_view text, size_t line_begin, const SampleColumns& c) {
+void throw_zero_force(const std::string& where) {
   throw InputError(
-      fmt::format("{}:{}: zero force: no gx,gy,gz columns and no force to take "
+      fmt::format("{}: zero force: no gx,gy,gz columns and no force to take "
                   "the gravity direction from",
-                  c.source, line_number(text, line_begin)));
+                  where));
+}
+
+void throw_zero_force(std::string_view text, size_t line_begin, const SampleColumns& c) {
+  throw_zero_force(fmt::format("{}:{}", c.source, line_number(text, line_begin)));
 }
 
 }  // namespace massid::detail

@@ -157,7 +157,9 @@ Samples read_file_samples(const Model& model, const std::string& path, int max_r
                           const SampleOptions& read, std::vector<std::string>* header = nullptr,
                           bool motion = false);
 
-// Throws the zero-force error of read_samples for the line at `line_begin`.
+// Throws read_samples' zero-force error for the row at `where` ("file:line"),
+// or for the line at `line_begin`.
+[[noreturn]] void throw_zero_force(const std::string& where);
 [[noreturn]] void throw_zero_force(std::string_view text, std::size_t line_begin,
                                    const SampleColumns& c);
 
