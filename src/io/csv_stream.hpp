@@ -88,8 +88,7 @@ struct SampleColumns {
   // The sensor's pose from columns (Model::pose): the orientation at q_up is
   // checked and a quaternion normalised as each line is parsed (normalise_pose).
   SensorPoseColumns pose = SensorPoseColumns::None;
-  ColumnGroup tilt;  // [2 or 0] tilt_x_deg, tilt_y_deg (map_columns), not laid out: bind_value them
-  std::string note;  // map_columns' note on the header ("" for none)
+  std::string note;                // map_columns' note on the header ("" for none)
   std::vector<std::string> roles;  // map_columns' roles of the columns
   int wrench_value() const { return wrench; }
   int gravity_value() const { return gravity; }
