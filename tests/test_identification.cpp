@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <random>
 
@@ -326,6 +327,74 @@ TEST(Identification, WhatIsNotARecordIsAnInputErrorNamingTheFile) {
   const auto size = fs::file_size(record);
   fs::resize_file(record, size / 2);
   EXPECT_NE(message(record).find("cut.record: not a massid identification record"),
+            std::string::npos);
+}
+
+// A record's CBOR as JSON, edited and written back.
+void edit_record(const std::string& path, const std::function<void(nlohmann::json&)>& edit) {
+  std::ifstream in(path, std::ios::binary);
+  nlohmann::json j =
+      nlohmann::json::from_cbor(std::vector<std::uint8_t>{std::istreambuf_iterator<char>(in), {}});
+  in.close();
+  edit(j);
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(j);
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+}
+
+// Records written before the settling and quasi-static checks and the
+// correlated rows lack their fields: read as the defaults. A required field
+// missing or a vector of the wrong size is no record.
+TEST(Identification, OlderRecordsTakeDefaultsAndMalformedPartsAreRefused) {
+  const test::Example ex = test::examples()[1];
+  const std::string log = static_log(load_urdf(ex.urdf), ex.plan, "older.csv");
+  Identification ident = identify(load_urdf(ex.urdf), {}, IdentifySource::file(log));
+  ident.summary.rest.trimmed = 7;
+  ident.summary.rest.noise_force = 0.25;
+  ident.samples.noise_lags = 3;
+  const std::string record = scratch("older.record").string();
+  write_identification(record, ident);
+  const Identification whole = read_identification(record);
+  EXPECT_EQ(whole.summary.rest.trimmed, 7);
+  EXPECT_EQ(whole.summary.rest.noise_force, 0.25);
+  EXPECT_EQ(whole.samples.noise_lags, 3);
+
+  edit_record(record, [](nlohmann::json& j) {
+    j["summary"]["rest"].erase("trimmed");
+    j["summary"]["rest"].erase("noise_force");
+    j["samples"].erase("noise_lags");
+  });
+  const Identification older = read_identification(record);
+  EXPECT_EQ(older.summary.rest.trimmed, 0);
+  EXPECT_EQ(older.summary.rest.noise_force, 0.0);
+  EXPECT_EQ(older.samples.noise_lags, 0);
+  EXPECT_EQ(older.summary.value, ident.summary.value);
+
+  const auto refusal = [&](const std::function<void(nlohmann::json&)>& edit) -> std::string {
+    write_identification(record, ident);
+    edit_record(record, edit);
+    try {
+      read_identification(record);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  EXPECT_NE(refusal([](nlohmann::json& j) {
+              j["summary"]["rest"].erase("continuous");
+            }).find("older.record: not a massid identification record"),
+            std::string::npos);
+  // residual_rms as five numbers: its data matches its size, which is not six.
+  EXPECT_NE(refusal([](nlohmann::json& j) {
+              nlohmann::json& v = j["summary"]["residual_rms"];
+              v["rows"] = 5;
+              v["data"].get_binary().resize(5 * sizeof(double));
+            }).find("a vector has the wrong size"),
+            std::string::npos);
+  EXPECT_NE(refusal([](nlohmann::json& j) {
+              j["fitted"]["rows"] = 1;
+            }).find("a matrix's size does not match its data"),
             std::string::npos);
 }
 

@@ -309,5 +309,55 @@ TEST(SamplesLevelGravity, TiltColumnsTurnTheRootGravityThroughFixedJoints) {
   fs::remove(path);
 }
 
+// Without gravity columns gravity is taken along the force: a row without
+// force is refused by every reader (a CSV table, columns in memory, the
+// streamed file) with the one message, naming its line (row in memory), and
+// the integer test of a block cell is the one is_block_number.
+TEST(Samples, AZeroForceWithoutGravityIsRefusedAlikeByEveryReader) {
+  const Model model = load_urdf_string(R"(<robot name="r"><link name="ft"/>
+    <joint name="j1" type="revolute"><parent link="ft"/><child link="link1"/><axis xyz="0 0 1"/>
+      <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+    <link name="link1"><inertial><origin xyz="0.1 0 0"/><mass value="1"/>
+      <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  </robot>)",
+                                       "ft");
+  const std::string text = "j1,fx,fy,fz,mx,my,mz\n0.5,0,0,9.8,0,0,0\n# note\n0.1,0,0,0,0,0,0\n";
+  const std::string path = (fs::temp_directory_path() / "massid_zero_force.csv").string();
+  std::ofstream(path) << text;
+  const std::string why =
+      ": zero force: no gx,gy,gz columns and no force to take the gravity direction from";
+  const auto error = [](const auto& read) -> std::string {
+    try {
+      read();
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(error([&] { read_samples(model, parse_csv(text, "z.csv"), WrenchColumns::Required); }),
+            "z.csv:4" + why);
+  std::vector<Eigen::VectorXd> cols(7, Eigen::VectorXd::Zero(2));
+  cols[0] << 0.5, 0.1;
+  cols[3] << 9.8, 0.0;
+  EXPECT_EQ(error([&] {
+              samples_from_columns(model, {"j1", "fx", "fy", "fz", "mx", "my", "mz"}, cols,
+                                   WrenchColumns::Required);
+            }),
+            "data row 1" + why);
+  EXPECT_EQ(error([&] { detail::read_file_samples(model, path, 10, {}); }), path + ":4" + why);
+  fs::remove(path);
+  for (const double b : {0.0, -3.0, 1e9, -1e9}) EXPECT_TRUE(detail::is_block_number(b)) << b;
+  for (const double b : {0.5, 1e9 + 1, -2.25, std::numeric_limits<double>::infinity()})
+    EXPECT_FALSE(detail::is_block_number(b)) << b;
+  cols.push_back(Eigen::Vector2d(1.0, 2.5));
+  cols[4] << 0.0, 0.0;
+  cols[3] << 9.8, 9.8;
+  EXPECT_EQ(error([&] {
+              samples_from_columns(model, {"j1", "fx", "fy", "fz", "mx", "my", "mz", "block"}, cols,
+                                   WrenchColumns::Required);
+            }),
+            "data['block'][1]: '2.5' is not an integer");
+}
+
 }  // namespace
 }  // namespace massid

@@ -35,62 +35,69 @@ std::vector<Warning> identification_notes(const IdentifySummary& summary,
   return out;
 }
 
+}  // namespace massid
+
 // ---------------------------------------------------------------------------
 // The record file
+
+// A matrix as {rows, cols, data: the column-major doubles' bytes}; a
+// fixed-size one (a 6- or 3-vector) must come back with its size.
+template <int R, int C, int Options, int MaxR, int MaxC>
+struct nlohmann::adl_serializer<Eigen::Matrix<double, R, C, Options, MaxR, MaxC>> {
+  using Matrix = Eigen::Matrix<double, R, C, Options, MaxR, MaxC>;
+  static_assert(!(Options & Eigen::RowMajor), "column-major data");
+  static void to_json(json& j, const Matrix& m) {
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.size()) * sizeof(double));
+    if (!bytes.empty()) std::memcpy(bytes.data(), m.data(), bytes.size());
+    j = {{"rows", m.rows()}, {"cols", m.cols()}, {"data", json::binary(std::move(bytes))}};
+  }
+  static void from_json(const json& j, Matrix& m) {
+    const Eigen::Index rows = j.at("rows").get<Eigen::Index>(),
+                       cols = j.at("cols").get<Eigen::Index>();
+    const auto& bytes = j.at("data").get_binary();
+    if (rows < 0 || cols < 0 ||
+        bytes.size() != static_cast<std::size_t>(rows * cols) * sizeof(double))
+      throw std::runtime_error("a matrix's size does not match its data");
+    if ((R != Eigen::Dynamic && rows != R) || (C != Eigen::Dynamic && cols != C))
+      throw std::runtime_error("a vector has the wrong size");
+    m.resize(rows, cols);
+    if (!bytes.empty()) std::memcpy(m.data(), bytes.data(), bytes.size());
+  }
+};
+
+namespace massid {
+
+// The record's parts, each member under its own name (the physical fit's
+// per-link summaries and IdentifySummary::beyond_noise are not recorded).
+// An outlier as [sample, line, score], a rest window as [first, last].
+void to_json(nlohmann::json& j, const Outlier& o) { j = {o.sample, o.line, o.score}; }
+void from_json(const nlohmann::json& j, Outlier& o) { o = {j.at(0), j.at(1), j.at(2)}; }
+void to_json(nlohmann::json& j, const RestWindow& w) { j = {w.first, w.last}; }
+void from_json(const nlohmann::json& j, RestWindow& w) { w = {j.at(0), j.at(1)}; }
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RestWindows, continuous, windows, rows, samples, moving,
+                                   criterion, trimmed, longest_settling, quasi_static,
+                                   inertia_checked, max_speed, inertial_force, inertial_moment,
+                                   noise_force, noise_moment, windowed_samples)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DelayEstimate, applied, estimated, value, std, scan)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IdentifySummary, value, stddev, covariance, condition_number,
+                                   residual_rms, residual_max, sigma, residual_dof, sigma_estimated,
+                                   sigma_force_given, sigma_moment_given, chi2_per_dof, samples,
+                                   gravity_from_force, gravity_from_upstream, outliers,
+                                   outlier_threshold, per_sample_test, robust, drift, drift_names,
+                                   drift_value, drift_stddev, rest, delay)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PhysicalSummary, standard, mismatch, worst, worst_mismatch,
+                                   static_layout, initial_cost, cost, iterations, solve_seconds,
+                                   converged, message)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Samples, source, q, qd, qdd, q_upstream, qd_upstream,
+                                   qdd_upstream, gravity, sensor_motion, wrench, line, time, block,
+                                   gravity_from_force, gravity_from_upstream, derivatives_filtered,
+                                   noise_lags, root_gravity)
 
 namespace {
 
 using record_json = nlohmann::json;
 constexpr const char* kRecordFormat = "massid-identification-1";
 static_assert(std::endian::native == std::endian::little, "records store little-endian doubles");
-
-// A matrix as {rows, cols, data: the column-major doubles' bytes}.
-record_json matrix(const Eigen::MatrixXd& m) {
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.size()) * sizeof(double));
-  if (!bytes.empty()) std::memcpy(bytes.data(), m.data(), bytes.size());
-  return {{"rows", m.rows()}, {"cols", m.cols()}, {"data", record_json::binary(std::move(bytes))}};
-}
-
-Eigen::MatrixXd matrix_of(const record_json& j) {
-  const Eigen::Index rows = j.at("rows").get<Eigen::Index>(),
-                     cols = j.at("cols").get<Eigen::Index>();
-  const auto& bytes = j.at("data").get_binary();
-  if (rows < 0 || cols < 0 ||
-      bytes.size() != static_cast<std::size_t>(rows * cols) * sizeof(double))
-    throw std::runtime_error("a matrix's size does not match its data");
-  Eigen::MatrixXd m(rows, cols);
-  if (!bytes.empty()) std::memcpy(m.data(), bytes.data(), bytes.size());
-  return m;
-}
-
-// A fixed-size vector (6 or 3): the stored one must have that size.
-template <int R>
-Eigen::Matrix<double, R, 1> vector_of(const record_json& j) {
-  const Eigen::MatrixXd m = matrix_of(j);
-  if (m.rows() != R || m.cols() != 1) throw std::runtime_error("a vector has the wrong size");
-  return m;
-}
-
-record_json rest_json(const RestWindows& w) {
-  record_json windows = record_json::array();
-  for (const RestWindow& r : w.windows) windows.push_back({r.first, r.last});
-  return {{"continuous", w.continuous},
-          {"windows", windows},
-          {"rows", w.rows},
-          {"samples", w.samples},
-          {"moving", w.moving},
-          {"criterion", w.criterion},
-          {"trimmed", w.trimmed},
-          {"longest_settling", w.longest_settling},
-          {"quasi_static", w.quasi_static},
-          {"inertia_checked", w.inertia_checked},
-          {"max_speed", w.max_speed},
-          {"inertial_force", w.inertial_force},
-          {"inertial_moment", w.inertial_moment},
-          {"noise_force", w.noise_force},
-          {"noise_moment", w.noise_moment},
-          {"windowed_samples", w.windowed_samples}};
-}
 
 // The settings by name, in the order of Hint::Setting (a record names them:
 // the enumeration may grow).
@@ -144,104 +151,19 @@ std::vector<Warning> warnings_of(const record_json& j) {
   return out;
 }
 
-RestWindows rest_of(const record_json& j) {
-  RestWindows w;
-  w.continuous = j.at("continuous");
-  for (const record_json& r : j.at("windows")) w.windows.push_back({r.at(0), r.at(1)});
-  w.rows = j.at("rows");
-  w.samples = j.at("samples");
-  w.moving = j.at("moving");
-  w.criterion = j.at("criterion");
-  w.trimmed = j.value("trimmed", 0);  // absent in records written before the settling check
-  w.longest_settling = j.value("longest_settling", 0.0);
-  // Absent in records written before the quasi-static check.
-  w.quasi_static = j.value("quasi_static", false);
-  w.inertia_checked = j.value("inertia_checked", false);
-  w.max_speed = j.value("max_speed", 0.0);
-  w.inertial_force = j.value("inertial_force", 0.0);
-  w.inertial_moment = j.value("inertial_moment", 0.0);
-  w.noise_force = j.value("noise_force", 0.0);
-  w.noise_moment = j.value("noise_moment", 0.0);
-  w.windowed_samples = j.value("windowed_samples", 0);
-  return w;
+// Fields that older records lack (RestWindows' since the settling and the
+// quasi-static checks, Samples::noise_lags: independent rows): their
+// defaults.
+void add_defaults(record_json& j, const record_json& defaults,
+                  std::initializer_list<const char*> keys) {
+  for (const char* key : keys) j.emplace(key, defaults.at(key));
 }
 
-record_json delay_json(const DelayEstimate& d) {
-  return {{"applied", d.applied},
-          {"estimated", d.estimated},
-          {"value", d.value},
-          {"std", d.std},
-          {"scan", d.scan}};
-}
-
-DelayEstimate delay_of(const record_json& j) {
-  DelayEstimate d;
-  d.applied = j.at("applied");
-  d.estimated = j.at("estimated");
-  d.value = j.at("value");
-  d.std = j.at("std");
-  d.scan = j.at("scan").get<std::vector<std::array<double, 2>>>();
-  return d;
-}
-
-record_json summary_json(const IdentifySummary& s) {
-  record_json outliers = record_json::array();
-  for (const Outlier& o : s.outliers) outliers.push_back({o.sample, o.line, o.score});
-  return {{"value", matrix(s.value)},
-          {"stddev", matrix(s.stddev)},
-          {"covariance", matrix(s.covariance)},
-          {"condition_number", s.condition_number},
-          {"residual_rms", matrix(s.residual_rms)},
-          {"residual_max", matrix(s.residual_max)},
-          {"sigma", matrix(s.sigma)},
-          {"residual_dof", matrix(s.residual_dof)},
-          {"sigma_estimated", s.sigma_estimated},
-          {"sigma_force_given", s.sigma_force_given},
-          {"sigma_moment_given", s.sigma_moment_given},
-          {"chi2_per_dof", s.chi2_per_dof},
-          {"samples", s.samples},
-          {"gravity_from_force", s.gravity_from_force},
-          {"gravity_from_upstream", s.gravity_from_upstream},
-          {"outliers", outliers},
-          {"outlier_threshold", s.outlier_threshold},
-          {"per_sample_test", s.per_sample_test},
-          {"robust", s.robust},
-          {"drift", static_cast<int>(s.drift)},
-          {"drift_names", s.drift_names},
-          {"drift_value", matrix(s.drift_value)},
-          {"drift_stddev", matrix(s.drift_stddev)},
-          {"rest", rest_json(s.rest)},
-          {"delay", delay_json(s.delay)}};
-}
-
-IdentifySummary summary_of(const record_json& j) {
-  IdentifySummary s;
-  s.value = matrix_of(j.at("value"));
-  s.stddev = matrix_of(j.at("stddev"));
-  s.covariance = matrix_of(j.at("covariance"));
-  s.condition_number = j.at("condition_number");
-  s.residual_rms = vector_of<6>(j.at("residual_rms"));
-  s.residual_max = vector_of<6>(j.at("residual_max"));
-  s.sigma = vector_of<6>(j.at("sigma"));
-  s.residual_dof = vector_of<6>(j.at("residual_dof"));
-  s.sigma_estimated = j.at("sigma_estimated");
-  s.sigma_force_given = j.at("sigma_force_given");
-  s.sigma_moment_given = j.at("sigma_moment_given");
-  s.chi2_per_dof = j.at("chi2_per_dof");
-  s.samples = j.at("samples");
-  s.gravity_from_force = j.at("gravity_from_force");
-  s.gravity_from_upstream = j.at("gravity_from_upstream");
-  for (const record_json& o : j.at("outliers")) s.outliers.push_back({o.at(0), o.at(1), o.at(2)});
-  s.outlier_threshold = j.at("outlier_threshold");
-  s.per_sample_test = j.at("per_sample_test");
-  s.robust = j.at("robust");
-  s.drift = static_cast<Drift>(j.at("drift").get<int>());
-  s.drift_names = j.at("drift_names").get<std::vector<std::string>>();
-  s.drift_value = matrix_of(j.at("drift_value"));
-  s.drift_stddev = matrix_of(j.at("drift_stddev"));
-  s.rest = rest_of(j.at("rest"));
-  s.delay = delay_of(j.at("delay"));
-  return s;
+// The base parameters' expressions: a record names them to check the URDF's.
+std::vector<std::string> expressions(const BaseParameters& b) {
+  std::vector<std::string> names;
+  for (const BaseParameter& p : b.params) names.push_back(p.expression);
+  return names;
 }
 
 // The physical fit: its ten parameters per link and figures; the per-link
@@ -249,33 +171,13 @@ IdentifySummary summary_of(const record_json& j) {
 record_json physical_json(const PhysicalSummary& p) {
   std::vector<bool> prior;
   for (const PhysicalLink& l : p.links) prior.push_back(l.prior_body);
-  return {{"standard", matrix(p.standard)},
-          {"mismatch", matrix(p.mismatch)},
-          {"worst", p.worst},
-          {"worst_mismatch", p.worst_mismatch},
-          {"static_layout", p.static_layout},
-          {"initial_cost", p.initial_cost},
-          {"cost", p.cost},
-          {"iterations", p.iterations},
-          {"solve_seconds", p.solve_seconds},
-          {"converged", p.converged},
-          {"message", p.message},
-          {"prior_body", prior}};
+  record_json j = p;
+  j["prior_body"] = prior;
+  return j;
 }
 
 PhysicalSummary physical_of(const record_json& j, const Model& model) {
-  PhysicalSummary p;
-  p.standard = matrix_of(j.at("standard"));
-  p.mismatch = matrix_of(j.at("mismatch"));
-  p.worst = j.at("worst");
-  p.worst_mismatch = j.at("worst_mismatch");
-  p.static_layout = j.at("static_layout");
-  p.initial_cost = j.at("initial_cost");
-  p.cost = j.at("cost");
-  p.iterations = j.at("iterations");
-  p.solve_seconds = j.at("solve_seconds");
-  p.converged = j.at("converged");
-  p.message = j.at("message");
+  PhysicalSummary p = j;
   const std::vector<bool> prior = j.at("prior_body").get<std::vector<bool>>();
   if (p.standard.size() != 10 * model.num_links() ||
       prior.size() != static_cast<std::size_t>(model.num_links()))
@@ -288,78 +190,27 @@ PhysicalSummary physical_of(const record_json& j, const Model& model) {
   return p;
 }
 
-record_json samples_json(const Samples& s) {
-  return {{"source", s.source},
-          {"q", matrix(s.q)},
-          {"qd", matrix(s.qd)},
-          {"qdd", matrix(s.qdd)},
-          {"q_upstream", matrix(s.q_upstream)},
-          {"qd_upstream", matrix(s.qd_upstream)},
-          {"qdd_upstream", matrix(s.qdd_upstream)},
-          {"gravity", matrix(s.gravity)},
-          {"sensor_motion", matrix(s.sensor_motion)},
-          {"wrench", matrix(s.wrench)},
-          {"line", s.line},
-          {"time", matrix(s.time)},
-          {"block", s.block},
-          {"gravity_from_force", s.gravity_from_force},
-          {"gravity_from_upstream", s.gravity_from_upstream},
-          {"derivatives_filtered", s.derivatives_filtered},
-          {"noise_lags", s.noise_lags},
-          {"root_gravity", matrix(s.root_gravity)}};
-}
-
-Samples samples_of(const record_json& j) {
-  Samples s;
-  s.source = j.at("source");
-  s.q = matrix_of(j.at("q"));
-  s.qd = matrix_of(j.at("qd"));
-  s.qdd = matrix_of(j.at("qdd"));
-  s.q_upstream = matrix_of(j.at("q_upstream"));
-  s.qd_upstream = matrix_of(j.at("qd_upstream"));
-  s.qdd_upstream = matrix_of(j.at("qdd_upstream"));
-  s.gravity = matrix_of(j.at("gravity"));
-  s.sensor_motion = matrix_of(j.at("sensor_motion"));
-  s.wrench = matrix_of(j.at("wrench"));
-  s.line = j.at("line").get<std::vector<int>>();
-  s.time = matrix_of(j.at("time"));
-  s.block = j.at("block").get<std::vector<int>>();
-  s.gravity_from_force = j.at("gravity_from_force");
-  s.gravity_from_upstream = j.at("gravity_from_upstream");
-  s.derivatives_filtered = j.at("derivatives_filtered");
-  s.noise_lags = j.value("noise_lags", 0);  // (records before it: independent rows)
-  s.root_gravity = vector_of<3>(j.at("root_gravity"));
-  return s;
-}
-
 }  // namespace
 
 void write_identification(const std::string& path, const Identification& ident, HintSpeller spell) {
   const BaseParameters& b = ident.base;
-  record_json held = record_json::array();
-  for (const auto& [name, value] : ident.model.held) held.push_back({name, value});
   const MotionDataReport& m = ident.motion;
   const MotionDataOptions& mo = ident.motion_options;
   record_json j = {{"format", kRecordFormat},
                    {"urdf", std::filesystem::absolute(ident.model.source).string()},
                    {"sensor_link", ident.model.sensor_link()},
-                   {"held", held},
+                   {"held", ident.model.held},  // [name, value] pairs
                    {"base",
                     {{"per_link", b.layout.per_link()},
                      {"sensor_moving", b.sensor_moving},
                      {"fixed_gravity", b.fixed_gravity},
-                     {"gravity", matrix(b.sensor_gravity)},
+                     {"gravity", b.sensor_gravity},
                      {"offset", b.offset},
                      {"rank_tolerance", b.rank_tolerance},
-                     {"names",
-                      [&] {
-                        std::vector<std::string> names;
-                        for (const BaseParameter& p : b.params) names.push_back(p.expression);
-                        return names;
-                      }()}}},
-                   {"summary", summary_json(ident.summary)},
-                   {"samples", samples_json(ident.samples)},
-                   {"fitted", matrix(ident.fitted)},
+                     {"names", expressions(b)}}},
+                   {"summary", ident.summary},
+                   {"samples", ident.samples},
+                   {"fitted", ident.fitted},
                    {"warnings", warnings_json(ident.warnings, spell)},
                    {"motion",
                     {{"rows", m.rows},
@@ -370,7 +221,7 @@ void write_identification(const std::string& path, const Identification& ident, 
                      {"option_cutoff", mo.filter.cutoff},
                      {"option_decimation", mo.filter.decimation},
                      {"g0", mo.samples.g0},
-                     {"root_gravity", matrix(mo.samples.root_gravity)}}}};
+                     {"root_gravity", mo.samples.root_gravity}}}};
   if (ident.physical) j["physical"] = physical_json(*ident.physical);
   const std::vector<std::uint8_t> bytes = record_json::to_cbor(j);
   write_file_atomically(path, std::string(bytes.begin(), bytes.end()));
@@ -382,29 +233,31 @@ Identification read_identification(const std::string& path) {
   const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
   Identification out;
   try {
-    const record_json j = record_json::from_cbor(bytes);
+    record_json j = record_json::from_cbor(bytes);
     if (j.at("format") != kRecordFormat)
       throw std::runtime_error(fmt::format("format is not {}", kRecordFormat));
-    std::vector<std::pair<std::string, double>> held;
-    for (const record_json& h : j.at("held")) held.emplace_back(h.at(0), h.at(1));
-    out.model = hold_joints(load_urdf(j.at("urdf"), j.at("sensor_link")), held);
+    out.model = hold_joints(load_urdf(j.at("urdf"), j.at("sensor_link")),
+                            j.at("held").get<std::vector<std::pair<std::string, double>>>());
     const record_json& b = j.at("base");
     BaseParameterOptions bo;
     bo.layout = ParameterLayout::of_size(b.at("per_link"));
     bo.sensor_moving = b.at("sensor_moving");
     bo.fixed_gravity = b.at("fixed_gravity");
-    bo.sensor_gravity = vector_of<3>(b.at("gravity"));
+    b.at("gravity").get_to(bo.sensor_gravity);
     bo.offset = b.at("offset");
     bo.rank_tolerance = b.at("rank_tolerance");
     out.base = find_base_parameters(out.model, bo);
-    std::vector<std::string> names;
-    for (const BaseParameter& p : out.base.params) names.push_back(p.expression);
-    if (names != b.at("names").get<std::vector<std::string>>())
+    if (expressions(out.base) != b.at("names").get<std::vector<std::string>>())
       throw std::runtime_error(
           "the URDF's base parameters are no longer those of the fit (was the URDF changed?)");
-    out.summary = summary_of(j.at("summary"));
-    out.samples = samples_of(j.at("samples"));
-    out.fitted = matrix_of(j.at("fitted"));
+    add_defaults(
+        j.at("summary").at("rest"), RestWindows{},
+        {"trimmed", "longest_settling", "quasi_static", "inertia_checked", "max_speed",
+         "inertial_force", "inertial_moment", "noise_force", "noise_moment", "windowed_samples"});
+    add_defaults(j.at("samples"), Samples{}, {"noise_lags"});
+    j.at("summary").get_to(out.summary);
+    j.at("samples").get_to(out.samples);
+    j.at("fitted").get_to(out.fitted);
     out.warnings = warnings_of(j.at("warnings"));
     const record_json& m = j.at("motion");
     out.motion.rows = m.at("rows");
@@ -413,7 +266,7 @@ Identification read_identification(const std::string& path) {
     out.motion_options.filter.cutoff = m.at("option_cutoff");
     out.motion_options.filter.decimation = m.at("option_decimation");
     out.motion_options.samples.g0 = m.at("g0");
-    out.motion_options.samples.root_gravity = vector_of<3>(m.at("root_gravity"));
+    m.at("root_gravity").get_to(out.motion_options.samples.root_gravity);
     if (out.motion.derived)
       out.motion.kernels = make_kernels(m.at("dt").get<double>(), m.at("cutoff").get<double>());
     if (j.contains("physical")) out.physical = physical_of(j.at("physical"), out.model);

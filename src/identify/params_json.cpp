@@ -27,8 +27,16 @@ json terms_json(const Model& model, const std::vector<Term>& terms) {
   return out;
 }
 
-json wrench_part(const Eigen::VectorXd& v, int start) {
+// Three entries of v from `start`: a force, a moment or a gravity vector.
+json three(const Eigen::Ref<const Eigen::VectorXd>& v, int start) {
   return json::array({v[start], v[start + 1], v[start + 2]});
+}
+
+// A value per wrench axis, keyed fx .. mz.
+json per_axis(const Eigen::Matrix<double, 6, 1>& v) {
+  json out;
+  for (int k = 0; k < 6; ++k) out[kWrenchColumns[k]] = v[k];
+  return out;
 }
 
 // The "physical" section: the ten parameters of every link under "links",
@@ -119,9 +127,7 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     j["model"] = "dynamic";
     json motion;
     motion["gravity"] = base.fixed_gravity ? "fixed" : "varying";
-    if (base.fixed_gravity)
-      motion["gravity_vector"] =
-          json::array({base.sensor_gravity[0], base.sensor_gravity[1], base.sensor_gravity[2]});
+    if (base.fixed_gravity) motion["gravity_vector"] = three(base.sensor_gravity, 0);
     motion["sensor_moving"] = base.sensor_moving;
     j["motion"] = motion;
   }
@@ -145,26 +151,19 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
   if (base.offset) {
     if (s) {
       const Eigen::VectorXd v = s->value.tail(6), d = s->stddev.tail(6);
-      j["sensor_offset"] = {{"force", wrench_part(v, 0)},
-                            {"moment", wrench_part(v, 3)},
-                            {"force_std", wrench_part(d, 0)},
-                            {"moment_std", wrench_part(d, 3)}};
+      j["sensor_offset"] = {{"force", three(v, 0)},
+                            {"moment", three(v, 3)},
+                            {"force_std", three(d, 0)},
+                            {"moment_std", three(d, 3)}};
     } else {
       j["sensor_offset"] = {{"force", "estimated"}, {"moment", "estimated"}};
     }
   }
   if (s) {
     j["condition_number"] = s->condition_number;
-    json rms;
-    for (int k = 0; k < 6; ++k) rms[kWrenchColumns[k]] = s->residual_rms[k];
-    j["residual_rms"] = rms;
-    json rmax, sigma;
-    for (int k = 0; k < 6; ++k) {
-      rmax[kWrenchColumns[k]] = s->residual_max[k];
-      sigma[kWrenchColumns[k]] = s->sigma[k];
-    }
-    j["residual_max"] = rmax;
-    j["noise_sigma"] = sigma;
+    j["residual_rms"] = per_axis(s->residual_rms);
+    j["residual_max"] = per_axis(s->residual_max);
+    j["noise_sigma"] = per_axis(s->sigma);
     j["noise_sigma_from"] = s->sigma_estimated ? "residuals" : "user";
     j["chi2_per_dof"] = s->chi2_per_dof;
     // Outlier test: rejected samples (robust) or suspect ones, by file line.
@@ -193,11 +192,8 @@ std::string params_json(const Model& model, const BaseParameters& base, const Id
     json names = json::array();
     for (int i = 0; i < base.num_unknowns(); ++i) names.push_back(base.unknown_name(i));
     json cov = json::array();
-    for (int r = 0; r < s->covariance.rows(); ++r) {
-      json row = json::array();
-      for (int c = 0; c < s->covariance.cols(); ++c) row.push_back(s->covariance(r, c));
-      cov.push_back(row);
-    }
+    for (const auto& row : s->covariance.rowwise())
+      cov.push_back(std::vector<double>(row.begin(), row.end()));
     j["covariance"] = {{"unknowns", names}, {"matrix", cov}};
   }
   if (physical) j["physical"] = physical_json(model, base, *physical);

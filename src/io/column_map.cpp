@@ -49,16 +49,23 @@ ColumnGroup all_or_none(const std::vector<std::string>& header, const std::strin
   return out;
 }
 
-// NAME + suffix for every joint, or none; a revolute joint's also as
-// NAME_deg + suffix (deg/s, deg/s^2: read in rad/s, rad/s^2).
+// The column of NAME + suffix, or of a revolute joint's NAME_deg + suffix
+// (deg, deg/s, deg/s^2: read in rad, rad/s, rad/s^2); column -1 for neither.
+BoundColumn joint_column(const Joint& j, const std::vector<std::string>& header,
+                         const std::string& suffix) {
+  BoundColumn b{find(header, j.name + suffix), 1.0};
+  if (b.column < 0 && j.type == JointType::Revolute)
+    b = {find(header, j.name + "_deg" + suffix), std::numbers::pi / 180.0};
+  return b;
+}
+
+// joint_column with the suffix for every joint, or none.
 ColumnGroup suffixed(const std::vector<Joint>& joints, const std::vector<std::string>& header,
                      const std::string& where, const char* suffix) {
   ColumnGroup out;
   std::vector<std::string> missing;
   for (const Joint& j : joints) {
-    out.push_back({find(header, j.name + suffix), 1.0});
-    if (out.back().column < 0 && j.type == JointType::Revolute)
-      out.back() = {find(header, j.name + "_deg" + suffix), std::numbers::pi / 180.0};
+    out.push_back(joint_column(j, header, suffix));
     if (out.back().column < 0) missing.push_back(j.name + suffix);
   }
   if (missing.size() == joints.size()) return {};
@@ -68,6 +75,17 @@ ColumnGroup suffixed(const std::vector<Joint>& joints, const std::vector<std::st
                     "joints but not all)",
                     where, fmt::join(missing, ","), suffix));
   return out;
+}
+
+// A role the header has: bound, or a column of its name not bound to another role.
+bool has_role(const std::vector<std::string>& header, const ColumnNames& names,
+              const std::string& role) {
+  const bool bound = std::any_of(names.bind.begin(), names.bind.end(),
+                                 [&](const auto& b) { return b.first == role; });
+  const bool elsewhere = std::any_of(names.bind.begin(), names.bind.end(), [&](const auto& b) {
+    return b.second == role && b.first != role;
+  });
+  return bound || (find(header, role) >= 0 && !elsewhere);
 }
 
 bool is_pose_role(const std::string& role) {
@@ -143,9 +161,7 @@ ColumnGroup position_columns(const std::vector<Joint>& joints,
                              const std::vector<std::string>& header, const std::string& where) {
   ColumnGroup out;
   for (const Joint& joint : joints) {
-    BoundColumn b{find(header, joint.name), 1.0};
-    if (b.column < 0 && joint.type == JointType::Revolute)
-      b = {find(header, joint.name + "_deg"), std::numbers::pi / 180.0};
+    const BoundColumn b = joint_column(joint, header, "");
     if (b.column < 0)
       throw InputError(fmt::format(
           "{}: no column for joint '{}' (expected '{}'{})", where, joint.name, joint.name,
@@ -175,15 +191,7 @@ Eigen::Vector3d level_gravity_of(const Model& model, GravityFrom from, const Sam
 std::vector<std::pair<std::string, double>> unlogged_joints(const Model& model,
                                                             const std::vector<std::string>& header,
                                                             const ColumnNames& names) {
-  const auto bound_elsewhere = [&](const std::string& name) {  // the column read as another role
-    return std::any_of(names.bind.begin(), names.bind.end(),
-                       [&](const auto& b) { return b.second == name && b.first != name; });
-  };
-  const auto has = [&](const std::string& role) {
-    const bool bound = std::any_of(names.bind.begin(), names.bind.end(),
-                                   [&](const auto& b) { return b.first == role; });
-    return bound || (find(header, role) >= 0 && !bound_elsewhere(role));
-  };
+  const auto has = [&](const std::string& role) { return has_role(header, names, role); };
   std::vector<std::pair<std::string, double>> out;
   for (const Joint& j : model.joints) {
     if (has(j.name) || (j.type == JointType::Revolute && has(j.name + "_deg"))) continue;
@@ -196,15 +204,7 @@ std::vector<std::pair<std::string, double>> unlogged_joints(const Model& model,
 Model with_pose_columns(Model model, const std::vector<std::string>& header,
                         const std::string& where, const ColumnNames& names) {
   if (model.pose != SensorPoseColumns::None) return model;
-  // A role the header has: bound, or a column of its name not bound to another role.
-  const auto has = [&](const std::string& role) {
-    for (const auto& b : names.bind)
-      if (b.first == role) return true;
-    const bool elsewhere = std::any_of(names.bind.begin(), names.bind.end(), [&](const auto& b) {
-      return b.second == role && b.first != role;
-    });
-    return find(header, role) >= 0 && !elsewhere;
-  };
+  const auto has = [&](const std::string& role) { return has_role(header, names, role); };
   // Of a group: the names present, and whether all are.
   const auto present = [&](const auto& group, bool& all) {
     std::vector<std::string> out, missing;

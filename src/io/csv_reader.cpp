@@ -8,12 +8,6 @@
 #include "massid/io/csv.hpp"
 
 namespace massid {
-namespace {
-
-using detail::split;
-using detail::trim;
-
-}  // namespace
 
 int CsvTable::find(const std::string& name) const {
   for (int i = 0; i < num_columns(); ++i)
@@ -40,9 +34,9 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
     rest = nl == std::string_view::npos ? std::string_view() : rest.substr(nl + 1);
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    const std::string_view content = trim(line);
+    const std::string_view content = detail::trim(line);
     if (content.empty() || content.front() == '#') continue;
-    split(line, source, line_no, fields, offsets);
+    detail::split(line, source, line_no, fields, offsets);
     if (table.header.empty()) {
       table.header_line = line_no;
       detail::check_header(fields, offsets, source, line_no);

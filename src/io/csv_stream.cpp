@@ -32,22 +32,16 @@ size_t next_line(std::string_view text, size_t pos, std::string_view& line) {
 
 MappedFile::MappedFile(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw InputError(fmt::format("{}: cannot open file", path));
   struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    throw InputError(fmt::format("{}: cannot open file", path));
-  }
-  size_ = static_cast<size_t>(st.st_size);
-  if (size_ > 0) {
+  bool ok = fd >= 0 && ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+  size_ = ok ? static_cast<size_t>(st.st_size) : 0;
+  if (ok && size_ > 0) {
     void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
-    if (p == MAP_FAILED) {
-      ::close(fd);
-      throw InputError(fmt::format("{}: cannot open file", path));
-    }
-    data_ = static_cast<const char*>(p);
+    ok = p != MAP_FAILED;
+    if (ok) data_ = static_cast<const char*>(p);
   }
-  ::close(fd);
+  if (fd >= 0) ::close(fd);
+  if (!ok) throw InputError(fmt::format("{}: cannot open file", path));
 }
 
 MappedFile::~MappedFile() {
@@ -121,7 +115,6 @@ SampleColumns bind(const Model& model, std::string_view text, const std::string&
   c.motion = motion;
   c.gravity_from_upstream = map.gravity_from == GravityFrom::UpstreamJoints;
   c.gravity_from_force = map.gravity_from == GravityFrom::Force;
-  c.tilt = map.tilt;
   c.pose = model.pose;
 
   // Values, in read_samples' order of groups.
@@ -329,11 +322,15 @@ void check_pose(std::string_view text, size_t line_begin, const SampleColumns& c
     throw InputError(fmt::format("{}:{}: {}", c.source, line_number(text, line_begin), why));
 }
 
-void throw_zero_force(std::string_view text, size_t line_begin, const SampleColumns& c) {
+void throw_zero_force(const std::string& where) {
   throw InputError(
-      fmt::format("{}:{}: zero force: no gx,gy,gz columns and no force to take "
+      fmt::format("{}: zero force: no gx,gy,gz columns and no force to take "
                   "the gravity direction from",
-                  c.source, line_number(text, line_begin)));
+                  where));
+}
+
+void throw_zero_force(std::string_view text, size_t line_begin, const SampleColumns& c) {
+  throw_zero_force(fmt::format("{}:{}", c.source, line_number(text, line_begin)));
 }
 
 }  // namespace massid::detail

@@ -88,8 +88,7 @@ struct SampleColumns {
   // The sensor's pose from columns (Model::pose): the orientation at q_up is
   // checked and a quaternion normalised as each line is parsed (normalise_pose).
   SensorPoseColumns pose = SensorPoseColumns::None;
-  ColumnGroup tilt;  // [2 or 0] tilt_x_deg, tilt_y_deg (map_columns), not laid out: bind_value them
-  std::string note;  // map_columns' note on the header ("" for none)
+  std::string note;                // map_columns' note on the header ("" for none)
   std::vector<std::string> roles;  // map_columns' roles of the columns
   int wrench_value() const { return wrench; }
   int gravity_value() const { return gravity; }
@@ -157,7 +156,9 @@ Samples read_file_samples(const Model& model, const std::string& path, int max_r
                           const SampleOptions& read, std::vector<std::string>* header = nullptr,
                           bool motion = false);
 
-// Throws the zero-force error of read_samples for the line at `line_begin`.
+// Throws read_samples' zero-force error for the row at `where` ("file:line"),
+// or for the line at `line_begin`.
+[[noreturn]] void throw_zero_force(const std::string& where);
 [[noreturn]] void throw_zero_force(std::string_view text, std::size_t line_begin,
                                    const SampleColumns& c);
 

@@ -1,6 +1,7 @@
 #include "massid/core/samples.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -131,15 +132,12 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
     }
   }
   if (!map.wrench.empty()) s.wrench = read_group(table, map.wrench, Order::ByRow);
-  if (map.time >= 0) {
-    s.time.resize(N);
-    for (int r = 0; r < N; ++r) s.time[r] = table.number(r, map.time);
-  }
+  if (map.time >= 0) s.time = read_group(table, {{map.time, 1.0}}, Order::ByRow).col(0);
   if (map.block >= 0) {
     s.block.resize(N);
     for (int r = 0; r < N; ++r) {
       const double b = table.number(r, map.block);
-      if (b != std::round(b) || std::abs(b) > 1e9)
+      if (!detail::is_block_number(b))
         throw InputError(fmt::format("{}: '{}' is not an integer", table.cell_where(r, map.block),
                                      format_number(b)));
       s.block[r] = static_cast<int>(b);
@@ -170,11 +168,7 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
       s.gravity_from_force = true;
       for (int r = 0; r < N; ++r) {
         const Eigen::Vector3d f = s.wrench.row(r).head<3>();
-        if (!(f.norm() > 0.0))
-          throw InputError(
-              fmt::format("{}: zero force: no gx,gy,gz columns and no force to take "
-                          "the gravity direction from",
-                          table.row_where(r)));
+        if (!(f.norm() > 0.0)) detail::throw_zero_force(table.row_where(r));
         s.gravity.row(r) = options.g0 * f / f.norm();  // paper eq. 37
       }
       break;
@@ -275,14 +269,11 @@ Model hold_unlogged_joints(Model model, const std::vector<std::string>& header,
       where, unlogged.size(), unlogged.size() == 1 ? "" : "s", model.sensor_link(),
       unlogged.size() == 1 ? "has" : "have", unlogged.size() == 1 ? "is" : "are",
       all_zero ? "0" : "the URDF's reference position (0, or the limit nearest to 0)", names);
-  if (!lookalikes.empty()) {
-    std::string list;
-    for (size_t i = 0; i < lookalikes.size(); ++i) list += (i ? ", " : "") + lookalikes[i];
+  if (!lookalikes.empty())
     message += fmt::format(
         "; columns not read that look like joints: {} (a misspelled joint "
         "name? bind it to its joint)",
-        list);
-  }
+        fmt::join(lookalikes, ", "));
   *note = Warning{std::move(message),
                   {{Hint::Setting::HoldJoints, ""}, {Hint::Setting::Columns, "JOINT=NAME"}}};
   return model;
