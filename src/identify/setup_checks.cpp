@@ -582,9 +582,7 @@ ChannelFit moment_channels(const Context& c) {
   // 10 times its noise, sigma |m_URDF - mean| (with the residual's
   // correlation): at one pose, or poses a few degrees apart, the changes are
   // noise and their sign no evidence.
-  size_t best = 0;
-  for (size_t i = 0; i < ssr.size(); ++i)
-    if (ssr[i] < ssr[best]) best = i;
+  const size_t best = static_cast<size_t>(std::min_element(ssr.begin(), ssr.end()) - ssr.begin());
   const double noise =
       std::sqrt(ssr[best] / std::max(dof, 1.0) * correlation_rows(residual(best))) * nom.norm();
   const bool signed_by_urdf = c.M > 0 && nom.norm() > 0 && std::abs(agreement[best]) > 10 * noise;
