@@ -1304,16 +1304,13 @@ namespace {
 
 // The measured wrench's RMS of force and moment over the rows with a finite
 // residual (the residual's own without a measured wrench); NaN with fewer
-// than two such rows.
+// than two such rows (or a residual not [N x 6], which beyond_noise refuses).
 Eigen::Vector2d measured_rms(const Samples& samples, const Eigen::MatrixXd& residual) {
   const int N = static_cast<int>(residual.rows());
-  if (N < 2 || residual.cols() != 6)
-    throw std::invalid_argument(
-        "find_contact_episodes: residual must be [N x 6] with one file line per row");
   double rms[2] = {0.0, 0.0};
   int finite = 0;
   const bool measured = samples.wrench.rows() == N && samples.wrench.cols() == 6;
-  for (int i = 0; i < N; ++i)
+  for (int i = 0; i < N && residual.cols() == 6; ++i)
     if (residual.row(i).allFinite()) {
       const auto w = measured && samples.wrench.row(i).allFinite()
                          ? Eigen::Matrix<double, 1, 6>(samples.wrench.row(i))
