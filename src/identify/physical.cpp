@@ -317,9 +317,8 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
       problem.AddResidualBlock(prior, nullptr, theta[l].data());
     } else {  // in motion: the log-det divergence from the prior body
       Eigen::Matrix4d U0 = Eigen::Matrix4d::Zero();
-      std::array<double, 10> t0 = theta[l];
       double U0a[4][4];
-      cholesky_factor(t0.data(), U0a);
+      cholesky_factor(theta[l].data(), U0a);
       for (int i = 0; i < 4; ++i)
         for (int j = i; j < 4; ++j) U0(i, j) = U0a[i][j];
       auto* prior =
