@@ -82,11 +82,16 @@ std::string lines_text(const Samples& s, const std::vector<int>& rows) {
   return t;
 }
 
-std::string joint_column(const Joint& j, const std::vector<std::string>& header) {
-  if (std::find(header.begin(), header.end(), j.name) == header.end() &&
-      std::find(header.begin(), header.end(), j.name + "_deg") != header.end())
-    return j.name + "_deg";
-  return j.name;
+// The column of `joint` with `suffix` ("", "_vel", "_acc") as the reader binds
+// it (column_map.cpp): NAME + suffix, else a revolute joint's NAME_deg + suffix.
+std::string joint_column(const Joint& j, const std::vector<std::string>& header,
+                         const std::string& suffix = "") {
+  const auto has = [&](const std::string& n) {
+    return std::find(header.begin(), header.end(), n) != header.end();
+  };
+  if (!has(j.name + suffix) && j.type == JointType::Revolute && has(j.name + "_deg" + suffix))
+    return j.name + "_deg" + suffix;
+  return j.name + suffix;
 }
 
 std::string vec_text(const Eigen::Vector3d& v, int precision = 4) {
@@ -836,16 +841,6 @@ void check_joint_units(Context& c) {
 constexpr double kDerivativeScale = 1.5;
 constexpr int kDerivativeRows = 20;
 
-// The column of `joint` with `suffix` ("_vel", "_acc") in the header: NAME + suffix,
-// or NAME_deg + suffix.
-std::string derivative_column(const Joint& j, const std::vector<std::string>& header,
-                              const std::string& suffix) {
-  if (j.type == JointType::Revolute &&
-      std::find(header.begin(), header.end(), j.name + "_deg" + suffix) != header.end())
-    return j.name + "_deg" + suffix;
-  return j.name + suffix;
-}
-
 // The scale s of y on the derivative of x (above); NaN when the rows do not tell.
 double derivative_scale(const Samples& s, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   const int N = static_cast<int>(x.size());
@@ -897,9 +892,8 @@ void check_joint_derivatives(Context& c) {
         const double k = derivative_scale(s, X.col(j), Y.col(j));
         if (!std::isfinite(k) || (k > 0 && std::max(k, 1 / k) <= kDerivativeScale)) continue;
         const std::string suffix = order == 1 ? "_vel" : "_acc";
-        const std::string ycol = derivative_column(joint, c.header, suffix);
-        const std::string xcol =
-            order == 1 ? joint_column(joint, c.header) : derivative_column(joint, c.header, "_vel");
+        const std::string ycol = joint_column(joint, c.header, suffix);
+        const std::string xcol = joint_column(joint, c.header, order == 1 ? "" : "_vel");
         const bool degrees = joint.type == JointType::Revolute;
         std::string fix;
         if (degrees && std::abs(k * kDeg - 1) < 0.05 && ycol == joint.name + suffix)
