@@ -691,5 +691,22 @@ TEST(SetupChecks, JointDerivativesOfAnotherScaleAreAnError) {
   std::remove(path.c_str());
 }
 
+// The derivative column is named as the reader binds it (NAME_vel before
+// NAME_deg_vel, column_map.cpp): with both in the header, the finding names
+// joint2_vel, the column read, not joint2_deg_vel.
+TEST(SetupChecks, JointDerivativesNameTheColumnTheReaderBinds) {
+  const Model model = load_urdf(example("puma260").urdf);
+  Samples twice = derivatives_motion(model);
+  twice.qd.col(1) *= 2;
+  std::vector<std::string> header{"t"};
+  for (const Joint& j : model.joints)
+    for (const char* suffix : {"", "_vel", "_acc"}) header.push_back(j.name + suffix);
+  for (const char* name : {"joint2_deg_vel", "gx", "gy", "gz"}) header.push_back(name);
+  const auto f = derivatives_first(check_setup(model, twice, header));
+  ASSERT_TRUE(f);
+  EXPECT_TRUE(contains(f, "column 'joint2_vel' is 2 times the derivative of column 'joint2'"))
+      << f->message;
+}
+
 }  // namespace
 }  // namespace massid

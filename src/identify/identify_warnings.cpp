@@ -22,6 +22,14 @@ std::string line_list(std::vector<Outlier> o, std::size_t shown = 10) {
   return out;
 }
 
+// "lines 40-90 (51 rows) (d up to 12.3), ...": each episode and its largest score.
+std::string episodes_text(const std::vector<ContactEpisode>& episodes) {
+  std::string out;
+  for (const ContactEpisode& e : episodes)
+    out += fmt::format("{}{} (d up to {:.3g})", out.empty() ? "" : ", ", contact_place(e), e.score);
+  return out;
+}
+
 }  // namespace
 
 std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::string& source) {
@@ -73,17 +81,13 @@ std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::stri
     const std::vector<ContactEpisode> hidden =
         flagged.empty() ? find_contact_episodes(s.beyond_noise, s.beyond_noise_threshold)
                         : std::vector<ContactEpisode>{};
-    std::string text;
-    for (const ContactEpisode& e : hidden)
-      text +=
-          fmt::format("{}{} (d up to {:.3g})", text.empty() ? "" : ", ", contact_place(e), e.score);
     if (!hidden.empty())
       out.push_back(
           {fmt::format("{}: {} carry an external wrench (contact?): consecutive samples whose "
                        "residuals lie beyond the noise by each axis' median and robust scale "
                        "(d above {:.3g}; the fitted noise includes them, so the outlier test "
                        "does not flag them); they bias the estimate: the robust fit rejects them",
-                       source, text, s.beyond_noise_threshold),
+                       source, episodes_text(hidden), s.beyond_noise_threshold),
            {{Setting::Robust, "on"}}});
   }
   // Only a streamed fit too long to read whole (no per-sample residuals)
@@ -114,15 +118,11 @@ std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::stri
   // (setup_checks.hpp, find_contact_episodes), named apart from the others.
   const std::vector<ContactEpisode> contact =
       find_contact_episodes(s.outliers, s.outlier_threshold);
-  std::string contact_text;
-  for (const ContactEpisode& e : contact)
-    contact_text += fmt::format("{}{} (d up to {:.3g})", contact_text.empty() ? "" : ", ",
-                                contact_place(e), e.score);
   if (!contact.empty())
     out.push_back(
         {fmt::format("{}: {} carry an external wrench (contact?): consecutive samples with "
                      "residuals beyond the noise (standardised residual d above {:.3g}); {}",
-                     source, contact_text, s.outlier_threshold,
+                     source, episodes_text(contact), s.outlier_threshold,
                      s.robust ? "rejected, with any other outliers"
                               : "they bias the estimate: the robust fit rejects them"),
          s.robust ? std::vector<Hint>{} : std::vector<Hint>{{Setting::Robust, "on"}}});

@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 
+#include "core/cross_matrix.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/kinematics.hpp"
 #include "massid/identify/estimation.hpp"
@@ -32,11 +33,7 @@ using Theta = std::array<double, 10>;
 // h_A = m t + R h_B, I_A = R I_B R^T - m [t]^2 - [t][R h_B] - [R h_B][t].
 Eigen::Matrix<double, 10, 1> moved_parameters(const Eigen::Matrix<double, 10, 1>& p,
                                               const Eigen::Isometry3d& T) {
-  const auto skew = [](const Eigen::Vector3d& v) {
-    Eigen::Matrix3d S;
-    S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-    return S;
-  };
+  using detail::skew;
   const double m = p[0];
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation(), h = R * p.segment<3>(1);
@@ -239,22 +236,14 @@ Eigen::Matrix4d positive_definite(const Eigen::Matrix4d& J) {
   return eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
 }
 
-// m, h, I_C of a body as the prior's target (parameters_of_theta's order, about the centre of
-// mass).
-Eigen::Matrix<double, 10, 1> prior_target(double m, const Eigen::Vector3d& c,
-                                          const Eigen::Matrix3d& I) {
+// Ten parameters of a body, m, m c and I's ixx, ixy, ixz, iyy, iyz, izz: with
+// I about the centre of mass the prior's target (parameters_of_theta's order),
+// with I about the origin the standard parameters.
+Eigen::Matrix<double, 10, 1> ten_parameters(double m, const Eigen::Vector3d& c,
+                                            const Eigen::Matrix3d& I) {
   Eigen::Matrix<double, 10, 1> q;
   q << m, m * c, I(0, 0), I(0, 1), I(0, 2), I(1, 1), I(1, 2), I(2, 2);
   return q;
-}
-
-// Ten standard parameters of a body: m, m c, I about the origin.
-Eigen::Matrix<double, 10, 1> standard_of_body(double m, const Eigen::Vector3d& c,
-                                              const Eigen::Matrix3d& I_com) {
-  const Eigen::Matrix3d I = inertia_about_origin(m, c, I_com);
-  Eigen::Matrix<double, 10, 1> pi;
-  pi << m, m * c, I(0, 0), I(0, 1), I(0, 2), I(1, 1), I(1, 2), I(2, 2);
-  return pi;
 }
 
 }  // namespace
@@ -303,8 +292,8 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
       const double r = options.tiny_radius_fraction * length;
       I = 0.4 * m * r * r * Eigen::Matrix3d::Identity();
     }
-    theta[l] =
-        theta_of_pseudo_inertia(positive_definite(pseudo_inertia(standard_of_body(m, c, I))));
+    theta[l] = theta_of_pseudo_inertia(
+        positive_definite(pseudo_inertia(ten_parameters(m, c, inertia_about_origin(m, c, I)))));
     // Bounds (physical.hpp): the mass within [min_mass_fraction,
     // 1/min_mass_fraction] M; each spread e^d, the centre of mass t and the
     // shears s within 1/min_extent_fraction L (spreads at least
@@ -324,13 +313,12 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
     }
     if (out.static_layout) {  // at rest: each link keeps the URDF's inertia about its centre
       auto* prior = new ceres::AutoDiffCostFunction<PriorResidual, 10, 10>(
-          new PriorResidual{prior_target(m, c, I), weight});
+          new PriorResidual{ten_parameters(m, c, I), weight});
       problem.AddResidualBlock(prior, nullptr, theta[l].data());
     } else {  // in motion: the log-det divergence from the prior body
       Eigen::Matrix4d U0 = Eigen::Matrix4d::Zero();
-      std::array<double, 10> t0 = theta[l];
       double U0a[4][4];
-      cholesky_factor(t0.data(), U0a);
+      cholesky_factor(theta[l].data(), U0a);
       for (int i = 0; i < 4; ++i)
         for (int j = i; j < 4; ++j) U0(i, j) = U0a[i][j];
       auto* prior =

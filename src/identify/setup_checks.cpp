@@ -82,11 +82,16 @@ std::string lines_text(const Samples& s, const std::vector<int>& rows) {
   return t;
 }
 
-std::string joint_column(const Joint& j, const std::vector<std::string>& header) {
-  if (std::find(header.begin(), header.end(), j.name) == header.end() &&
-      std::find(header.begin(), header.end(), j.name + "_deg") != header.end())
-    return j.name + "_deg";
-  return j.name;
+// The column of `joint` with `suffix` ("", "_vel", "_acc") as the reader binds
+// it (column_map.cpp): NAME + suffix, else a revolute joint's NAME_deg + suffix.
+std::string joint_column(const Joint& j, const std::vector<std::string>& header,
+                         const std::string& suffix = "") {
+  const auto has = [&](const std::string& n) {
+    return std::find(header.begin(), header.end(), n) != header.end();
+  };
+  if (!has(j.name + suffix) && j.type == JointType::Revolute && has(j.name + "_deg" + suffix))
+    return j.name + "_deg" + suffix;
+  return j.name + suffix;
 }
 
 std::string vec_text(const Eigen::Vector3d& v, int precision = 4) {
@@ -156,6 +161,25 @@ struct Context {
   }
 };
 
+// The subset of samples at `rows` (the columns the checks read).
+Samples sample_rows(const Samples& s, const std::vector<int>& rows) {
+  Samples out;
+  out.source = s.source;
+  out.gravity_from_force = s.gravity_from_force;
+  out.gravity_from_upstream = s.gravity_from_upstream;
+  out.root_gravity = s.root_gravity;
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  for (auto [from, to] :
+       {std::pair{&s.q, &out.q}, {&s.gravity, &out.gravity}, {&s.wrench, &out.wrench}}) {
+    to->resize(n, from->cols());
+    if (from->rows() > 0)
+      for (Eigen::Index k = 0; k < n; ++k) to->row(k) = from->row(rows[k]);
+  }
+  if (!s.line.empty())
+    for (const int r : rows) out.line.push_back(s.line[r]);
+  return out;
+}
+
 // Gravity from the tilt columns (no gx,gy,gz, no joints above the sensor):
 // the level gravity (--gravity, or --root-gravity through the fixed joints)
 // turned by tilt_x_deg,tilt_y_deg, not columns of the file.
@@ -171,16 +195,14 @@ bool gravity_from_tilt(const Context& c) {
 void nominal(Context& c) {
   const int stride = std::max(1, (c.N + kNominalRows - 1) / kNominalRows);
   for (int i = 0; i < c.N; i += stride) c.sub.push_back(i);
-  Samples p;
-  p.q.resize(static_cast<Eigen::Index>(c.sub.size()), c.model.num_joints());
-  p.gravity.resize(static_cast<Eigen::Index>(c.sub.size()), 3);
+  Samples p = sample_rows(c.s, c.sub);
   KinematicsData kin(c.model);
-  for (size_t k = 0; k < c.sub.size(); ++k) {
-    const int i = c.sub[k];
-    p.q.row(k) = c.s.q.row(i);
-    const double n = c.G.row(i).norm();
-    p.gravity.row(k).setZero();
-    if (n > 0) p.gravity.row(k) = kStandardGravity / n * c.G.row(i);
+  for (int k = 0; k < p.size(); ++k) {
+    const double n = p.gravity.row(k).norm();
+    if (n > 0)
+      p.gravity.row(k) *= kStandardGravity / n;
+    else
+      p.gravity.row(k).setZero();
     forward_kinematics(c.model, kin, p.q.row(k).transpose());
     for (int l = 0; l < c.model.num_links(); ++l) {
       c.reach = std::max(c.reach, kin.position[l].norm());
@@ -520,15 +542,7 @@ ChannelFit force_channels(const Context& c, const Centred& k) {
 ChannelFit moment_channels(const Context& c) {
   const int n = static_cast<int>(c.sub.size());
   if (n < kMinRows) return {};
-  Samples s;
-  s.q.resize(n, c.model.num_joints());
-  s.gravity.resize(n, 3);
-  s.wrench.resize(n, 6);
-  for (int k = 0; k < n; ++k) {
-    s.q.row(k) = c.s.q.row(c.sub[k]);
-    s.gravity.row(k) = c.G.row(c.sub[k]);
-    s.wrench.row(k) = c.s.wrench.row(c.sub[k]);
-  }
+  const Samples s = sample_rows(c.s, c.sub);
   BaseParameterOptions bo;
   bo.offset = true;
   const BaseParameters base = find_base_parameters(c.model, bo);
@@ -573,9 +587,7 @@ ChannelFit moment_channels(const Context& c) {
   // 10 times its noise, sigma |m_URDF - mean| (with the residual's
   // correlation): at one pose, or poses a few degrees apart, the changes are
   // noise and their sign no evidence.
-  size_t best = 0;
-  for (size_t i = 0; i < ssr.size(); ++i)
-    if (ssr[i] < ssr[best]) best = i;
+  const size_t best = static_cast<size_t>(std::min_element(ssr.begin(), ssr.end()) - ssr.begin());
   const double noise =
       std::sqrt(ssr[best] / std::max(dof, 1.0) * correlation_rows(residual(best))) * nom.norm();
   const bool signed_by_urdf = c.M > 0 && nom.norm() > 0 && std::abs(agreement[best]) > 10 * noise;
@@ -645,21 +657,27 @@ void report_channels(Context& c, const ChannelTest& t, char kind, const ChannelT
                     force ? "N" : "N m", extra, fix));
 }
 
+// The median of |f_i| over the rows (robust to an offset and a few bad rows).
+double median_force(const Context& c) {
+  std::vector<double> n(c.N);
+  for (int i = 0; i < c.N; ++i) n[i] = c.F.row(i).norm();
+  return median(n);
+}
+
 // force-units. Statistic: r = median |f_i| / (M g0), the total mass the force
 // implies over the URDF's (offset-robust: the median of magnitudes). Error for
 // r in [316, 3162]: forces in mN.
 void check_force_units(Context& c) {
   if (!(c.M > 0)) return;
-  std::vector<double> n(c.N);
-  for (int i = 0; i < c.N; ++i) n[i] = c.F.row(i).norm();
-  const double r = median(n) / (c.M * kStandardGravity);
+  const double f = median_force(c);
+  const double r = f / (c.M * kStandardGravity);
   if (r >= kUnitLow && r <= kUnitHigh)
     c.add(
         Severity::Error, "force-units",
         fmt::format("{}: fx,fy,fz imply a total mass of {:.4g} kg, {:.0f} times the URDF's {:.4g} "
                     "kg (median |f| {:.4g} over lines {}-{}): the forces look like mN; divide "
                     "fx,fy,fz by 1000 (massid wants N)",
-                    c.s.source, r * c.M, r, c.M, median(n), c.s.line.front(), c.s.line.back()));
+                    c.s.source, r * c.M, r, c.M, f, c.s.line.front(), c.s.line.back()));
 }
 
 // moment-units. Statistics: r = RMS |m_i| / RMS |m_URDF,i| (the measured
@@ -704,9 +722,7 @@ void check_units_without_mass(Context& c) {
   const double rms_m = std::sqrt(c.s.wrench.rightCols(3).squaredNorm() / c.N);
   if (!(rms_f > 0)) return;
   const double lever = rms_m / rms_f;
-  std::vector<double> n(c.N);
-  for (int i = 0; i < c.N; ++i) n[i] = c.F.row(i).norm();
-  const double mass = median(n) / kStandardGravity;
+  const double mass = median_force(c) / kStandardGravity;
   const std::string why = fmt::format(
       "the URDF has no mass (no <inertial> on a measured link), so the wrench is judged by the "
       "robot's size: RMS |m| / RMS |f| puts the centre of mass {:.3g} m from the sensor origin, "
@@ -825,16 +841,6 @@ void check_joint_units(Context& c) {
 constexpr double kDerivativeScale = 1.5;
 constexpr int kDerivativeRows = 20;
 
-// The column of `joint` with `suffix` ("_vel", "_acc") in the header: NAME + suffix,
-// or NAME_deg + suffix.
-std::string derivative_column(const Joint& j, const std::vector<std::string>& header,
-                              const std::string& suffix) {
-  if (j.type == JointType::Revolute &&
-      std::find(header.begin(), header.end(), j.name + "_deg" + suffix) != header.end())
-    return j.name + "_deg" + suffix;
-  return j.name + suffix;
-}
-
 // The scale s of y on the derivative of x (above); NaN when the rows do not tell.
 double derivative_scale(const Samples& s, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   const int N = static_cast<int>(x.size());
@@ -886,9 +892,8 @@ void check_joint_derivatives(Context& c) {
         const double k = derivative_scale(s, X.col(j), Y.col(j));
         if (!std::isfinite(k) || (k > 0 && std::max(k, 1 / k) <= kDerivativeScale)) continue;
         const std::string suffix = order == 1 ? "_vel" : "_acc";
-        const std::string ycol = derivative_column(joint, c.header, suffix);
-        const std::string xcol =
-            order == 1 ? joint_column(joint, c.header) : derivative_column(joint, c.header, "_vel");
+        const std::string ycol = joint_column(joint, c.header, suffix);
+        const std::string xcol = joint_column(joint, c.header, order == 1 ? "" : "_vel");
         const bool degrees = joint.type == JointType::Revolute;
         std::string fix;
         if (degrees && std::abs(k * kDeg - 1) < 0.05 && ycol == joint.name + suffix)
@@ -1008,26 +1013,6 @@ double chi3_quantile(double p) {
     (tail > p ? lo : hi) = mid;
   }
   return std::sqrt(0.5 * (lo + hi));
-}
-
-// The subset of samples at `rows` (the columns the checks read).
-Samples sample_rows(const Samples& s, const std::vector<int>& rows) {
-  Samples out;
-  out.source = s.source;
-  out.gravity_from_force = s.gravity_from_force;
-  out.gravity_from_upstream = s.gravity_from_upstream;
-  out.root_gravity = s.root_gravity;
-  const auto n = static_cast<Eigen::Index>(rows.size());
-  out.q.resize(n, s.q.cols());
-  out.gravity.resize(n, 3);
-  out.wrench.resize(n, s.wrench.cols());
-  for (Eigen::Index k = 0; k < n; ++k) {
-    out.q.row(k) = s.q.row(rows[k]);
-    out.gravity.row(k) = s.gravity.row(rows[k]);
-    out.wrench.row(k) = s.wrench.row(rows[k]);
-    out.line.push_back(s.line[rows[k]]);
-  }
-  return out;
 }
 
 }  // namespace
@@ -1161,19 +1146,11 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
   if (samples.size() == 0) return out;
   Context c(model, samples, header, out);
   nominal(c);
-  if (!samples.has_wrench()) {  // a plan: its joints and gravity
-    check_columns(c, options);
-    if (!samples.gravity_from_force) check_gravity_magnitude(c);
-    check_joint_units(c);
-    check_joint_derivatives(c);
-    std::stable_partition(out.begin(), out.end(),
-                          [](const SetupFinding& f) { return f.severity == Severity::Error; });
-    return out;
-  }
+  const bool wrench = samples.has_wrench();  // a plan has none: its joints and gravity only
   const bool force_broken = check_columns(c, options);
   if (!samples.gravity_from_force) {
     check_gravity_magnitude(c);
-    if (!force_broken && !options.motion) {
+    if (wrench && !force_broken && !options.motion) {
       // The rows an external wrench drives (contact) set aside, when a
       // minority (rows_against_gravity).
       const std::vector<int> away = rows_against_gravity(samples);
@@ -1193,9 +1170,11 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
       }
     }
   }
-  check_force_units(c);
-  check_moment_units(c);
-  check_units_without_mass(c);
+  if (wrench) {
+    check_force_units(c);
+    check_moment_units(c);
+    check_units_without_mass(c);
+  }
   check_joint_units(c);
   check_joint_derivatives(c);
   // Errors first: they decide the outcome.
@@ -1319,16 +1298,13 @@ namespace {
 
 // The measured wrench's RMS of force and moment over the rows with a finite
 // residual (the residual's own without a measured wrench); NaN with fewer
-// than two such rows.
+// than two such rows (or a residual not [N x 6], which beyond_noise refuses).
 Eigen::Vector2d measured_rms(const Samples& samples, const Eigen::MatrixXd& residual) {
   const int N = static_cast<int>(residual.rows());
-  if (N < 2 || residual.cols() != 6)
-    throw std::invalid_argument(
-        "find_contact_episodes: residual must be [N x 6] with one file line per row");
   double rms[2] = {0.0, 0.0};
   int finite = 0;
   const bool measured = samples.wrench.rows() == N && samples.wrench.cols() == 6;
-  for (int i = 0; i < N; ++i)
+  for (int i = 0; i < N && residual.cols() == 6; ++i)
     if (residual.row(i).allFinite()) {
       const auto w = measured && samples.wrench.row(i).allFinite()
                          ? Eigen::Matrix<double, 1, 6>(samples.wrench.row(i))

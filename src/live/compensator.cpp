@@ -355,18 +355,14 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
   std::string& out = m.line_out;
   out.assign(line);
   char number[40];
-  for (int k = 0; k < 6; ++k) {
+  const auto put = [&](double x) {
     number[0] = ',';
-    const char* end = fmt::format_to(number + 1, "{}", m.compensated[k]);
+    const char* end = fmt::format_to(number + 1, "{}", x);
     out.append(number, static_cast<std::size_t>(end - number));
-  }
+  };
+  for (int k = 0; k < 6; ++k) put(m.compensated[k]);
   if (m.tracker) {
     const TrackerEstimate& e = m.tracker->estimate();
-    const auto put = [&](double x) {
-      number[0] = ',';
-      const char* end = fmt::format_to(number + 1, "{}", x);
-      out.append(number, static_cast<std::size_t>(end - number));
-    };
     put(e.mass);
     for (int k = 0; k < 3; ++k) put(e.com[k]);
     put(e.mass_std);

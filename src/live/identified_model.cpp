@@ -202,10 +202,7 @@ Eigen::MatrixXd IdentifiedModel::sensor_reading_rows(
   const Wrench& o = offset();
   detail::check_size("IdentifiedModel::sensor_reading_rows", "predicted columns", predicted.cols(),
                      6, "fx fy fz mx my mz");
-  Eigen::MatrixXd out(predicted.rows(), 6);
-  for (Eigen::Index i = 0; i < predicted.rows(); ++i)
-    for (int k = 0; k < 6; ++k) out(i, k) = predicted(i, k) + o[k];
-  return out;
+  return predicted.rowwise() + o.transpose();
 }
 
 Eigen::MatrixXd IdentifiedModel::compensate_rows(
@@ -218,10 +215,7 @@ Eigen::MatrixXd IdentifiedModel::compensate_rows(
                      measured.rows(), "one per measured row");
   detail::check_size("IdentifiedModel::compensate_rows", "predicted columns", predicted.cols(), 6,
                      "fx fy fz mx my mz");
-  Eigen::MatrixXd out(measured.rows(), 6);
-  for (Eigen::Index i = 0; i < measured.rows(); ++i)
-    for (int k = 0; k < 6; ++k) out(i, k) = (measured(i, k) - predicted(i, k)) - o[k];
-  return out;
+  return (measured - predicted).rowwise() - o.transpose();
 }
 
 Wrench IdentifiedModel::predict_gravity(IdentifiedModelData& data, const double* q,
