@@ -197,10 +197,25 @@ Samples to_samples(const std::vector<PlanPose>& plan, int num_joints) {
   return s;
 }
 
-// Condition number, covariance at the given noise and the expected error of
-// predicted wrenches over random feasible poses.
+// The plan's lowest clearance, travel, condition number, covariance at the
+// given noise and the expected error of predicted wrenches over random
+// feasible poses.
 void figures(const Model& model, const BaseParameters& base, const Samples& plan,
              const DesignOptions& o, DesignSpace& space, DesignSummary& out) {
+  out.lowest_clearance = kInfinity;
+  for (const PlanPose& p : out.plan) {
+    std::string what;
+    const double h = space.clearance(p, &what);
+    if (h < out.lowest_clearance) {
+      out.lowest_clearance = h;
+      out.lowest_link = what;
+    }
+  }
+  out.links_with_meshes = 0;
+  for (const Link& l : model.links) out.links_with_meshes += l.collision_meshes > 0;
+  const PlanTravel travel = plan_travel(out.plan);
+  out.tilt_changes = travel.tilt_changes;
+  out.joint_travel = travel.joint_travel;
   const Eigen::MatrixXd A = stacked_regressor(model, base, plan);
   out.condition_number = moment_condition_number(base, A);
   const IdentifiabilityReport id = check_identifiability(model, base, plan, A, 1e-9);
@@ -227,20 +242,6 @@ void figures(const Model& model, const BaseParameters& base, const Samples& plan
     sum += (reg.base * cov * reg.base.transpose()).diagonal();
   }
   out.expected_error = (sum / draws).cwiseSqrt();
-}
-
-void clearance_figures(const Model& model, DesignSpace& space, DesignSummary& out) {
-  out.lowest_clearance = kInfinity;
-  for (const PlanPose& p : out.plan) {
-    std::string what;
-    const double h = space.clearance(p, &what);
-    if (h < out.lowest_clearance) {
-      out.lowest_clearance = h;
-      out.lowest_link = what;
-    }
-  }
-  out.links_with_meshes = 0;
-  for (const Link& l : model.links) out.links_with_meshes += l.collision_meshes > 0;
 }
 
 }  // namespace
@@ -295,10 +296,6 @@ DesignSummary design(const Model& model, const BaseParameters& base, const Desig
   anywhere.tilt_groups = 0;
   DesignSpace feasible(model, anywhere);
   figures(model, base, plan, o, feasible, out);
-  clearance_figures(model, feasible, out);
-  const PlanTravel travel = plan_travel(out.plan);
-  out.tilt_changes = travel.tilt_changes;
-  out.joint_travel = travel.joint_travel;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -363,10 +360,6 @@ DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, cons
   space.relax_min_height_if_infeasible(opts.min_height_required);
   out.min_height_relaxed = space.min_height_relaxed();
   figures(model, base, plan, opts, space, out);
-  clearance_figures(model, space, out);
-  const PlanTravel travel = plan_travel(out.plan);
-  out.tilt_changes = travel.tilt_changes;
-  out.joint_travel = travel.joint_travel;
   return out;
 }
 
