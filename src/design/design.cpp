@@ -30,12 +30,6 @@ struct Working {
   double value = kInfinity;
 };
 
-void add_pose(Working& w, const PlanPose& pose, const Eigen::MatrixXd& rows) {
-  w.poses.push_back(pose);
-  w.rows.push_back(rows);
-  w.info += rows.transpose() * rows;
-}
-
 // Greedy D-optimal start on the criterion rows (a small ridge keeps the first
 // steps defined): each step adds the candidate with the largest
 // log det(I + R^T R) = log det I + log det(1 + R I^-1 R^T). The first
@@ -59,7 +53,9 @@ Working greedy_start(const std::vector<PlanPose>& cand,
       const double gain = Eigen::LLT<Eigen::MatrixXd>(S).matrixLLT().diagonal().array().log().sum();
       if (gain > best) best = gain, pick = c;
     }
-    add_pose(w, cand[pick], cand_rows[pick]);
+    w.poses.push_back(cand[pick]);
+    w.rows.push_back(cand_rows[pick]);
+    w.info += cand_rows[pick].transpose() * cand_rows[pick];
   }
   w.info -= ridge;
   return w;
