@@ -136,10 +136,10 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
   // Y'_D = [Y'_B O] beta (O's coefficients are what the offsets absorb).
   const int nb = static_cast<int>(kept.size());
   const int no = static_cast<int>(O.cols());
-  Eigen::MatrixXd YB(rows, nb + no), YD(rows, dependent.size());
-  for (int i = 0; i < nb; ++i) YB.col(i) = Ys.col(kept[i]);
-  if (no > 0) YB.rightCols(no) = O;
-  for (size_t i = 0; i < dependent.size(); ++i) YD.col(i) = Ys.col(dependent[i]);
+  Eigen::MatrixXd YB(rows, nb + no);
+  YB.leftCols(nb) = Ys(Eigen::all, kept);
+  YB.rightCols(no) = O;
+  const Eigen::MatrixXd YD = Ys(Eigen::all, dependent);
   // (No dependent column: nothing to solve; Eigen's solve would bind a
   // reference to the empty matrix's null data.)
   const Eigen::MatrixXd beta = YD.cols() > 0 ? Eigen::MatrixXd(YB.colPivHouseholderQr().solve(YD))

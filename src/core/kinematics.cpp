@@ -252,10 +252,8 @@ void upstream_link_poses(const Model& model, const Eigen::Ref<const Eigen::Vecto
     const int j = step.joint_index;
     const JointPose jp = joint_pose(step.type, step.origin, step.axis,
                                     j >= 0 ? step.joint_scale * qu[j] + step.joint_offset : 0.0);
-    Eigen::Isometry3d child = Eigen::Isometry3d::Identity();
-    child.linear() = jp.R;
-    child.translation() = jp.t;
-    T = T * child;
+    T.translation() = T.linear() * jp.t + T.translation();  // T = T [R t; 0 1], as Eigen multiplies
+    T.linear() = T.linear() * jp.R;
     out[k] = T;
   }
 }

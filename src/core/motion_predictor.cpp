@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <type_traits>
 
 #include "core/argument_checks.hpp"
 #include "core/body_tree.hpp"
@@ -147,10 +148,8 @@ MotionPredictor compile_motion_predictor(const Model& model, const BaseParameter
   pred.axis.assign(nb, kGeneralAxis);
   pred.general.assign(L / 4, 0);
   pred.joint.assign(L, 0);
-  pred.revolute.assign(L, 0.0);
-  pred.angle.assign(L, 0.0);
-  pred.prismatic.assign(L, 0.0);
-  pred.slide.assign(L, 0.0);
+  for (std::vector<double>* v : {&pred.revolute, &pred.angle, &pred.prismatic, &pred.slide})
+    v->assign(L, 0.0);
   pred.axes.assign(9 * L, 0.0);
   pred.origin.assign(3 * L, 0.0);
   pred.inertial.assign(10 * L, 0.0);
@@ -242,14 +241,9 @@ template <class T>
 [[gnu::always_inline]] inline Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-template <int I>
-[[gnu::always_inline]] inline double& at(Vec3<double>& v) {
-  if constexpr (I == 0) return v.x;
-  if constexpr (I == 1) return v.y;
-  if constexpr (I == 2) return v.z;
-}
-template <int I>
-[[gnu::always_inline]] inline double get(const Vec3<double>& v) {
+// Component I of v (const or not).
+template <int I, class V>
+[[gnu::always_inline]] inline auto& at(V& v) {
   if constexpr (I == 0) return v.x;
   if constexpr (I == 1) return v.y;
   if constexpr (I == 2) return v.z;
@@ -278,8 +272,8 @@ template <int M>
 [[gnu::always_inline]] inline Vec3<double> add_axis(Vec3<double> v, const Vec3<double>& u,
                                                     double x_cross, double x_axis) {
   constexpr int i = (M + 1) % 3, j = (M + 2) % 3;  // u x e_M = (u_j, -u_i) at (i, j)
-  at<i>(v) += get<j>(u) * x_cross;
-  at<j>(v) -= get<i>(u) * x_cross;
+  at<i>(v) += at<j>(u) * x_cross;
+  at<j>(v) -= at<i>(u) * x_cross;
   at<M>(v) += x_axis;
   return v;
 }
@@ -296,18 +290,13 @@ template <class T>
   store(p + 4 * c + 8, v.z);
 }
 
-// B v and B^T v, B row-major at a body's slot.
+// B v, or B^T v when Back; B row-major at a body's slot.
+template <bool Back = false>
 [[gnu::always_inline]] inline Vec3<double> rotate(const double* B, const Vec3<double>& v) {
-  const auto b = [&](int i, int j) { return B[4 * (3 * i + j)]; };
+  const auto b = [&](int i, int j) { return Back ? B[4 * (3 * j + i)] : B[4 * (3 * i + j)]; };
   return {(b(0, 0) * v.x + b(0, 1) * v.y) + b(0, 2) * v.z,
           (b(1, 0) * v.x + b(1, 1) * v.y) + b(1, 2) * v.z,
           (b(2, 0) * v.x + b(2, 1) * v.y) + b(2, 2) * v.z};
-}
-[[gnu::always_inline]] inline Vec3<double> rotate_back(const double* B, const Vec3<double>& v) {
-  const auto b = [&](int i, int j) { return B[4 * (3 * i + j)]; };
-  return {(b(0, 0) * v.x + b(1, 0) * v.y) + b(2, 0) * v.z,
-          (b(0, 1) * v.x + b(1, 1) * v.y) + b(2, 1) * v.z,
-          (b(0, 2) * v.x + b(1, 2) * v.y) + b(2, 2) * v.z};
 }
 
 // q of the joints of V's lanes of bodies, built in registers (a vector
@@ -369,7 +358,7 @@ template <int M>
   constexpr int axis = M == kGeneralAxis ? 2 : M;
   const auto back = [&](const Vec3<double>& v) {
     if constexpr (M == kGeneralAxis)
-      return rotate_back(B, v);
+      return rotate<true>(B, v);
     else
       return turn_back<M>(sc[4], sc[0], v);
   };
@@ -398,6 +387,22 @@ template <int M>
   N = bn + cross(r, bf);
 }
 
+// f(std::integral_constant<int, M>{}) for a body's M (0, 1, 2 or kGeneralAxis):
+// the step compiled for each.
+template <class F>
+[[gnu::always_inline]] inline void on_axis(int axis, F&& f) {
+  switch (axis) {
+    case 0:
+      return f(std::integral_constant<int, 0>{});
+    case 1:
+      return f(std::integral_constant<int, 1>{});
+    case 2:
+      return f(std::integral_constant<int, 2>{});
+    default:
+      return f(std::integral_constant<int, kGeneralAxis>{});
+  }
+}
+
 // Forward pass, one body after the other (header). Along a serial run the
 // parent's motion stays in registers.
 [[gnu::always_inline]] inline void forward_stage(const MotionPredictorPlan& p,
@@ -421,19 +426,7 @@ template <int M>
     const double* B = d.rotation.data() + body_slot(k, 9);
     const double* sc = d.sincos.data() + body_slot(k, 2);
     const double* j = d.joint_rates.data() + body_slot(k, 4);
-    switch (p.axis[k]) {
-      case 0:
-        forward_step<0>(B, sc, j, u, w, dw, a);
-        break;
-      case 1:
-        forward_step<1>(B, sc, j, u, w, dw, a);
-        break;
-      case 2:
-        forward_step<2>(B, sc, j, u, w, dw, a);
-        break;
-      default:
-        forward_step<kGeneralAxis>(B, sc, j, u, w, dw, a);
-    }
+    on_axis(p.axis[k], [&](auto m) { forward_step<decltype(m)::value>(B, sc, j, u, w, dw, a); });
     double* m = motion + body_slot(k, 9);
     store3(m, 0, w);
     store3(m, 3, dw);
@@ -478,19 +471,7 @@ template <class V>
     const double* B = d.rotation.data() + body_slot(k, 9);
     const double* sc = d.sincos.data() + body_slot(k, 2);
     const Vec3<double> r = load3<double>(d.translation.data() + body_slot(k, 3), 0);
-    switch (p.axis[k]) {
-      case 0:
-        backward_step<0>(B, sc, r, own, F, N);
-        break;
-      case 1:
-        backward_step<1>(B, sc, r, own, F, N);
-        break;
-      case 2:
-        backward_step<2>(B, sc, r, own, F, N);
-        break;
-      default:
-        backward_step<kGeneralAxis>(B, sc, r, own, F, N);
-    }
+    on_axis(p.axis[k], [&](auto m) { backward_step<decltype(m)::value>(B, sc, r, own, F, N); });
     const int pa = p.parent[k];
     if (pa != k - 1) {  // a branch joins its parent
       double* to = wrench + body_slot(pa, 6);

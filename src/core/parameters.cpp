@@ -37,12 +37,9 @@ Eigen::VectorXd ParameterLayout::nominal(const Model& model) const {
     pi.segment<3>(index(l, kMx)) = link.mass * link.com;
     if (inertia()) {
       const Eigen::Matrix3d I = inertia_about_origin(link.mass, link.com, link.inertia);
-      pi[index(l, kIxx)] = I(0, 0);
-      pi[index(l, kIxy)] = I(0, 1);
-      pi[index(l, kIxz)] = I(0, 2);
-      pi[index(l, kIyy)] = I(1, 1);
-      pi[index(l, kIyz)] = I(1, 2);
-      pi[index(l, kIzz)] = I(2, 2);
+      // ixx, ixy, ixz, iyy, iyz, izz: the upper triangle, row by row.
+      for (int r = 0, k = kIxx; r < 3; ++r)
+        for (int c = r; c < 3; ++c) pi[index(l, k++)] = I(r, c);
     }
   }
   return pi;

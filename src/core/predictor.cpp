@@ -79,10 +79,16 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     bodies[b].subtree_mass += bodies[b].mass;
     if (b > 0) bodies[bodies[b].parent].subtree_mass += bodies[b].subtree_mass;
   }
-  // Depth-first numbering, then the steps.
+  // Depth-first numbering, then the steps and the joint stage's lanes,
+  // padded to a multiple of four: theta = scale q + offset for a revolute
+  // joint (q's mimic map), 0 q + 0 for a prismatic one and past n.
   const std::vector<int> order = depth_first(bodies);
   std::vector<int> number(bodies.size());
   for (std::size_t k = 0; k < order.size(); ++k) number[order[k]] = static_cast<int>(k);
+  const std::size_t lanes = (order.size() - 1 + 3) / 4 * 4;
+  pred.lane_joint.assign(lanes, 0);
+  pred.lane_scale.assign(lanes, 0.0);
+  pred.lane_offset.assign(lanes, 0.0);
   for (std::size_t k = 0; k < order.size(); ++k) {
     const GravityBody& b = bodies[order[k]];
     pred.first_moment.push_back(b.first_moment);
@@ -104,23 +110,14 @@ Predictor compile_predictor(const Model& model, const BaseParameters& base,
     s.row2[0] = A(2, 0), s.row2[1] = A(2, 1), s.row2[2] = A(2, 1), s.row2[3] = -A(2, 0);
     s.slide = b.type == JointType::Prismatic ? b.subtree_mass : 0.0;
     pred.steps.push_back(s);
+    pred.lane_joint[k - 1] = b.joint;
+    if (b.type == JointType::Revolute) {
+      pred.lane_scale[k - 1] = b.joint_scale;
+      pred.lane_offset[k - 1] = b.joint_offset;
+    }
   }
   if (base.offset) out.offset = values.tail<6>();
   pred.four_lanes = detail::cpu_has_avx2();
-  // The joint stage's lanes, padded to a multiple of four with theta = 0.
-  const std::size_t lanes = (pred.steps.size() + 3) / 4 * 4;
-  // theta = scale q + offset for a revolute joint (q's mimic map), 0 q + 0 for a
-  // prismatic one and past n.
-  pred.lane_joint.assign(lanes, 0);
-  pred.lane_scale.assign(lanes, 0.0);
-  pred.lane_offset.assign(lanes, 0.0);
-  for (std::size_t k = 0; k < pred.steps.size(); ++k) {
-    const GravityBody& b = bodies[order[k + 1]];
-    pred.lane_joint[k] = b.joint;
-    if (b.type != JointType::Revolute) continue;
-    pred.lane_scale[k] = b.joint_scale;
-    pred.lane_offset[k] = b.joint_offset;
-  }
   pred.num_gathered = 4 * static_cast<int>(pred.first_moment.size());
   out.plan = std::move(plan);
   return out;
@@ -138,8 +135,7 @@ void check_data(const char* function, const PredictorPlan& plan, const Predictor
                      static_cast<Eigen::Index>(plan.lane_joint.size()),
                      "the predictor's joint lanes: a workspace made for another model");
   detail::check_size(function, "data.gathered", static_cast<Eigen::Index>(data.gathered.size()),
-                     plan.num_gathered,
-                     "four per body: a workspace made for another model");
+                     plan.num_gathered, "four per body: a workspace made for another model");
   detail::check_size(function, "data.cos", static_cast<Eigen::Index>(data.cos.size()),
                      static_cast<Eigen::Index>(plan.lane_joint.size()),
                      "the predictor's joint lanes: a workspace made for another model");

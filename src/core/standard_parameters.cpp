@@ -37,10 +37,8 @@ PhysicalLink physical_link(const std::string& name, const Eigen::Ref<const Eigen
   out.com = p[0] != 0.0 ? Eigen::Vector3d(p.segment<3>(1) / p[0]) : Eigen::Vector3d::Zero();
   Eigen::Matrix3d I;
   I << p[4], p[5], p[6], p[5], p[7], p[8], p[6], p[8], p[9];
-  const Eigen::Vector3d& c = out.com;
   // Parallel axes back to the centre of mass: I_C = I_O - m (|c|^2 1 - c c^T).
-  out.inertia_com =
-      I - out.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+  out.inertia_com = inertia_about_origin(-out.mass, out.com, I);
   out.principal_moments =
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(out.inertia_com, Eigen::EigenvaluesOnly)
           .eigenvalues();

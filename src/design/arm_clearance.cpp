@@ -3,56 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <random>
 
 namespace massid {
 
 namespace {
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
-}
 
-ArmClearance::ArmClearance(const Model& model, const Eigen::Vector3d& root_gravity)
-    : model_(model), up_(-root_gravity.normalized()), kin_(model) {
-  int body = 0;
-  bool moves = false;
-  body_name_.push_back(model.root_link);
-  for (const ChainStep& step : model.upstream) {
-    if (step.joint_index >= 0) {
-      ++body;
-      moves = true;
-      body_name_.push_back("the link moved by '" + step.joint + "'");
-    }
-    body_of_step_.push_back(body);
-    step_moves_.push_back(moves);
-  }
-  tool_body_ = body;
-  // Only the origins whose height changes count (the shoulder's turns at
-  // the height the mount gives it): compare random configurations.
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Eigen::VectorXd qu(model.num_upstream_joints());
-  std::vector<double> first(model.upstream.size());
-  std::vector<bool> varies(model.upstream.size(), false);
-  for (int trial = 0; trial < 6; ++trial) {
-    for (int j = 0; j < qu.size(); ++j) qu[j] = model.upstream_joints[j].generic_position(u(rng));
-    upstream_link_poses(model, qu, poses_);
-    for (size_t k = 0; k < poses_.size(); ++k) {
-      const double h = up_.dot(poses_[k].translation());
-      if (trial == 0) first[k] = h;
-      if (std::abs(h - first[k]) > 1e-9) varies[k] = true;
-    }
-  }
-  for (size_t k = 0; k < varies.size(); ++k) step_moves_[k] = step_moves_[k] && varies[k];
-  for (int l = 0; l < model.num_links(); ++l) {
-    const Link& link = model.links[l];
-    tool_.push_back({l, Eigen::Vector3d::Zero(), 0.0});
-    if (link.mass > 0) tool_.push_back({l, link.com, 0.0});
-    for (const Link::Sphere& s : link.collision) tool_.push_back({l, s.centre, s.radius});
-  }
-}
-
-double ArmClearance::segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                                      const Eigen::Vector3d& q0, const Eigen::Vector3d& q1) {
+// Distance between segments [p0, p1] and [q0, q1].
+double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                        const Eigen::Vector3d& q0, const Eigen::Vector3d& q1) {
   // Closest points of two segments (Ericson, Real-Time Collision Detection 5.1.9).
   const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
@@ -79,6 +39,47 @@ double ArmClearance::segment_distance(const Eigen::Vector3d& p0, const Eigen::Ve
     }
   }
   return ((p0 + s * d1) - (q0 + t * d2)).norm();
+}
+
+}  // namespace
+
+ArmClearance::ArmClearance(const Model& model, const Eigen::Vector3d& root_gravity)
+    : model_(model), up_(-root_gravity.normalized()), kin_(model) {
+  int body = 0;
+  bool moves = false;
+  body_name_.push_back(model.root_link);
+  for (const ChainStep& step : model.upstream) {
+    if (step.joint_index >= 0) {
+      ++body;
+      moves = true;
+      body_name_.push_back("the link moved by '" + step.joint + "'");
+    }
+    body_of_step_.push_back(body);
+    step_moves_.push_back(moves);
+  }
+  tool_body_ = body;
+  // Only the origins whose height changes count (the shoulder's turns at
+  // the height the mount gives it).
+  const std::vector<bool> varies =
+      heights_vary(model.upstream_joints, model.upstream.size(),
+                   [&](const Eigen::VectorXd& qu, std::vector<double>& h) {
+                     upstream_link_poses(model, qu, poses_);
+                     for (size_t k = 0; k < poses_.size(); ++k)
+                       h[k] = up_.dot(poses_[k].translation());
+                   });
+  for (size_t k = 0; k < varies.size(); ++k) step_moves_[k] = step_moves_[k] && varies[k];
+  tool_ = clearance_points(model);
+}
+
+std::vector<ClearancePoint> clearance_points(const Model& model) {
+  std::vector<ClearancePoint> out;
+  for (int l = 0; l < model.num_links(); ++l) {
+    const Link& link = model.links[l];
+    out.push_back({l, Eigen::Vector3d::Zero(), 0.0});
+    if (link.mass > 0.0) out.push_back({l, link.com, 0.0});
+    for (const Link::Sphere& s : link.collision) out.push_back({l, s.centre, s.radius});
+  }
+  return out;
 }
 
 ArmClearanceValue ArmClearance::at(const Eigen::Ref<const Eigen::VectorXd>& qu,
@@ -111,7 +112,7 @@ ArmClearanceValue ArmClearance::at(const Eigen::Ref<const Eigen::VectorXd>& qu,
     previous_body = body_of_step_[k];
   }
   const Eigen::Isometry3d& sensor = poses_.empty() ? Eigen::Isometry3d::Identity() : poses_.back();
-  for (const ToolPoint& t : tool_) {
+  for (const ClearancePoint& t : tool_) {
     const Eigen::Vector3d p = sensor * (kin_.position[t.link] + kin_.rotation[t.link] * t.p);
     const double h = up_.dot(p) - t.radius;
     if (h < out.height) {

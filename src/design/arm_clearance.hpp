@@ -19,6 +19,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,39 @@
 #include "massid/core/model.hpp"
 
 namespace massid {
+
+// A point checked for clearance: a link origin, a centre of mass or a
+// primitive collision shape's bounding sphere (link frame; radius 0 for a point).
+struct ClearancePoint {
+  int link;
+  Eigen::Vector3d p;
+  double radius;
+};
+
+// Every link's points, in link order.
+std::vector<ClearancePoint> clearance_points(const Model& model);
+
+// Which of `count` heights change with the joints: heights(q, h) fills h
+// [count] at six random positions q of `joints` (a point that moves at a
+// constant height stays where the mount puts it).
+template <class Heights>
+std::vector<bool> heights_vary(const std::vector<Joint>& joints, std::size_t count,
+                               Heights heights) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Eigen::VectorXd q(joints.size());
+  std::vector<double> first(count), h(count);
+  std::vector<bool> varies(count, false);
+  for (int trial = 0; trial < 6; ++trial) {
+    for (Eigen::Index j = 0; j < q.size(); ++j) q[j] = joints[j].generic_position(u(rng));
+    heights(q, h);
+    for (std::size_t i = 0; i < count; ++i) {
+      if (trial == 0) first[i] = h[i];
+      if (std::abs(h[i] - first[i]) > 1e-9) varies[i] = true;
+    }
+  }
+  return varies;
+}
 
 struct ArmClearanceValue {
   double height = 0.0;  // m, lowest checked point above the floor (+inf: nothing moves)
@@ -41,10 +76,6 @@ class ArmClearance {
   ArmClearanceValue at(const Eigen::Ref<const Eigen::VectorXd>& qu,
                        const Eigen::Ref<const Eigen::VectorXd>& q);
 
-  // Distance between segments [p0, p1] and [q0, q1].
-  static double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                                 const Eigen::Vector3d& q0, const Eigen::Vector3d& q1);
-
  private:
   const Model& model_;
   Eigen::Vector3d up_;
@@ -52,12 +83,7 @@ class ArmClearance {
   std::vector<bool> step_moves_;        // [upstream.size()] a movable joint at or above it
   std::vector<std::string> body_name_;  // the root link, then "the link moved by 'J'"
   int tool_body_ = 0;
-  struct ToolPoint {
-    int link;
-    Eigen::Vector3d p;  // link frame
-    double radius;
-  };
-  std::vector<ToolPoint> tool_;
+  std::vector<ClearancePoint> tool_;
   std::vector<Eigen::Isometry3d> poses_;
   KinematicsData kin_;
 };

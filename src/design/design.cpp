@@ -30,12 +30,6 @@ struct Working {
   double value = kInfinity;
 };
 
-void add_pose(Working& w, const PlanPose& pose, const Eigen::MatrixXd& rows) {
-  w.poses.push_back(pose);
-  w.rows.push_back(rows);
-  w.info += rows.transpose() * rows;
-}
-
 // Greedy D-optimal start on the criterion rows (a small ridge keeps the first
 // steps defined): each step adds the candidate with the largest
 // log det(I + R^T R) = log det I + log det(1 + R I^-1 R^T). The first
@@ -59,7 +53,9 @@ Working greedy_start(const std::vector<PlanPose>& cand,
       const double gain = Eigen::LLT<Eigen::MatrixXd>(S).matrixLLT().diagonal().array().log().sum();
       if (gain > best) best = gain, pick = c;
     }
-    add_pose(w, cand[pick], cand_rows[pick]);
+    w.poses.push_back(cand[pick]);
+    w.rows.push_back(cand_rows[pick]);
+    w.info += cand_rows[pick].transpose() * cand_rows[pick];
   }
   w.info -= ridge;
   return w;
@@ -197,10 +193,25 @@ Samples to_samples(const std::vector<PlanPose>& plan, int num_joints) {
   return s;
 }
 
-// Condition number, covariance at the given noise and the expected error of
-// predicted wrenches over random feasible poses.
+// The plan's lowest clearance, travel, condition number, covariance at the
+// given noise and the expected error of predicted wrenches over random
+// feasible poses.
 void figures(const Model& model, const BaseParameters& base, const Samples& plan,
              const DesignOptions& o, DesignSpace& space, DesignSummary& out) {
+  out.lowest_clearance = kInfinity;
+  for (const PlanPose& p : out.plan) {
+    std::string what;
+    const double h = space.clearance(p, &what);
+    if (h < out.lowest_clearance) {
+      out.lowest_clearance = h;
+      out.lowest_link = what;
+    }
+  }
+  out.links_with_meshes = 0;
+  for (const Link& l : model.links) out.links_with_meshes += l.collision_meshes > 0;
+  const PlanTravel travel = plan_travel(out.plan);
+  out.tilt_changes = travel.tilt_changes;
+  out.joint_travel = travel.joint_travel;
   const Eigen::MatrixXd A = stacked_regressor(model, base, plan);
   out.condition_number = moment_condition_number(base, A);
   const IdentifiabilityReport id = check_identifiability(model, base, plan, A, 1e-9);
@@ -227,20 +238,6 @@ void figures(const Model& model, const BaseParameters& base, const Samples& plan
     sum += (reg.base * cov * reg.base.transpose()).diagonal();
   }
   out.expected_error = (sum / draws).cwiseSqrt();
-}
-
-void clearance_figures(const Model& model, DesignSpace& space, DesignSummary& out) {
-  out.lowest_clearance = kInfinity;
-  for (const PlanPose& p : out.plan) {
-    std::string what;
-    const double h = space.clearance(p, &what);
-    if (h < out.lowest_clearance) {
-      out.lowest_clearance = h;
-      out.lowest_link = what;
-    }
-  }
-  out.links_with_meshes = 0;
-  for (const Link& l : model.links) out.links_with_meshes += l.collision_meshes > 0;
 }
 
 }  // namespace
@@ -295,10 +292,6 @@ DesignSummary design(const Model& model, const BaseParameters& base, const Desig
   anywhere.tilt_groups = 0;
   DesignSpace feasible(model, anywhere);
   figures(model, base, plan, o, feasible, out);
-  clearance_figures(model, feasible, out);
-  const PlanTravel travel = plan_travel(out.plan);
-  out.tilt_changes = travel.tilt_changes;
-  out.joint_travel = travel.joint_travel;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -363,10 +356,6 @@ DesignSummary evaluate_plan(const Model& model, const BaseParameters& base, cons
   space.relax_min_height_if_infeasible(opts.min_height_required);
   out.min_height_relaxed = space.min_height_relaxed();
   figures(model, base, plan, opts, space, out);
-  clearance_figures(model, space, out);
-  const PlanTravel travel = plan_travel(out.plan);
-  out.tilt_changes = travel.tilt_changes;
-  out.joint_travel = travel.joint_travel;
   return out;
 }
 

@@ -12,6 +12,26 @@
 
 namespace massid {
 
+// Joint j's range: its limits less `margin` of the range at each end (a
+// generic range when unlimited), narrowed by the user's `limits`; empty(lo,
+// hi) throws with the range given when that leaves nothing.
+template <class Empty>
+DesignSpace::Free DesignSpace::narrowed(int j, const Joint& joint, double margin,
+                                        const DesignOptions& o, Empty empty) {
+  Free f{j, joint.generic_position(0.0), joint.generic_position(1.0)};
+  if (joint.limited) {
+    const double m = margin * (joint.upper - joint.lower);
+    f.lo = joint.lower + m;
+    f.hi = joint.upper - m;
+  }
+  if (auto l = o.limits.find(joint.name); l != o.limits.end()) {
+    f.lo = std::max(f.lo, l->second.first);
+    f.hi = std::min(f.hi, l->second.second);
+    if (!(f.hi > f.lo)) empty(l->second.first, l->second.second);
+  }
+  return f;
+}
+
 DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
     : model_(model), level_(o.level_gravity), min_height_(o.min_height), kin_(model) {
   if (!(level_.norm() > 0.0))
@@ -31,28 +51,16 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
   }
   for (int j = 0; j < model.num_joints(); ++j) {
     const Joint& joint = model.joints[j];
-    double lo = joint.generic_position(0.0), hi = joint.generic_position(1.0);
-    if (joint.limited) {
-      const double margin = o.position_margin * (joint.upper - joint.lower);
-      lo = joint.lower + margin;
-      hi = joint.upper - margin;
-    }
-    if (auto l = o.limits.find(joint.name); l != o.limits.end()) {
-      lo = std::max(lo, l->second.first);
-      hi = std::min(hi, l->second.second);
-      if (!(hi > lo))
-        throw InputError(
-            fmt::format("design: the range {}:{} of joint '{}' is empty within the URDF limits "
-                        "[{}, {}] less the margin of {:g} % of the range at each end ([{:.6g}, "
-                        "{:.6g}])",
-                        l->second.first, l->second.second, joint.name, joint.lower, joint.upper,
-                        100 * o.position_margin,
-                        joint.lower + o.position_margin * (joint.upper - joint.lower),
-                        joint.upper - o.position_margin * (joint.upper - joint.lower)),
-            {{Hint::Setting::Limits,
-              fmt::format("{}={}:{}", joint.name, l->second.first, l->second.second)}});
-    }
-    free_.push_back({j, lo, hi});
+    free_.push_back(narrowed(j, joint, o.position_margin, o, [&](double lo, double hi) {
+      throw InputError(
+          fmt::format("design: the range {}:{} of joint '{}' is empty within the URDF limits "
+                      "[{}, {}] less the margin of {:g} % of the range at each end ([{:.6g}, "
+                      "{:.6g}])",
+                      lo, hi, joint.name, joint.lower, joint.upper, 100 * o.position_margin,
+                      joint.lower + o.position_margin * (joint.upper - joint.lower),
+                      joint.upper - o.position_margin * (joint.upper - joint.lower)),
+          {{Hint::Setting::Limits, fmt::format("{}={}:{}", joint.name, lo, hi)}});
+    }));
   }
   if (o.tilt_max) {
     cone_ = true;
@@ -70,33 +78,17 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
       level_group_ = static_cast<int>(k);
       break;
     }
-  // The points checked for clearance, those that move: compare forward
-  // kinematics at random poses.
-  std::vector<Point> all;
-  for (int l = 0; l < model.num_links(); ++l) {
-    const Link& link = model.links[l];
-    all.push_back({l, Eigen::Vector3d::Zero(), 0.0});
-    if (link.mass > 0.0) all.push_back({l, link.com, 0.0});
-    for (const Link::Sphere& c : link.collision) all.push_back({l, c.centre, c.radius});
-  }
-  // Only points whose height changes: one that moves at a constant height
-  // (a centre of mass off a vertical axis) is where the mount puts it, as
-  // the fixed links are.
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
+  // The points checked for clearance, those whose height changes: one that
+  // moves at a constant height (a centre of mass off a vertical axis) is
+  // where the mount puts it, as the fixed links are.
+  const std::vector<ClearancePoint> all = clearance_points(model);
   const Eigen::Vector3d up = -level_.normalized();
-  std::vector<double> first(all.size());
-  std::vector<bool> moves(all.size(), false);
-  for (int trial = 0; trial < 6; ++trial) {
-    Eigen::VectorXd q(model.num_joints());
-    for (int j = 0; j < model.num_joints(); ++j) q[j] = model.joints[j].generic_position(u(rng));
-    forward_kinematics(model, kin_, q);
-    for (size_t i = 0; i < all.size(); ++i) {
-      const double h = up.dot(kin_.position[all[i].link] + kin_.rotation[all[i].link] * all[i].p);
-      if (trial == 0) first[i] = h;
-      if (std::abs(h - first[i]) > 1e-9) moves[i] = true;
-    }
-  }
+  const std::vector<bool> moves =
+      heights_vary(model.joints, all.size(), [&](const Eigen::VectorXd& q, std::vector<double>& h) {
+        forward_kinematics(model, kin_, q);
+        for (size_t i = 0; i < all.size(); ++i)
+          h[i] = up.dot(kin_.position[all[i].link] + kin_.rotation[all[i].link] * all[i].p);
+      });
   for (size_t i = 0; i < all.size(); ++i)
     if (moves[i]) points_.push_back(all[i]);
   if (model.num_upstream_joints() > 0 && o.move_arm) init_arm(o);
@@ -115,7 +107,7 @@ double DesignSpace::clearance(const Eigen::VectorXd& q, int* link) {
   forward_kinematics(model_, kin_, q);
   const Eigen::Vector3d up = -level_.normalized();
   double lowest = std::numeric_limits<double>::infinity();
-  for (const Point& pt : points_) {
+  for (const ClearancePoint& pt : points_) {
     const double h = up.dot(kin_.position[pt.link] + kin_.rotation[pt.link] * pt.p) - pt.radius;
     if (h < lowest) {
       lowest = h;
@@ -180,12 +172,9 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   PlanPose pose;
   pose.q.resize(model_.num_joints());
+  if (arm_) pose.q_upstream.resize(model_.num_upstream_joints());
   for (int attempt = 0; attempt < 10000; ++attempt) {
-    for (const Free& f : free_) pose.q[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
-    if (arm_) {
-      pose.q_upstream.resize(model_.num_upstream_joints());
-      for (const Free& f : arm_free_) pose.q_upstream[f.joint] = f.lo + (f.hi - f.lo) * u(rng);
-    }
+    for (const Free& f : free_) position(pose, f) = f.lo + (f.hi - f.lo) * u(rng);
     if (!high_enough(pose)) continue;
     pose.level = level;
     if (level) {
@@ -214,37 +203,28 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
 
 Eigen::VectorXd DesignSpace::coordinates(const PlanPose& pose) const {
   Eigen::VectorXd x(dimension());
-  for (size_t i = 0; i < free_.size(); ++i) x[i] = pose.q[free_[i].joint];
-  for (size_t i = 0; i < arm_free_.size(); ++i)
-    x[free_.size() + i] = pose.q_upstream[arm_free_[i].joint];
+  for (size_t i = 0; i < free_.size(); ++i) x[i] = position(pose, free_[i]);
   if (own_tilt()) x.tail<2>() << pose.tilt.x, pose.tilt.y;
   return x;
 }
 
 bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPose& out) {
   out.q.resize(model_.num_joints());
+  if (arm_) out.q_upstream.resize(model_.num_upstream_joints());
   for (size_t i = 0; i < free_.size(); ++i)
-    out.q[free_[i].joint] = std::clamp(x[i], free_[i].lo, free_[i].hi);
+    position(out, free_[i]) = std::clamp(x[i], free_[i].lo, free_[i].hi);
   out.group = like.group;
   out.level = like.level;
   out.tilt = own_tilt() && !like.level ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]})
                                        : like.tilt;
   out.gravity = tilted_gravity(level_, out.tilt);
-  if (arm_) {
-    out.q_upstream.resize(model_.num_upstream_joints());
-    for (size_t i = 0; i < arm_free_.size(); ++i)
-      out.q_upstream[arm_free_[i].joint] =
-          std::clamp(x[free_.size() + i], arm_free_[i].lo, arm_free_[i].hi);
-    arm_pose(out);
-  }
+  arm_pose(out);
   return high_enough(out);
 }
 
 Eigen::VectorXd DesignSpace::steps() const {
   Eigen::VectorXd s(dimension());
   for (size_t i = 0; i < free_.size(); ++i) s[i] = 0.25 * (free_[i].hi - free_[i].lo);
-  for (size_t i = 0; i < arm_free_.size(); ++i)
-    s[free_.size() + i] = 0.25 * (arm_free_[i].hi - arm_free_[i].lo);
   if (own_tilt()) s.tail<2>().setConstant(0.5 * tilt_max_);
   return s;
 }
@@ -276,21 +256,13 @@ void DesignSpace::init_arm(const DesignOptions& o) {
   constexpr double kArmMargin = 0.1;
   for (int j = 0; j < model_.num_upstream_joints(); ++j) {
     const Joint& joint = model_.upstream_joints[j];
-    double lo = joint.generic_position(0.0), hi = joint.generic_position(1.0);
-    if (joint.limited) {
-      const double margin = kArmMargin * (joint.upper - joint.lower);
-      lo = joint.lower + margin, hi = joint.upper - margin;
-    }
-    if (auto l = o.limits.find(joint.name); l != o.limits.end()) {
-      lo = std::max(lo, l->second.first);
-      hi = std::min(hi, l->second.second);
-      if (!(hi > lo))
-        throw InputError(fmt::format("design: the range {}:{} of joint '{}' is empty within its "
-                                     "limits less 10 %",
-                                     l->second.first, l->second.second, joint.name),
-                         {{Hint::Setting::Limits, joint.name + "=LO:HI"}});
-    }
-    arm_free_.push_back({j, lo, hi});
+    free_.push_back(narrowed(j, joint, kArmMargin, o, [&](double lo, double hi) {
+      throw InputError(fmt::format("design: the range {}:{} of joint '{}' is empty within its "
+                                   "limits less 10 %",
+                                   lo, hi, joint.name),
+                       {{Hint::Setting::Limits, joint.name + "=LO:HI"}});
+    }));
+    free_.back().arm = true;
   }
   root_gravity_ = o.root_gravity;
   self_clearance_ = o.self_clearance;

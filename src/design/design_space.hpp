@@ -37,9 +37,7 @@ class DesignSpace {
   bool min_height_relaxed() const { return relaxed_; }
   // Continuous coordinates of a pose: free joints, then its own tilt x, y
   // when every pose may have its own tilt (a cone without tilt groups).
-  int dimension() const {
-    return static_cast<int>(free_.size() + arm_free_.size()) + (own_tilt() ? 2 : 0);
-  }
+  int dimension() const { return static_cast<int>(free_.size()) + (own_tilt() ? 2 : 0); }
   bool own_tilt() const { return cone_ && groups_ == 0; }
   Eigen::VectorXd coordinates(const PlanPose& pose) const;
   // The pose at coordinates x (clamped to the limits and the cone), keeping
@@ -68,11 +66,19 @@ class DesignSpace {
   const Model& model_;
   Eigen::Vector3d level_;
   struct Free {
-    int joint;
+    int joint;  // index into q, or for the arm's into q_upstream
     double lo, hi;
+    bool arm = false;  // a wrist: a joint above the sensor
   };
-  std::vector<Free> free_;
-  std::vector<Free> arm_free_;  // a wrist: the joints above the sensor (upstream index)
+  // The free joint's position in the pose (const or not).
+  template <class Pose>
+  static auto& position(Pose& pose, const Free& f) {
+    return f.arm ? pose.q_upstream[f.joint] : pose.q[f.joint];
+  }
+  template <class Empty>
+  static Free narrowed(int j, const Joint& joint, double margin, const DesignOptions& o,
+                       Empty empty);
+  std::vector<Free> free_;  // the model's joints, then (a wrist) the arm's
   std::optional<ArmClearance> arm_;
   Eigen::Vector3d root_gravity_ = Eigen::Vector3d::Zero();
   std::optional<double> self_clearance_;
@@ -81,15 +87,8 @@ class DesignSpace {
   int groups_ = 0;           // tilt groups within the cone; 0: a tilt per pose
   std::vector<Tilt> tilts_;  // listed tilts or tilt groups (level only when neither)
   std::optional<double> min_height_;
-  // Points checked against the minimum height: link origins, centres of mass
-  // and primitive collision shapes' bounding spheres (link frame), those that
-  // move with the joints.
-  struct Point {
-    int link;
-    Eigen::Vector3d p;
-    double radius;
-  };
-  std::vector<Point> points_;
+  // Points checked against the minimum height: those that move with the joints.
+  std::vector<ClearancePoint> points_;
   int level_group_ = -1;
   bool relaxed_ = false;  // index of the level tilt in a list, -1: none (or a cone)
   KinematicsData kin_;

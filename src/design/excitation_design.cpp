@@ -251,8 +251,6 @@ class GridCriterion {
         bounds_(bounds),
         grid_(grid),
         gravities_(block_gravities(o)),
-        min_height_(o.min_height),
-        self_clearance_(o.self_clearance),
         options_(o),
         R_(crit_.num_rows(), crit_.size()) {
     design_.level_gravity = o.level_gravity;
@@ -287,33 +285,35 @@ class GridCriterion {
   // each: the height above the platform plane, or for a wrist above the floor
   // and the arm's self-clearance (arm_clearance.hpp).
   Miss miss(const Samples& s, double margin) {
+    const std::optional<double>& min_height = options_.min_height;
+    const std::optional<double>& self_clearance = options_.self_clearance;
     Miss out;
     if (!arm_) {
-      if (!min_height_) return out;
+      if (!min_height) return out;
       const Clearance c = lowest_clearance(model_, design_, s);
-      return {*min_height_ + margin - c.height, c.row,
+      return {*min_height + margin - c.height, c.row,
               fmt::format("takes link '{}' to {:.3g} m above the platform plane, below the "
                           "clearance of {} m",
-                          c.link, c.height, *min_height_)};
+                          c.link, c.height, *min_height)};
     }
     int worst_row = -1;
     ArmClearanceValue worst;
     bool low = false;
     for (int i = 0; i < s.size(); ++i) {
       const ArmClearanceValue v = arm_->at(s.q_upstream.row(i).transpose(), s.q.row(i).transpose());
-      if (min_height_ && *min_height_ + margin - v.height > out.deficit)
-        out.deficit = *min_height_ + margin - v.height, worst_row = i, worst = v, low = true;
-      if (self_clearance_ && *self_clearance_ + margin - v.self > out.deficit)
-        out.deficit = *self_clearance_ + margin - v.self, worst_row = i, worst = v, low = false;
+      if (min_height && *min_height + margin - v.height > out.deficit)
+        out.deficit = *min_height + margin - v.height, worst_row = i, worst = v, low = true;
+      if (self_clearance && *self_clearance + margin - v.self > out.deficit)
+        out.deficit = *self_clearance + margin - v.self, worst_row = i, worst = v, low = false;
     }
     out.row = worst_row;
     if (worst_row >= 0)
       out.what = low ? fmt::format("takes {} to {:.3g} m above the floor, below --min-height {} m",
-                                   worst.low_link, worst.height, *min_height_)
+                                   worst.low_link, worst.height, *min_height)
                      : fmt::format(
                            "brings {} within {:.3g} m of each other, below "
                            "--self-clearance {} m",
-                           worst.self_pair, worst.self, *self_clearance_);
+                           worst.self_pair, worst.self, *self_clearance);
     return out;
   }
 
@@ -365,7 +365,6 @@ class GridCriterion {
   const std::vector<JointBounds>& bounds_;
   Eigen::VectorXd grid_;
   std::vector<Eigen::Vector3d> gravities_;
-  std::optional<double> min_height_, self_clearance_;
   ExcitationOptions options_;
   std::optional<ArmClearance> arm_;  // a wrist
   DesignOptions design_;             // level gravity and min_height, for lowest_clearance

@@ -23,6 +23,18 @@ bool moves_arm(const std::vector<PlanPose>& poses) {
   return !poses.empty() && poses.front().q_upstream.size() > 0;
 }
 
+// Reorders `items` as the nearest-neighbour path on the distance d from items[first].
+template <class T, class Distance>
+void nearest_neighbour_path(std::vector<T>& items, size_t first, Distance d) {
+  std::swap(items[0], items[first]);
+  for (size_t i = 1; i < items.size(); ++i) {
+    size_t best = i;
+    for (size_t k = i + 1; k < items.size(); ++k)
+      if (d(items[i - 1], items[k]) < d(items[i - 1], items[best])) best = k;
+    std::swap(items[i], items[best]);
+  }
+}
+
 // Open path through `poses` from the one nearest to `from`: nearest neighbour,
 // then 2-opt on the given distance.
 template <class Distance>
@@ -33,13 +45,7 @@ void order_path(std::vector<PlanPose>& poses, const PlanPose* from, Distance d) 
   if (from)
     for (size_t i = 1; i < n; ++i)
       if (d(*from, poses[i]) < d(*from, poses[first])) first = i;
-  std::swap(poses[0], poses[first]);
-  for (size_t i = 1; i < n; ++i) {
-    size_t best = i;
-    for (size_t k = i + 1; k < n; ++k)
-      if (d(poses[i - 1], poses[k]) < d(poses[i - 1], poses[best])) best = k;
-    std::swap(poses[i], poses[best]);
-  }
+  nearest_neighbour_path(poses, first, d);
   const size_t keep = from ? 0 : 1;  // without a predecessor the first pose may move too
   for (bool improved = true; improved;) {
     improved = false;
@@ -75,22 +81,15 @@ std::vector<PlanPose> order_plan(std::vector<PlanPose> poses) {
       g->push_back(p);
   }
   // Tilts: from the least tilted, each next the nearest in gravity direction.
-  std::vector<PlanPose> heads;
-  for (const auto& g : groups) heads.push_back(g.front());
-  size_t least = 0;
-  for (size_t i = 1; i < heads.size(); ++i)
-    if (std::hypot(heads[i].tilt.x, heads[i].tilt.y) <
-        std::hypot(heads[least].tilt.x, heads[least].tilt.y))
-      least = i;
-  std::swap(groups[0], groups[least]);
-  for (size_t i = 1; i < groups.size(); ++i) {
-    size_t best = i;
-    for (size_t k = i + 1; k < groups.size(); ++k)
-      if (gravity_angle(groups[i - 1].front(), groups[k].front()) <
-          gravity_angle(groups[i - 1].front(), groups[best].front()))
-        best = k;
-    std::swap(groups[i], groups[best]);
-  }
+  const auto tilt = [](const std::vector<PlanPose>& g) {
+    return std::hypot(g.front().tilt.x, g.front().tilt.y);
+  };
+  const auto least =
+      std::min_element(groups.begin(), groups.end(),
+                       [&](const auto& a, const auto& b) { return tilt(a) < tilt(b); });
+  nearest_neighbour_path(groups, least - groups.begin(), [](const auto& a, const auto& b) {
+    return gravity_angle(a.front(), b.front());
+  });
   // Within each tilt, short joint travel, starting near where the last one ended.
   std::vector<PlanPose> out;
   for (auto& g : groups) {
