@@ -10,6 +10,7 @@
 #include <regex>
 #include <set>
 
+#include "identify/chi_square.hpp"
 #include "massid/core/base_parameters.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/regressor.hpp"
@@ -403,3 +404,27 @@ TEST(Warnings, NameNoOptionAndCarryTheSettingsAsHints) {
 
 }  // namespace
 }  // namespace massid
+
+// The chi-square tail of the outlier test, its noise fit's cut (3 degrees of
+// freedom: a sample's moment residual) and the wiring check: against the
+// density integrated numerically (Simpson), odd and even k.
+TEST(ChiSquare, TailIsTheDensityIntegratedForOddAndEvenDegrees) {
+  for (int k = 1; k <= 7; ++k) {
+    const auto density = [k](double x) {
+      return std::pow(x, k / 2.0 - 1) * std::exp(-x / 2) /
+             (std::pow(2.0, k / 2.0) * std::tgamma(k / 2.0));
+    };
+    for (double x : {0.5, 3.0, 7.8, 16.27, 30.0}) {
+      const int n = 200000;
+      const double h = 200.0 / n;
+      double s = density(x) + density(x + 200.0);
+      for (int i = 1; i < n; ++i) s += (i % 2 ? 4 : 2) * density(x + i * h);
+      const double tail = s * h / 3;
+      EXPECT_NEAR(massid::detail::chi2_survival(x, k), tail, 1e-9 * tail + 1e-15)
+          << "k = " << k << ", x = " << x;
+    }
+  }
+  // Tables: the 0.999 quantile of chi-square with 3 degrees of freedom is 16.266.
+  EXPECT_NEAR(std::pow(massid::detail::chi_quantile(0.001, 3), 2), 16.266, 1e-3);
+  EXPECT_NEAR(std::pow(massid::detail::chi_quantile(0.05, 6), 2), 12.592, 1e-3);
+}

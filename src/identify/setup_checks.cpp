@@ -999,23 +999,9 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
   return force_broken;
 }
 
-// --- rows against gravity ------------------------------------------------------
-
-// Chi-square with 3 degrees of freedom (a force residual over its per-axis
-// noise): P(X > x) = erfc(sqrt(x/2)) + sqrt(2x/pi) exp(-x/2); the d = sqrt(X)
-// a clean row exceeds with probability p.
-double chi3_quantile(double p) {
-  double lo = 0.0, hi = 2000.0;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    const double tail =
-        std::erfc(std::sqrt(mid / 2)) + std::sqrt(2 * mid / std::numbers::pi) * std::exp(-mid / 2);
-    (tail > p ? lo : hi) = mid;
-  }
-  return std::sqrt(0.5 * (lo + hi));
-}
-
 }  // namespace
+
+// --- rows against gravity ------------------------------------------------------
 
 // rows_against_gravity. At rest f_i = A g_i + b for every mechanism and every
 // consistent wiring (A = M R for a rotated frame, M P for swapped or negated
@@ -1089,7 +1075,7 @@ std::vector<int> rows_against_gravity(const Samples& s) {
     }
   }
   const double floor2 = std::pow(1e-9 * std::sqrt(F.squaredNorm() / N), 2) + 1e-300;
-  const double cut2 = std::pow(chi3_quantile(0.01 / N), 2);
+  const double cut2 = std::pow(detail::chi_quantile(0.01 / N, 3), 2);
   Eigen::VectorXd r2 = squared(best);
   std::vector<double> all(r2.data(), r2.data() + N);
   double sigma2 = std::max(median(all) / 2.366, floor2);
