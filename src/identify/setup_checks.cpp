@@ -26,6 +26,7 @@
 
 #include "core/median.hpp"
 #include "identify/chi_square.hpp"
+#include "io/column_map.hpp"
 #include "io/csv_fields.hpp"
 #include "io/csv_stream.hpp"
 #include "massid/core/base_parameters.hpp"
@@ -82,16 +83,12 @@ std::string lines_text(const Samples& s, const std::vector<int>& rows) {
   return t;
 }
 
-// The column of `joint` with `suffix` ("", "_vel", "_acc") as the reader binds
-// it (column_map.cpp): NAME + suffix, else a revolute joint's NAME_deg + suffix.
+// The name of the column the reader reads for `joint` with `suffix` ("",
+// "_vel", "_acc"; io's joint_column), else NAME + suffix.
 std::string joint_column(const Joint& j, const std::vector<std::string>& header,
                          const std::string& suffix = "") {
-  const auto has = [&](const std::string& n) {
-    return std::find(header.begin(), header.end(), n) != header.end();
-  };
-  if (!has(j.name + suffix) && j.type == JointType::Revolute && has(j.name + "_deg" + suffix))
-    return j.name + "_deg" + suffix;
-  return j.name + suffix;
+  const int c = detail::joint_column(j, header, suffix).column;
+  return c >= 0 ? header[c] : j.name + suffix;
 }
 
 std::string vec_text(const Eigen::Vector3d& v, int precision = 4) {

@@ -49,16 +49,6 @@ ColumnGroup all_or_none(const std::vector<std::string>& header, const std::strin
   return out;
 }
 
-// The column of NAME + suffix, or of a revolute joint's NAME_deg + suffix
-// (deg, deg/s, deg/s^2: read in rad, rad/s, rad/s^2); column -1 for neither.
-BoundColumn joint_column(const Joint& j, const std::vector<std::string>& header,
-                         const std::string& suffix) {
-  BoundColumn b{find(header, j.name + suffix), 1.0};
-  if (b.column < 0 && j.type == JointType::Revolute)
-    b = {find(header, j.name + "_deg" + suffix), std::numbers::pi / 180.0};
-  return b;
-}
-
 // joint_column with the suffix for every joint, or none.
 ColumnGroup suffixed(const std::vector<Joint>& joints, const std::vector<std::string>& header,
                      const std::string& where, const char* suffix) {
@@ -124,6 +114,14 @@ std::string wrench_proposal(const std::vector<std::string>& header,
 }
 
 }  // namespace
+
+BoundColumn joint_column(const Joint& j, const std::vector<std::string>& header,
+                         const std::string& suffix) {
+  BoundColumn b{find(header, j.name + suffix), 1.0};
+  if (b.column < 0 && j.type == JointType::Revolute)
+    b = {find(header, j.name + "_deg" + suffix), std::numbers::pi / 180.0};
+  return b;
+}
 
 int wrench_spelling(const std::string& name) {
   // Tokens of the lower-cased name, split at . / _ - and blanks.

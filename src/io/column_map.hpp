@@ -126,6 +126,12 @@ Model with_pose_columns(Model model, const std::vector<std::string>& header,
 // of spellings (read_samples.hpp's ColumnNames lists them).
 int wrench_spelling(const std::string& name);
 
+// The column of `joint` with `suffix` ("", "_vel", "_acc") as every reader
+// binds it: NAME + suffix, else a revolute joint's NAME_deg + suffix (deg,
+// deg/s, deg/s^2: read in rad, rad/s, rad/s^2, the scale); column -1 for neither.
+BoundColumn joint_column(const Joint& joint, const std::vector<std::string>& header,
+                         const std::string& suffix);
+
 // The position columns of `joints` alone (by name, or NAME_deg for a revolute
 // joint); InputError for a joint without one.
 ColumnGroup position_columns(const std::vector<Joint>& joints,
