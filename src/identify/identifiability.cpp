@@ -90,21 +90,19 @@ int best_rank(const Model& model, const BaseParameters& base, const Samples& sam
   return scaled_rank(perturbed_rows(model, base, samples, true, kAllJoints, n), tolerance);
 }
 
-// "a, b, c and 4 more" with at most `shown` items.
-std::string cut_list(const std::vector<std::string>& items, std::size_t shown) {
-  std::string out;
-  for (std::size_t i = 0; i < std::min(shown, items.size()); ++i) out += (i ? "; " : "") + items[i];
-  if (items.size() > shown) out += fmt::format(" and {} more", items.size() - shown);
+// The first `shown` items joined by `sep`, then "<more>N more" for the rest:
+// "a; b; c and 4 more".
+std::string cut_list(const std::vector<std::string>& items, std::size_t shown, const char* sep,
+                     const char* more) {
+  shown = std::min(shown, items.size());
+  std::string out = fmt::format("{}", fmt::join(items.begin(), items.begin() + shown, sep));
+  if (items.size() > shown) out += fmt::format("{}{} more", more, items.size() - shown);
   return out;
 }
 
 // "a or b or c or 5 more": joint names, at most six.
 std::string joint_list(const std::vector<std::string>& names, const char* sep = " or ") {
-  std::string out;
-  const std::size_t shown = names.size() > 6 ? 5 : names.size();
-  for (std::size_t i = 0; i < shown; ++i) out += (i ? sep : "") + names[i];
-  if (names.size() > shown) out += fmt::format("{}{} more", sep, names.size() - shown);
-  return out;
+  return cut_list(names, names.size() > 6 ? 5 : 6, sep, sep);
 }
 
 }  // namespace
@@ -137,7 +135,7 @@ IdentifiabilityReport check_identifiability(const Model& model, const BaseParame
     }
     names.push_back(n);
   }
-  const std::string undetermined = cut_list(names, 8);
+  const std::string undetermined = cut_list(names, 8, "; ", " and ");
   const int N = samples.size();
   const char* const poses = base.motion() ? "samples" : "poses";
 
