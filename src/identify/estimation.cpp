@@ -238,14 +238,10 @@ Eigen::VectorXd scores(const Eigen::VectorXd& r, const Eigen::Matrix<double, 6, 
 
 double noise_dof(double samples, double leverage) { return std::max(samples - leverage, 0.5); }
 
+// A residual r of sigma 1 exceeds b with probability erfc(b / sqrt 2), the
+// chi-square tail of r^2 with one degree of freedom.
 double largest_residual_bound(int samples) {
-  const double p = 0.01 / (6.0 * std::max(samples, 1));
-  double lo = 0.0, hi = 40.0;
-  for (int i = 0; i < 100; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-  }
-  return hi;
+  return chi_quantile(0.01 / (6.0 * std::max(samples, 1)), 1);
 }
 
 bool largest_residuals_implausible(const IdentifySummary& s) {
