@@ -28,9 +28,6 @@ class MotionRows {
  public:
   MotionRows(const Model& model, const BaseParameters& base);
 
-  // Mass unknowns of the base (BaseParameters::num_mass()).
-  int num_mass() const { return static_cast<int>(cols_.size()); }
-
   // out[6 i + a]: row a (fx .. mz) of mass unknown i. q [num_joints],
   // gravity [3] in the sensor frame; qd, qdd [num_joints] and sensor [9]
   // (wx wy wz, dwx dwy dwz, ax ay az) may be null (zero). No allocation.
