@@ -146,7 +146,7 @@ struct FinalRow {
   double t;
   double block;
   int line;
-  MotionRow motion() const { return MotionRow{q, qd, qdd, g, sm, w, line, block}; }
+  MotionRow motion() const { return MotionRow{q, qd, qdd, g, sm, w, block}; }
 };
 
 // A block of the file parsed into rows (stride values each).

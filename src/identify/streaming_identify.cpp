@@ -66,8 +66,7 @@ struct AccumulatorState {
   // first max(3p, 30) samples with perturbed poses, and names joints that
   // never move).
   int keep = 0;
-  std::vector<double> kept;  // [kept_line.size() x sample_size]
-  std::vector<int> kept_line;
+  std::vector<double> kept;  // [kept samples x sample_size]
   std::vector<double> qmin, qmax;
   std::string source = "<samples>";
   // Filtered rows: their noise correlation (set_noise_lags) and the
@@ -253,7 +252,6 @@ struct AccumulatorState {
     if (count < keep) {
       kept.resize(kept.size() + sample_size);
       store_sample(s, kept.data() + kept.size() - sample_size);
-      kept_line.push_back(s.line);
     }
     for (int j = 0; j < nj; ++j) {
       qmin[j] = std::min(qmin[j], s.q[j]);
@@ -433,10 +431,11 @@ struct AccumulatorState {
         fold_rows(ax.R.data(), ax.n, B.data(), ax.n, ax.n);
       }
     }
-    const size_t take = std::min(later.kept_line.size(),
-                                 std::max<size_t>(keep, kept_line.size()) - kept_line.size());
-    kept.insert(kept.end(), later.kept.begin(), later.kept.begin() + take * sample_size);
-    kept_line.insert(kept_line.end(), later.kept_line.begin(), later.kept_line.begin() + take);
+    const size_t room =
+        std::max(static_cast<size_t>(keep) * sample_size, kept.size()) - kept.size();
+    kept.insert(
+        kept.end(), later.kept.begin(),
+        later.kept.begin() + static_cast<std::ptrdiff_t>(std::min(later.kept.size(), room)));
     count += later.count;
     lags.merge(later.lags);
     if (track) {
@@ -478,15 +477,13 @@ struct SamplesRows {
   size_t rows = 1;
   int nj = 0;
   bool velocities = false, sensor = false;
-  int no_line = 1;  // a sample's line when samples.line has none: i + no_line (0 if < 0)
 
-  SamplesRows(const Samples& s, bool motion, size_t block_rows, int line_base)
+  SamplesRows(const Samples& s, bool motion, size_t block_rows)
       : samples(s),
         rows(std::max<size_t>(block_rows, 1)),
         nj(static_cast<int>(s.q.cols())),
         velocities(motion && s.qd.cols() == nj && s.qdd.cols() == nj),
-        sensor(motion && s.has_sensor_motion()),
-        no_line(line_base) {
+        sensor(motion && s.has_sensor_motion()) {
     if (!s.has_wrench())
       throw InputError(s.source + ": no measured wrench (columns fx,fy,fz,mx,my,mz)");
   }
@@ -516,9 +513,6 @@ struct SamplesRows {
         for (int k = 0; k < 9; ++k) g[3 + k] = samples.sensor_motion(r, k);
       for (int k = 0; k < 6; ++k) g[12 + k] = samples.wrench(r, k);
       MotionRow at = row;
-      at.line = i < samples.line.size() ? samples.line[i]
-                : no_line < 0           ? 0
-                                        : static_cast<int>(i) + no_line;
       at.run = i < samples.block.size() ? samples.block[i] : 0.0;
       sink(at);
     }
@@ -625,16 +619,11 @@ IdentifyAccumulator::~IdentifyAccumulator() = default;
 IdentifyAccumulator::IdentifyAccumulator(IdentifyAccumulator&&) noexcept = default;
 IdentifyAccumulator& IdentifyAccumulator::operator=(IdentifyAccumulator&&) noexcept = default;
 
-void IdentifyAccumulator::add(const double* q, const double* gravity, const double* wrench,
-                              int line) {
-  state_->add(MotionRow{q, nullptr, nullptr, gravity, nullptr, wrench, line});
-}
-
 void IdentifyAccumulator::add(const MotionRow& row) { state_->add(row); }
 
 void IdentifyAccumulator::add(const Samples& samples) {
   if (state_->count == 0 && samples.noise_lags > 0) set_noise_lags(samples.noise_lags);
-  const SamplesRows rows(samples, state_->motion, 1, -1);
+  const SamplesRows rows(samples, state_->motion, 1);
   rows.range(0, rows.size(), [&](const MotionRow& r) { state_->add(r); });
 }
 
@@ -712,31 +701,27 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
   // maximum so that "JOINT never moves" is judged on all the data.
   {
     const int nj = model.num_joints();
-    const int kept = static_cast<int>(st.kept_line.size());
+    const int kept = static_cast<int>(st.kept.size()) / st.sample_size;
     const int extra = N > kept ? 2 : 0;
+    // The kept samples as store_sample laid them out, one a row, then the two
+    // range rows (gravity as the first sample's, no motion).
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    RowMajor K = RowMajor::Zero(kept + extra, st.sample_size);
+    K.topRows(kept) = Eigen::Map<const RowMajor>(st.kept.data(), kept, st.sample_size);
+    for (int e = 0; e < extra; ++e) {
+      K.row(kept + e).head(nj) =
+          Eigen::Map<const Eigen::RowVectorXd>((e == 0 ? st.qmin : st.qmax).data(), nj);
+      K.row(kept + e).segment(3 * nj, 3) = K.row(0).segment(3 * nj, 3);
+    }
     Samples sub;
     sub.source = st.source;
     sub.gravity_from_force = st.gravity_from_force;
-    // The kept samples as store_sample laid them out, one a row.
-    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    const Eigen::Map<const RowMajor> K(st.kept.data(), kept, st.sample_size);
-    sub.q.resize(kept + extra, nj);
-    sub.gravity.resize(kept + extra, 3);
-    sub.q.topRows(kept) = K.leftCols(nj);
-    sub.gravity.topRows(kept) = K.middleCols(3 * nj, 3);
-    sub.line = st.kept_line;
-    if (st.motion) {  // the kept samples' motion (zero for the two range rows)
-      sub.qd = Eigen::MatrixXd::Zero(kept + extra, nj);
-      sub.qdd = Eigen::MatrixXd::Zero(kept + extra, nj);
-      sub.sensor_motion = Eigen::MatrixXd::Zero(kept + extra, 9);
-      sub.qd.topRows(kept) = K.middleCols(nj, nj);
-      sub.qdd.topRows(kept) = K.middleCols(2 * nj, nj);
-      sub.sensor_motion.topRows(kept) = K.middleCols(3 * nj + 3, 9);
-    }
-    for (int e = 0; e < extra; ++e) {
-      for (int j = 0; j < nj; ++j) sub.q(kept + e, j) = e == 0 ? st.qmin[j] : st.qmax[j];
-      sub.gravity.row(kept + e) = sub.gravity.row(0);
-      sub.line.push_back(0);
+    sub.q = K.leftCols(nj);
+    sub.gravity = K.middleCols(3 * nj, 3);
+    if (st.motion) {
+      sub.qd = K.middleCols(nj, nj);
+      sub.qdd = K.middleCols(2 * nj, nj);
+      sub.sensor_motion = K.middleCols(3 * nj + 3, 9);
     }
     detail::check_identifiable(model, base, sub, N, factors, options.rank_tolerance);
   }
@@ -821,7 +806,7 @@ Eigen::Matrix<double, 6, 1> ResidualMax::max() const {
 IdentifySummary identify_streaming(const Model& model, const BaseParameters& base,
                                    const Samples& samples, const IdentifyOptions& options,
                                    const StreamOptions& stream) {
-  const SamplesRows rows(samples, base.motion(), static_cast<size_t>(stream.block_rows), 1);
+  const SamplesRows rows(samples, base.motion(), static_cast<size_t>(stream.block_rows));
   IdentifySummary out = accumulate_rows(model, base, rows, stream).finish(options);
   if (stream.residual_max)
     out.residual_max = residual_max_rows(model, base, rows, out.value, stream);

@@ -97,7 +97,6 @@ struct MotionRow {
   const double* gravity = nullptr;  // [3] sensor frame
   const double* sensor_motion = nullptr;
   const double* wrench = nullptr;  // [6] fx..mz
-  int line = 0;                    // for the identifiability diagnosis (0 if none)
   // Filtered rows (set_noise_lags): consecutive rows with equal `run`
   // are one run of the filter (its block), whose noise correlates.
   double run = 0.0;
@@ -117,12 +116,8 @@ class IdentifyAccumulator {
   IdentifyAccumulator(IdentifyAccumulator&&) noexcept;
   IdentifyAccumulator& operator=(IdentifyAccumulator&&) noexcept;
 
-  // One sample: q [num_joints], gravity in the sensor frame, wrench fx..mz.
-  // `line` is only kept for the identifiability diagnosis (0 if none). With
-  // a motion base: at rest (zero velocities and accelerations).
-  void add(const double* q, const double* gravity, const double* wrench, int line = 0);
-  // One sample in motion (base.motion(); with a static base only q, gravity
-  // and wrench are used).
+  // One sample (with a static base only q, gravity and wrench are used; a
+  // motion base takes null qd, qdd as at rest).
   void add(const MotionRow& row);
   // Every row of samples (which must have a wrench); their qd, qdd and sensor
   // motion with a motion base.
