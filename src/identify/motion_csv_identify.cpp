@@ -577,7 +577,7 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
       IdentifyAccumulator prototype(model, base);
       prototype.set_source(path, plan.cols.gravity_from_force, plan.cols.gravity_from_upstream);
       if (f) prototype.set_noise_lags(correlated_rows(f->kernels, f->decimation));
-      if (xhat) prototype.track_residuals(*xhat, *pilot);
+      if (xhat) prototype.track_residuals(*xhat, &*pilot);
       const auto tracked = [&] { return prototype.empty_like(); };
       IdentifyAccumulator total = tracked();
       const double block_samples = rows_per_byte *

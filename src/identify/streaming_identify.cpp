@@ -640,14 +640,10 @@ void IdentifyAccumulator::set_noise_lags(int lags) {
   state_->lag_rows = detail::LagProducts::Rows::Zero(p + 1, 6);
 }
 
-void IdentifyAccumulator::track_residuals(const Eigen::VectorXd& estimate) {
-  state_->track_residuals(estimate);
-}
-
 void IdentifyAccumulator::track_residuals(const Eigen::VectorXd& estimate,
-                                          const IdentifyAccumulator& pilot) {
+                                          const IdentifyAccumulator* pilot) {
   state_->track_residuals(estimate);
-  state_->track_leverage(*pilot.state_);
+  if (pilot) state_->track_leverage(*pilot->state_);
 }
 
 IdentifyAccumulator IdentifyAccumulator::empty_like() const {

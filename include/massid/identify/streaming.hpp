@@ -131,15 +131,14 @@ class IdentifyAccumulator {
   // data): finish() then reports residual_max without a second pass when the
   // kept rows prove it (the other rows' residuals at the estimate, plus how far
   // the final estimate moved, stay below it), else NaN. Every accumulator
-  // merged into this one must track the same estimate.
-  void track_residuals(const Eigen::VectorXd& estimate);
-  // The same, `estimate` being pilot.rough_estimate(): also bounds how much
-  // a row's residual can move by its leverage in the pilot's metric,
+  // merged into this one must track the same estimate. With `pilot` (whose
+  // rough_estimate() `estimate` is): also bounds how much a row's residual
+  // can move by its leverage in the pilot's metric,
   // |a (x - xhat)| <= |a R_p^-1| |R_p (x - xhat)| (R_p: the pilot's factor),
   // and keeps 1024 candidate rows per axis: with a pilot drawn from across
   // the data this proves the maximum where the plain bound cannot (motion,
   // where rows have many columns of different scales).
-  void track_residuals(const Eigen::VectorXd& estimate, const IdentifyAccumulator& pilot);
+  void track_residuals(const Eigen::VectorXd& estimate, const IdentifyAccumulator* pilot = nullptr);
   // A new, empty accumulator for the same model and base, tracking the same
   // estimate (the partials of a stream: cheaper than track_residuals with a
   // pilot for each).
