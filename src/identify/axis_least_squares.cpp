@@ -5,33 +5,34 @@
 #include <algorithm>
 #include <cmath>
 
-#include "identify/householder_fold.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/identify/identifiability.hpp"
 
 namespace massid::detail {
-namespace {
-
-// Rows folded at once (householder_fold.hpp): the chunk stays in cache while
-// it is reduced, and the per-chunk cost of R's rows is small against it.
-constexpr int kFoldRows = 128;
-
-}  // namespace
-
 Eigen::VectorXd column_scale(const Eigen::MatrixXd& G) {
-  Eigen::VectorXd scale(G.cols());
-  for (Eigen::Index c = 0; c < G.cols(); ++c) {
-    const double n = G.col(c).norm();
-    scale[c] = n > 0 ? 1.0 / n : 1.0;
-  }
-  return scale;
+  return G.colwise().norm().transpose().unaryExpr([](double n) { return n > 0 ? 1.0 / n : 1.0; });
+}
+
+double axis_ssr(const AxisFactor& ax, const Eigen::VectorXd& x) {
+  const Eigen::Index n = ax.R.rows();
+  Eigen::VectorXd xa(n);
+  for (Eigen::Index j = 0; j + 1 < n; ++j) xa[j] = x[ax.unknown[j]];
+  xa[n - 1] = -1.0;
+  return (ax.R.triangularView<Eigen::Upper>() * xa).squaredNorm();
+}
+
+Eigen::MatrixXd qr_factor(const Eigen::MatrixXd& M) {
+  const Eigen::Index n = M.cols();
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(std::max(M.rows(), n), n);
+  W.topRows(M.rows()) = M;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
+  return qr.matrixQR().topRows(n).triangularView<Eigen::Upper>();
 }
 
 AxisFactors fold_stacked(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
                          const Eigen::VectorXd& w) {
   const Eigen::Index N = w.size(), q = M.cols();
   AxisFactors f;
-  std::vector<double> B;  // [kFoldRows x n] the axis' rows being folded, column-major
   for (int a = 0; a < 6; ++a) {
     AxisFactor& ax = f[a];
     for (Eigen::Index c = 0; c < q; ++c)
@@ -41,22 +42,16 @@ AxisFactors fold_stacked(const Eigen::MatrixXd& M, const Eigen::VectorXd& y,
           break;
         }
     const int n = static_cast<int>(ax.unknown.size()) + 1;
-    ax.R = Eigen::MatrixXd::Zero(n, n);
-    B.resize(static_cast<size_t>(kFoldRows) * n);
-    int m = 0;
+    static_cast<FoldedRows&>(ax) = FoldedRows(n, kChunk);
+    Eigen::RowVectorXd z(n);
     for (Eigen::Index i = 0; i < N; ++i) {
       if (!(w[i] > 0)) continue;
       const double s = std::sqrt(w[i]);
-      const Eigen::Index r = 6 * i + a;
-      for (int c = 0; c + 1 < n; ++c)
-        B[static_cast<size_t>(c) * kFoldRows + m] = s * M(r, ax.unknown[c]);
-      B[static_cast<size_t>(n - 1) * kFoldRows + m] = s * y[r];
-      if (++m == kFoldRows) {
-        fold_rows(ax.R.data(), n, B.data(), m, kFoldRows);
-        m = 0;
-      }
+      for (int c = 0; c + 1 < n; ++c) z[c] = s * M(6 * i + a, ax.unknown[c]);
+      z[n - 1] = s * y[6 * i + a];
+      ax.add(z);
     }
-    if (m > 0) fold_rows(ax.R.data(), n, B.data(), m, kFoldRows);
+    ax.flush();
   }
   return f;
 }
@@ -120,12 +115,8 @@ void check_identifiable(const Model& model, const BaseParameters& base, const Sa
 
 FactorSolution solve_factors(const AxisFactors& f, int q, const Vector6d& sigma) {
   const Eigen::VectorXd scale = column_scale(stacked_factors(f, q));
-  // W [max(sum_a n_a, q + 1) x (q + 1)]: the stacked [R_a S, R_a y] / sigma_a.
-  const Eigen::MatrixXd stacked = stacked_factors(f, q, true, sigma, scale);
-  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(std::max<Eigen::Index>(stacked.rows(), q + 1), q + 1);
-  W.topRows(stacked.rows()) = stacked;
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
-  const Eigen::MatrixXd Rw = qr.matrixQR().topRows(q + 1).triangularView<Eigen::Upper>();
+  // The QR of the stacked [R_a S, R_a y] / sigma_a.
+  const Eigen::MatrixXd Rw = qr_factor(stacked_factors(f, q, true, sigma, scale));
   const auto Rp = Rw.topLeftCorner(q, q).triangularView<Eigen::Upper>();
   FactorSolution out;
   out.x = scale.asDiagonal() * Rp.solve(Rw.col(q).head(q));
@@ -134,11 +125,7 @@ FactorSolution solve_factors(const AxisFactors& f, int q, const Vector6d& sigma)
   for (int a = 0; a < 6; ++a) {
     const AxisFactor& ax = f[a];
     const int n = static_cast<int>(ax.R.rows());
-    // SSR_a = |M_a x - y_a|^2 = |R_a [x_a; -1]|^2.
-    Eigen::VectorXd xa(n);
-    for (int j = 0; j < n - 1; ++j) xa[j] = out.x[ax.unknown[j]];
-    xa[n - 1] = -1.0;
-    out.ssr[a] = (ax.R.triangularView<Eigen::Upper>() * xa).squaredNorm();
+    out.ssr[a] = axis_ssr(ax, out.x);
     // tr(H_aa) = tr(Mw_a^T Mw_a (Mw^T Mw)^-1) = |R_a S_a Rp^-1|_F^2 / sigma_a^2
     // (Mw_a = M_a S / sigma_a, M_a^T M_a = R_a^T R_a over the axis' columns).
     Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(n - 1, q);
@@ -185,32 +172,9 @@ NoiseFit fit_noise(const AxisFactors& f, int q, double used, const IdentifyOptio
 
 // ---------------------------------------------------------------- correlated rows
 
-namespace {
-constexpr int kFactorRows = 16;
-}
-
-void LagProducts::Factor::add(const Eigen::VectorXd& z) {
-  B.row(pending) = z.transpose();
-  if (++pending == kFactorRows) flush();
-}
-
-void LagProducts::Factor::flush() {
-  if (pending == 0) return;
-  fold_rows(R.data(), static_cast<int>(R.rows()), B.data(), pending, kFactorRows);
-  pending = 0;
-}
-
-void LagProducts::Factor::merge(Factor& later) {
-  flush();
-  later.flush();
-  Eigen::MatrixXd T = later.R;
-  fold_rows(R.data(), static_cast<int>(R.rows()), T.data(), static_cast<int>(T.rows()),
-            static_cast<int>(T.rows()));
-}
-
 LagProducts::LagProducts(int lags, int q) : lags_(lags), q_(q) {
   G_.assign(6 * static_cast<size_t>(lags), Eigen::MatrixXd::Zero(q + 1, q + 1));
-  const Factor empty{Eigen::MatrixXd::Zero(q + 1, q + 1), Eigen::MatrixXd(kFactorRows, q + 1), 0};
+  const FoldedRows empty(q + 1, 16);
   plus_.assign(6 * static_cast<size_t>(lags), empty);
   minus_.assign(6 * static_cast<size_t>(lags), empty);
   pairs_.assign(static_cast<size_t>(lags), 0.0);
@@ -222,8 +186,8 @@ void LagProducts::pair(const Sample& a, const Sample& b, int lag) {
     const size_t at = static_cast<size_t>(k * lags_ + lag - 1);
     G_[at].topLeftCorner(q_, q_).noalias() +=
         a.rows.col(k).head(q_) * b.rows.col(k).head(q_).transpose();
-    plus_[at].add(a.rows.col(k) + b.rows.col(k));
-    minus_[at].add(a.rows.col(k) - b.rows.col(k));
+    plus_[at].add((a.rows.col(k) + b.rows.col(k)).transpose());
+    minus_[at].add((a.rows.col(k) - b.rows.col(k)).transpose());
   }
 }
 
@@ -290,10 +254,10 @@ Eigen::MatrixXd LagProducts::covariance(const Eigen::MatrixXd& P, const Vector6d
   const int L = lags_;
   Eigen::VectorXd v(q_ + 1);
   v << x, -1.0;
-  std::vector<Factor> plus = plus_, minus = minus_;
-  for (Factor& f : plus) f.flush();
-  for (Factor& f : minus) f.flush();
-  const auto norm2 = [&](const Factor& f) {
+  std::vector<FoldedRows> plus = plus_, minus = minus_;
+  for (FoldedRows& f : plus) f.flush();
+  for (FoldedRows& f : minus) f.flush();
+  const auto norm2 = [&](const FoldedRows& f) {
     return (f.R.triangularView<Eigen::Upper>() * v).squaredNorm();
   };
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(q_, q_);
@@ -356,10 +320,7 @@ void fill_summary(IdentifySummary& out, const NoiseFit& fit, int p, double used)
 }
 
 Eigen::JacobiSVD<Eigen::MatrixXd> small_svd(const Eigen::MatrixXd& M, unsigned options) {
-  if (M.rows() <= M.cols()) return Eigen::JacobiSVD<Eigen::MatrixXd>(M, options);
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);
-  return Eigen::JacobiSVD<Eigen::MatrixXd>(
-      qr.matrixQR().topRows(M.cols()).triangularView<Eigen::Upper>(), options);
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(M.rows() <= M.cols() ? M : qr_factor(M), options);
 }
 
 double condition_number(const Eigen::MatrixXd& M) {

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "identify/householder_fold.hpp"
 #include "massid/core/base_parameters.hpp"
 #include "massid/core/model.hpp"
 #include "massid/core/samples.hpp"
@@ -36,10 +37,10 @@ namespace massid::detail {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-// One wrench axis' rows of the stacked problem, folded.
-struct AxisFactor {
+// One wrench axis' rows of the stacked problem, folded (R [n x n]: its last
+// column is y's).
+struct AxisFactor : FoldedRows {
   std::vector<int> unknown;  // [n - 1] the column of M of each of R's columns but the last
-  Eigen::MatrixXd R;         // [n x n] upper triangular; its last column is y's
 };
 using AxisFactors = std::array<AxisFactor, 6>;
 
@@ -60,6 +61,14 @@ Eigen::MatrixXd stacked_factors(const AxisFactors& f, int q, bool measured = fal
 
 // 1 / the norm of each column of G, 1 for a zero column (column scaling).
 Eigen::VectorXd column_scale(const Eigen::MatrixXd& G);
+
+// The residual sum of squares of an axis' rows at x [q] (over every unknown):
+// |M_a x - y_a|^2 = |R_a [x_a; -1]|^2.
+double axis_ssr(const AxisFactor& ax, const Eigen::VectorXd& x);
+
+// The upper-triangular factor [n x n] of the Householder QR of M [m x n]
+// (padded with rows of zeros when m < n).
+Eigen::MatrixXd qr_factor(const Eigen::MatrixXd& M);
 
 // ---------------------------------------------------------------- checks
 
@@ -153,21 +162,13 @@ class LagProducts {
     Rows rows;
     double run = 0.0;
   };
-  // The triangular factor of rows folded in chunks (householder_fold.hpp).
-  struct Factor {
-    Eigen::MatrixXd R, B;  // [n x n], [kRows x n] pending rows
-    int pending = 0;
-    void add(const Eigen::VectorXd& z);
-    void flush();
-    void merge(Factor& later);
-  };
   void pair(const Sample& a, const Sample& b, int lag);
   int lags_ = 0, q_ = 0;
-  std::vector<Eigen::MatrixXd> G_;    // [6 L]: axis a, lag l at a L + l - 1
-  std::vector<Factor> plus_, minus_;  // [6 L]: T+-_al
-  std::vector<double> pairs_;         // [L]
-  std::vector<Sample> head_;          // the first L samples
-  std::vector<Sample> tail_;          // the last L samples of the current run, in order
+  std::vector<Eigen::MatrixXd> G_;        // [6 L]: axis a, lag l at a L + l - 1
+  std::vector<FoldedRows> plus_, minus_;  // [6 L]: T+-_al
+  std::vector<double> pairs_;             // [L]
+  std::vector<Sample> head_;              // the first L samples
+  std::vector<Sample> tail_;              // the last L samples of the current run, in order
   long long count_ = 0;
   bool tail_is_all_ = true;  // tail_ holds every sample added (one run)
 };

@@ -128,4 +128,26 @@ void fold_rows(double* R, int n, double* B, int m, int ldb) {
   }
 }
 
+void FoldedRows::add(const Eigen::RowVectorXd& z) {
+  B.row(pending) = z;
+  if (++pending == B.rows()) flush();
+}
+
+void FoldedRows::fold(int m) {
+  fold_rows(R.data(), static_cast<int>(R.rows()), B.data(), m, static_cast<int>(B.rows()));
+}
+
+void FoldedRows::flush() {
+  if (pending > 0) fold(pending);
+  pending = 0;
+}
+
+void FoldedRows::merge(FoldedRows& later) {
+  flush();
+  later.flush();
+  Eigen::MatrixXd T = later.R;
+  fold_rows(R.data(), static_cast<int>(R.rows()), T.data(), static_cast<int>(T.rows()),
+            static_cast<int>(T.rows()));
+}
+
 }  // namespace massid::detail

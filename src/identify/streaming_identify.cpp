@@ -12,7 +12,6 @@
 #include <optional>
 
 #include "identify/axis_least_squares.hpp"
-#include "identify/householder_fold.hpp"
 #include "identify/motion_rows.hpp"
 #include "identify/ordered_blocks.hpp"
 #include "identify/stream_regressor.hpp"
@@ -29,24 +28,13 @@ using detail::ordered_blocks;
 using detail::thread_count;
 namespace detail {
 
-// Rows per chunk folded at once into R_a. 128 rows x 16 columns of doubles is
-// 16 KB per moment axis: the chunk stays in L1/L2 while it is reduced, and the
-// per-chunk overhead (the n x n triangle's rows) is small against 2 m n^2.
-constexpr int kChunk = 128;
-
 // --------------------------------------------------------------- accumulator
-
-// An axis' factor (axis_least_squares.hpp: unknown, R) and its rows in waiting.
-struct Axis : AxisFactor {
-  int n = 0;          // columns: unknowns, then y
-  Eigen::MatrixXd B;  // [kChunk x n] rows not yet folded
-};
 
 struct AccumulatorState {
   const Model* model;
   const BaseParameters* base;
   std::optional<StreamRegressor> reg;  // static: the moment rows, a chunk at a time
-  std::array<Axis, 6> axes;
+  AxisFactors axes;                    // (B: the rows in waiting)
   int pending = 0;
   long long count = 0;
   // The pending rows' samples, a column of kChunk per value: q (joint j at
@@ -129,7 +117,7 @@ struct AccumulatorState {
       yrow.back() = 1.0;
       pending_samples.resize(static_cast<size_t>(kChunk) * sample_size);
       for (int a = 0; a < 6; ++a) {
-        Axis& ax = axes[a];
+        AxisFactor& ax = axes[a];
         for (int i = 0; i < nm; ++i)
           if (a < 3 ? b.column[i] % P < kIxx : b.column[i] != kMass) ax.unknown.push_back(i);
         if (off) ax.unknown.push_back(nm + a);
@@ -141,7 +129,7 @@ struct AccumulatorState {
       gbuf.resize(3 * kChunk);
       wbuf.resize(6 * kChunk);
       for (int a = 0; a < 6; ++a) {
-        Axis& ax = axes[a];
+        AxisFactor& ax = axes[a];
         if (a < 3) {
           ax.unknown.push_back(b.total_mass);
         } else {
@@ -150,11 +138,8 @@ struct AccumulatorState {
         if (off) ax.unknown.push_back(b.num_mass() + a);
       }
     }
-    for (Axis& ax : axes) {
-      ax.n = static_cast<int>(ax.unknown.size()) + 1;
-      ax.R = Eigen::MatrixXd::Zero(ax.n, ax.n);
-      ax.B.resize(kChunk, ax.n);
-    }
+    for (AxisFactor& ax : axes)
+      static_cast<FoldedRows&>(ax) = FoldedRows(static_cast<int>(ax.unknown.size()) + 1, kChunk);
     keep = 8 * b.num_unknowns() + 64;
     admit.fill(-1.0);
     dropped.fill(-1.0);  // -1: no row dropped
@@ -172,14 +157,14 @@ struct AccumulatorState {
       const int K = reg->size();
       const bool off = base->offset;
       for (int a = 0; a < 6; ++a) {
-        Axis& ax = axes[a];
+        AxisFactor& ax = axes[a];
         double* B = ax.B.data();
         const double* src_g = a < 3 ? gbuf.data() + a * kChunk : nullptr;
         const int first = a < 3 ? 1 : K;  // columns before the offset's
         for (int r = 0; r < m; ++r) {
           if (src_g) B[r] = src_g[r];
           if (off) B[first * kChunk + r] = 1.0;
-          B[(ax.n - 1) * kChunk + r] = wbuf[a * kChunk + r];
+          B[(ax.n() - 1) * kChunk + r] = wbuf[a * kChunk + r];
         }
       }
       double* const out[3] = {axes[3].B.data(), axes[4].B.data(), axes[5].B.data()};
@@ -189,7 +174,7 @@ struct AccumulatorState {
       residual_rows(m);
     } else {
       if (track) track_rows(m);
-      for (Axis& ax : axes) fold_rows(ax.R.data(), ax.n, ax.B.data(), m, kChunk);
+      for (AxisFactor& ax : axes) ax.fold(m);
     }
     pending = 0;
   }
@@ -219,10 +204,10 @@ struct AccumulatorState {
       mrows->compute(s.q, s.qd, s.qdd, s.gravity, s.sensor_motion, yrow.data());
       const double* y = yrow.data();
       for (int a = 0; a < 6; ++a) {
-        Axis& ax = axes[a];
+        AxisFactor& ax = axes[a];
         double* B = ax.B.data() + r;
         const int* from = src[a].data();
-        const int nc = ax.n - 1;
+        const int nc = ax.n() - 1;
         for (int c = 0; c < nc; ++c) B[static_cast<size_t>(c) * kChunk] = y[from[c]];
         B[static_cast<size_t>(nc) * kChunk] = s.wrench[a];
       }
@@ -251,13 +236,6 @@ struct AccumulatorState {
     ++count;
   }
 
-  // The six factors (of the rows folded so far).
-  AxisFactors factors() const {
-    AxisFactors f;
-    for (int a = 0; a < 6; ++a) f[a] = axes[a];
-    return f;
-  }
-
   void track_residuals(const Eigen::VectorXd& estimate) {
     track = true;
     xhat = estimate;
@@ -276,21 +254,14 @@ struct AccumulatorState {
     Vector6d sigmas;
     const double dof = std::max(1.0, static_cast<double>(st.count) - p / 6.0);
     for (int a = 0; a < 6; ++a) {
-      const Axis& ax = st.axes[a];
-      Eigen::VectorXd xa(ax.n);
-      for (int j = 0; j < ax.n - 1; ++j) xa[j] = xhat[ax.unknown[j]];
-      xa[ax.n - 1] = -1.0;
-      const double ssr = (ax.R.triangularView<Eigen::Upper>() * xa).squaredNorm();
-      const double signal = ax.R.col(ax.n - 1).norm();
+      const AxisFactor& ax = st.axes[a];
+      const double ssr = axis_ssr(ax, xhat);
+      const double signal = ax.R.col(ax.n() - 1).norm();
       const double sigma = std::max(std::sqrt(ssr / dof), 1e-13 * signal + 1e-300);
       lev->admit[a] = 2.0 * sigma;
       sigmas[a] = sigma;
     }
-    const Eigen::MatrixXd stacked = stacked_factors(st.factors(), p, false, sigmas);
-    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(std::max<Eigen::Index>(stacked.rows(), p), p);
-    G.topRows(stacked.rows()) = stacked;
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(G);
-    lev->R = qr.matrixQR().topRows(p).triangularView<Eigen::Upper>();
+    lev->R = qr_factor(stacked_factors(st.axes, p, false, sigmas));
     const Eigen::VectorXd d = lev->R.diagonal().cwiseAbs();
     const bool regular = p > 0 && d.minCoeff() > 1e-13 * d.maxCoeff();
     const Eigen::MatrixXd inv =
@@ -298,13 +269,13 @@ struct AccumulatorState {
                       lev->R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p)))
                 : Eigen::MatrixXd::Zero(p, p);
     for (int a = 0; a < 6; ++a) {
-      const Axis& ax = axes[a];
-      Eigen::MatrixXd M(ax.n - 1, p);
-      for (int c = 0; c < ax.n - 1; ++c) M.row(c) = inv.row(ax.unknown[c]);
+      const AxisFactor& ax = axes[a];
+      Eigen::MatrixXd M(ax.n() - 1, p);
+      for (int c = 0; c < ax.n() - 1; ++c) M.row(c) = inv.row(ax.unknown[c]);
       const Eigen::LLT<Eigen::MatrixXd> llt(M * M.transpose());
       lev->ok[a] = regular && llt.info() == Eigen::Success;
-      lev->L[a] =
-          lev->ok[a] ? Eigen::MatrixXd(llt.matrixL()) : Eigen::MatrixXd::Zero(ax.n - 1, ax.n - 1);
+      lev->L[a] = lev->ok[a] ? Eigen::MatrixXd(llt.matrixL())
+                             : Eigen::MatrixXd::Zero(ax.n() - 1, ax.n() - 1);
     }
     use_leverage(std::move(lev));
   }
@@ -336,12 +307,12 @@ struct AccumulatorState {
   // pred = A_a xhat (and with `norms`, norm2 = |row of A_a|^2) of the m
   // pending rows of axis a (in B, before folding), column by column (over
   // rows r).
-  void predict(const Axis& ax, int m, bool norms) {
+  void predict(const AxisFactor& ax, int m, bool norms) {
     pred.resize(kChunk);
     norm2.resize(kChunk);
     const double* x = xhat.data();
     for (int r = 0; r < m; ++r) pred[r] = norm2[r] = 0.0;
-    for (int c = 0; c + 1 < ax.n; ++c) {
+    for (int c = 0; c + 1 < ax.n(); ++c) {
       const double* col = ax.B.data() + c * kChunk;
       const double xc = x[ax.unknown[c]];
       for (int r = 0; r < m; ++r) pred[r] += col[r] * xc;
@@ -354,7 +325,7 @@ struct AccumulatorState {
   void residual_rows(int m) {
     for (int a = 0; a < 6; ++a) {
       predict(axes[a], m, false);
-      const double* y = axes[a].B.data() + (axes[a].n - 1) * kChunk;
+      const double* y = axes[a].B.data() + (axes[a].n() - 1) * kChunk;
       for (int r = 0; r < m; ++r) largest[a] = std::max(largest[a], std::abs(y[r] - pred[r]));
     }
   }
@@ -364,12 +335,12 @@ struct AccumulatorState {
   void track_rows(int m) {
     const int nj = model->num_joints();
     for (int a = 0; a < 6; ++a) {
-      const Axis& ax = axes[a];
+      const AxisFactor& ax = axes[a];
       predict(ax, m, true);
       if (motion && !leverage) {  // per column too (the static rows are proven without)
         std::vector<double>& big = amax[a];
-        big.resize(ax.n - 1, 0.0);
-        for (int c = 0; c + 1 < ax.n; ++c) {
+        big.resize(ax.n() - 1, 0.0);
+        for (int c = 0; c + 1 < ax.n(); ++c) {
           const double* col = ax.B.data() + c * kChunk;
           double largest = big[c];
           for (int r = 0; r < m; ++r) largest = std::max(largest, std::abs(col[r]));
@@ -378,11 +349,11 @@ struct AccumulatorState {
       }
       if (leverage) {  // |a R_p^-1|^2 of each row
         const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> A(
-            ax.B.data(), m, ax.n - 1, Eigen::OuterStride<>(kChunk));
-        zbuf.resize(kChunk, ax.n - 1);
+            ax.B.data(), m, ax.n() - 1, Eigen::OuterStride<>(kChunk));
+        zbuf.resize(kChunk, ax.n() - 1);
         zbuf.topRows(m).noalias() = A * leverage->L[a].triangularView<Eigen::Lower>();
       }
-      const double* y = ax.B.data() + (ax.n - 1) * kChunk;
+      const double* y = ax.B.data() + (ax.n() - 1) * kChunk;
       for (int r = 0; r < m; ++r) {
         anorm2[a] = std::max(anorm2[a], norm2[r]);
         const double value = std::abs(y[r] - pred[r]);
@@ -414,13 +385,10 @@ struct AccumulatorState {
     flush();
     if (later.count == 0) return;
     for (int a = 0; a < 6; ++a) {
-      Axis& ax = axes[a];
-      if (count == 0) {
-        ax.R = later.axes[a].R;
-      } else {
-        Eigen::MatrixXd B = later.axes[a].R;
-        fold_rows(ax.R.data(), ax.n, B.data(), ax.n, ax.n);
-      }
+      if (count == 0)
+        axes[a].R = later.axes[a].R;
+      else
+        axes[a].merge(later.axes[a]);
     }
     const size_t room =
         std::max(static_cast<size_t>(keep) * sample_size, kept.size()) - kept.size();
@@ -653,7 +621,7 @@ Eigen::VectorXd IdentifyAccumulator::rough_estimate() const {
   AccumulatorState st = *state_;  // the pending rows folded in (a copy: this is const)
   st.flush();
   const int p = st.base->num_unknowns();
-  const Eigen::MatrixXd Ay = detail::stacked_factors(st.factors(), p, true);  // [A y]
+  const Eigen::MatrixXd Ay = detail::stacked_factors(st.axes, p, true);  // [A y]
   const auto A = Ay.leftCols(p);
   const Eigen::VectorXd y = Ay.col(p);
   const Eigen::VectorXd scale = detail::column_scale(A);
@@ -679,7 +647,7 @@ IdentifySummary IdentifyAccumulator::finish(const IdentifyOptions& options) cons
   const int p = base.num_unknowns();
 
   detail::check_unknowns(st.source, base, st.gravity_from_force, N);
-  const detail::AxisFactors factors = st.factors();
+  const detail::AxisFactors& factors = st.axes;
 
   // Identifiability on the factors, which have the singular values (and
   // right singular vectors) of the stacked regressor. The perturbed-pose hints need samples:
