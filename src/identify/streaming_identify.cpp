@@ -101,7 +101,8 @@ struct AccumulatorState {
   std::array<std::vector<double>, 6> amax;  // per axis and column: the largest |a_c|
   std::vector<double> pred, norm2;          // [kChunk] scratch of predict
   // ResidualMax: the rows are not folded, only their largest residual at
-  // xhat per axis is kept (residual_rows).
+  // xhat per axis is kept (residual_rows; in motion add() finds it row by
+  // row, sparing the scatter into B).
   bool residual_only = false;
   Vector6d largest = Vector6d::Zero();
 
@@ -203,6 +204,14 @@ struct AccumulatorState {
     if (motion) {
       mrows->compute(s.q, s.qd, s.qdd, s.gravity, s.sensor_motion, yrow.data());
       const double* y = yrow.data();
+      if (residual_only) {  // ResidualMax: the residuals now (as predict, one row)
+        for (int a = 0; a < 6; ++a) {
+          double p = 0.0;
+          for (size_t c = 0; c < src[a].size(); ++c) p += y[src[a][c]] * xhat[axes[a].unknown[c]];
+          largest[a] = std::max(largest[a], std::abs(s.wrench[a] - p));
+        }
+        return;
+      }
       for (int a = 0; a < 6; ++a) {
         AxisFactor& ax = axes[a];
         double* B = ax.B.data() + r;
