@@ -361,13 +361,7 @@ class KeptSamples {
  public:
   // `reserve`: values to reserve for a block's samples (an estimate).
   KeptSamples(const detail::MotionPlan& plan, bool on, size_t budget, size_t reserve)
-      : on_(on),
-        budget_(budget),
-        reserve_(reserve),
-        nj_(plan.nj),
-        velocities_(plan.final_qd),
-        sensor_(plan.final_sensor),
-        size_(sample_size(plan)) {}
+      : on_(on), budget_(budget), reserve_(reserve), plan_(plan), size_(sample_size(plan)) {}
   // Values a sample takes: q (qd, qdd), g, (sensor motion), w.
   static size_t sample_size(const detail::MotionPlan& plan) {
     return static_cast<size_t>(plan.nj) * (plan.final_qd ? 3 : 1) + 3 +
@@ -383,9 +377,9 @@ class KeptSamples {
     const auto put = [&](const double* v, int n) {
       if (v) o = std::copy_n(v, n, o);  // (null: not in the log, sample_size)
     };
-    put(r.q, nj_);
-    put(r.qd, nj_);
-    put(r.qdd, nj_);
+    put(r.q, plan_.nj);
+    put(r.qd, plan_.nj);
+    put(r.qdd, plan_.nj);
     put(r.g, 3);
     put(r.sm, 9);
     put(r.w, 6);
@@ -411,13 +405,13 @@ class KeptSamples {
         [&](size_t k) {
           ResidualMax part(model, base, x);
           const std::vector<double>& rows = blocks_[k];
-          const size_t g = static_cast<size_t>(nj_) * (velocities_ ? 3 : 1);
-          const size_t w = g + 3 + (sensor_ ? 9 : 0);
+          const size_t g = static_cast<size_t>(plan_.nj) * (plan_.final_qd ? 3 : 1);
+          const size_t w = g + 3 + (plan_.final_sensor ? 9 : 0);
           for (size_t i = 0; i < rows.size(); i += size_) {
             const double* v = rows.data() + i;
-            part.add(MotionRow{v, velocities_ ? v + nj_ : nullptr,
-                               velocities_ ? v + 2 * nj_ : nullptr, v + g,
-                               sensor_ ? v + g + 3 : nullptr, v + w});
+            part.add(MotionRow{v, plan_.final_qd ? v + plan_.nj : nullptr,
+                               plan_.final_qd ? v + 2 * plan_.nj : nullptr, v + g,
+                               plan_.final_sensor ? v + g + 3 : nullptr, v + w});
           }
           return part;
         },
@@ -428,8 +422,7 @@ class KeptSamples {
  private:
   bool on_;
   size_t budget_, reserve_;
-  int nj_;
-  bool velocities_, sensor_;
+  const detail::MotionPlan& plan_;
   size_t size_;
   std::atomic<size_t> used_{0};
   std::atomic<bool> overflow_{false};
