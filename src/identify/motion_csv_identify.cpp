@@ -43,17 +43,14 @@ SampleColumns time_columns(const SampleColumns& cols) {
   SampleColumns tc = cols;
   tc.target.assign(cols.header.size(), -1);
   tc.scale.assign(cols.header.size(), 1.0);
-  const int tcol = cols.column_of[cols.time];
-  tc.target[tcol] = 0;
-  tc.column_of = {tcol};
+  tc.column_of.clear();
+  for (const int role : {cols.time, cols.block})
+    if (role >= 0) {
+      tc.target[cols.column_of[role]] = static_cast<int>(tc.column_of.size());
+      tc.column_of.push_back(cols.column_of[role]);
+    }
   tc.time = 0;
-  tc.block = -1;
-  if (cols.block >= 0) {
-    const int bcol = cols.column_of[cols.block];
-    tc.target[bcol] = 1;
-    tc.column_of.push_back(bcol);
-    tc.block = 1;
-  }
+  tc.block = cols.block >= 0 ? 1 : -1;
   tc.num_values = static_cast<int>(tc.column_of.size());
   tc.gravity_from_force = tc.gravity_from_tilt = false;
   tc.gravity_from_upstream = false;
