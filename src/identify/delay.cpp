@@ -14,22 +14,17 @@ namespace massid {
 
 namespace {
 
-double median_step(const Eigen::VectorXd& t) {
-  std::vector<double> steps;
-  for (Eigen::Index i = 0; i + 1 < t.size(); ++i) steps.push_back(t[i + 1] - t[i]);
-  return detail::median(std::move(steps));
-}
-
 void require_time(const Samples& raw) {
   if (raw.time.size() != raw.size() || raw.size() < 3)
     throw InputError(fmt::format("{}: the wrench's delay needs the time column t", raw.source),
                      {{Hint::Setting::Delay, ""}});
 }
 
-// Rows [margin, N - margin) of a matrix (0 rows stay 0 rows).
-Eigen::MatrixXd middle(const Eigen::MatrixXd& m, int margin, int rows) {
-  if (m.rows() == 0) return m;
-  return m.middleRows(margin, rows);
+// The sample period of a log with t: its median step.
+double sample_period(const Samples& raw) {
+  require_time(raw);
+  const Eigen::VectorXd steps = raw.time.tail(raw.size() - 1) - raw.time.head(raw.size() - 1);
+  return detail::median(std::vector<double>(steps.begin(), steps.end()));
 }
 
 // chi^2 of the fit at `delay` with the noise `sigma` (per axis).
@@ -75,7 +70,7 @@ Samples delay_wrench(const Samples& raw, double delay, int margin) {
   };
   Samples out = raw;
   for_each_joint_stream_array(out, moved);
-  out.wrench = middle(raw.wrench, margin, rows);
+  if (raw.wrench.rows() > 0) out.wrench = raw.wrench.middleRows(margin, rows);
   out.time = raw.time.segment(margin, rows);
   if (!raw.line.empty())
     out.line.assign(raw.line.begin() + margin, raw.line.begin() + margin + rows);
@@ -112,8 +107,7 @@ Samples delay_joint_stream(Samples samples, double delay, const std::string& mod
 DelayEstimate estimate_delay(const Model& model, const Samples& raw, bool offset,
                              const IdentifyOptions& options, const MotionDataOptions& data,
                              double max_delay) {
-  require_time(raw);
-  const double dt = median_step(raw.time);
+  const double dt = sample_period(raw);
   if (!(dt > 0) || !(max_delay > 0))
     throw InputError(
         fmt::format("{}: estimating the wrench's delay needs increasing times t", raw.source),
@@ -174,8 +168,7 @@ Samples aligned_motion_samples(const Model& model, Samples raw, bool offset,
     d.value = *options.delay;
   }
   if (d.applied) {
-    require_time(raw);
-    const double dt = median_step(raw.time);
+    const double dt = sample_period(raw);
     const double reach = std::max(std::abs(d.value), options.delay_auto ? options.max_delay : 0.0);
     raw = delay_wrench(raw, d.value, static_cast<int>(std::ceil(reach / dt)) + 1);
   }

@@ -71,19 +71,18 @@ IdentifySummary identify_file(const Model& model, const BaseParameters& base,
   // Implausible residuals: the in-memory fit (the same estimate) names the samples.
   if (largest_residuals_implausible(summary) && small_enough_to_name_samples(path))
     return in_memory();
-  if (small_enough_to_name_samples(path, kContactScanBytes)) {
+  const bool contact_scan = small_enough_to_name_samples(path, kContactScanBytes);
+  if (contact_scan || samples) {
+    Samples all = detail::read_file_samples(model, path, INT_MAX, read);
     // The rows an external wrench drives hide from the outlier test when they
     // inflate the fitted noise: judged as predict judges them, from the
     // residuals of the samples read whole (as the in-memory fit).
-    Samples all = detail::read_file_samples(model, path, INT_MAX, read);
-    if (all.size() >= 2 && !all.gravity_from_force)
+    if (contact_scan && all.size() >= 2 && !all.gravity_from_force)
       summary.beyond_noise =
           rows_beyond_noise(all, all.wrench - fitted_wrenches(model, base, all, summary),
                             &summary.beyond_noise_threshold);
     if (samples) *samples = std::move(all);
-    return summary;
   }
-  if (samples) *samples = detail::read_file_samples(model, path, INT_MAX, read);
   return summary;
 }
 

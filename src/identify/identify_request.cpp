@@ -148,6 +148,7 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
   const bool with_offset = request.with_offset();
   const bool in_memory = source.samples.has_value();
   const bool velocity_in_memory = in_memory && source.samples->qd.cols() > 0;
+  const std::string name = in_memory ? source.samples->source : source.path;
   Identification out;
   out.model = std::move(model);
   Samples* kept = request.keep_samples ? &out.samples : nullptr;
@@ -170,7 +171,6 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
     if (kept && out.samples.size() < out.summary.samples)  // streamed: only the head came back
       out.samples = read_motion_samples(out.model, source.path, WrenchColumns::Required, motion);
   } else {
-    const std::string data_name = in_memory ? source.samples->source : source.path;
     try {
       BaseParameterOptions bo;
       bo.offset = with_offset;
@@ -191,14 +191,13 @@ Identification identify(Model model, const IdentifyRequest& request, IdentifySou
       throw IdentifiabilityError(
           fmt::format("{}: this file has velocity columns: a log in motion, which the weight alone "
                       "does not explain (identified at rest, {}); identify it in motion",
-                      data_name,
+                      name,
                       std::string(e.what())
                           .substr(0, std::string(e.what()).find(". To fix"))
                           .substr(std::string(e.what()).find(": ") + 2)),
           {{Hint::Setting::Dynamic, "on"}});
     }
   }
-  const std::string name = in_memory ? out.samples.source : source.path;
   if (request.checks)
     if (std::optional<SetupFinding> wrong =
             check_fitted_weight(out.model, out.base, out.summary, name))

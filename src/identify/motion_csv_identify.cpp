@@ -43,17 +43,14 @@ SampleColumns time_columns(const SampleColumns& cols) {
   SampleColumns tc = cols;
   tc.target.assign(cols.header.size(), -1);
   tc.scale.assign(cols.header.size(), 1.0);
-  const int tcol = cols.column_of[cols.time];
-  tc.target[tcol] = 0;
-  tc.column_of = {tcol};
+  tc.column_of.clear();
+  for (const int role : {cols.time, cols.block})
+    if (role >= 0) {
+      tc.target[cols.column_of[role]] = static_cast<int>(tc.column_of.size());
+      tc.column_of.push_back(cols.column_of[role]);
+    }
   tc.time = 0;
-  tc.block = -1;
-  if (cols.block >= 0) {
-    const int bcol = cols.column_of[cols.block];
-    tc.target[bcol] = 1;
-    tc.column_of.push_back(bcol);
-    tc.block = 1;
-  }
+  tc.block = cols.block >= 0 ? 1 : -1;
   tc.num_values = static_cast<int>(tc.column_of.size());
   tc.gravity_from_force = tc.gravity_from_tilt = false;
   tc.gravity_from_upstream = false;
@@ -273,31 +270,6 @@ struct AssumptionFailed {
   bool sensor_moves = false;
 };
 
-// What motion_base_options decides, from prepared samples seen so far.
-struct LogShape {
-  bool any = false;
-  Eigen::Vector3d g0 = Eigen::Vector3d::Zero();
-  double tolerance = 0.0;
-  bool gravity_varies = false;
-  bool sensor_moves = false;
-  void see(const FinalRow& r) {
-    if (!any) {
-      any = true;
-      g0 = Eigen::Map<const Eigen::Vector3d>(r.g);
-      tolerance = 1e-6 * std::max(g0.norm(), 1e-300);
-    }
-    gravity_varies = gravity_varies || varies(r);
-    sensor_moves = sensor_moves || moves(r);
-  }
-  // (motion_base_options' tests, on one sample.)
-  bool varies(const FinalRow& r) const {
-    return (Eigen::Map<const Eigen::Vector3d>(r.g) - g0).norm() > tolerance;
-  }
-  static bool moves(const FinalRow& r) {
-    return r.sm && Eigen::Map<const Eigen::Matrix<double, 9, 1>>(r.sm).cwiseAbs().maxCoeff() > 0.0;
-  }
-};
-
 // The head of the file: its rows, parsed until they hold a prepared sample
 // (with the filter: until the first run holds `window` rows or ends), or the
 // whole file.
@@ -375,9 +347,7 @@ detail::Carry stream_motion(std::string_view text, const detail::MappedFile& fil
         return part;
       },
       merge);
-  if (f && carry.any && carry.run_length < f->kernels.size())
-    detail::throw_short_run(plan, *f, carry.run_length, carry.run_first_line, carry.last_line,
-                            carry.run_block);
+  if (f) detail::check_run(plan, *f, carry);
   return carry;
 }
 
@@ -388,18 +358,11 @@ class KeptSamples {
  public:
   // `reserve`: values to reserve for a block's samples (an estimate).
   KeptSamples(const detail::MotionPlan& plan, bool on, size_t budget, size_t reserve)
-      : on_(on),
-        budget_(budget),
-        reserve_(reserve),
-        nj_(plan.nj),
-        velocities_(plan.derive_q || plan.has_qd),
-        sensor_(plan.final_sensor),
-        size_(sample_size(plan)) {}
+      : on_(on), budget_(budget), reserve_(reserve), plan_(plan), size_(sample_size(plan)) {}
   // Values a sample takes: q (qd, qdd), g, (sensor motion), w.
   static size_t sample_size(const detail::MotionPlan& plan) {
-    const bool velocities = plan.derive_q || plan.has_qd;
-    return static_cast<size_t>(plan.nj) * (velocities ? 3 : 1) + 3 + (plan.final_sensor ? 9 : 0) +
-           6;
+    return static_cast<size_t>(plan.nj) * (plan.final_qd ? 3 : 1) + 3 +
+           (plan.final_sensor ? 9 : 0) + 6;
   }
   // Into a block's buffer (any thread).
   void store(const detail::FinalRow& r, std::vector<double>& to) {
@@ -408,14 +371,14 @@ class KeptSamples {
     const size_t at = to.size();
     to.resize(at + size_);
     double* o = to.data() + at;
-    const auto put = [&](const double* v, int n) { o = std::copy_n(v, n, o); };
-    put(r.q, nj_);
-    if (velocities_) {
-      put(r.qd, nj_);
-      put(r.qdd, nj_);
-    }
+    const auto put = [&](const double* v, int n) {
+      if (v) o = std::copy_n(v, n, o);  // (null: not in the log, sample_size)
+    };
+    put(r.q, plan_.nj);
+    put(r.qd, plan_.nj);
+    put(r.qdd, plan_.nj);
     put(r.g, 3);
-    if (sensor_) put(r.sm, 9);
+    put(r.sm, 9);
     put(r.w, 6);
     if ((to.size() & 4095) < size_ &&
         used_.fetch_add(4096 * sizeof(double), std::memory_order_relaxed) > budget_)
@@ -439,13 +402,13 @@ class KeptSamples {
         [&](size_t k) {
           ResidualMax part(model, base, x);
           const std::vector<double>& rows = blocks_[k];
-          const size_t g = static_cast<size_t>(nj_) * (velocities_ ? 3 : 1);
-          const size_t w = g + 3 + (sensor_ ? 9 : 0);
+          const size_t g = static_cast<size_t>(plan_.nj) * (plan_.final_qd ? 3 : 1);
+          const size_t w = g + 3 + (plan_.final_sensor ? 9 : 0);
           for (size_t i = 0; i < rows.size(); i += size_) {
             const double* v = rows.data() + i;
-            part.add(MotionRow{v, velocities_ ? v + nj_ : nullptr,
-                               velocities_ ? v + 2 * nj_ : nullptr, v + g,
-                               sensor_ ? v + g + 3 : nullptr, v + w});
+            part.add(MotionRow{v, plan_.final_qd ? v + plan_.nj : nullptr,
+                               plan_.final_qd ? v + 2 * plan_.nj : nullptr, v + g,
+                               plan_.final_sensor ? v + g + 3 : nullptr, v + w});
           }
           return part;
         },
@@ -456,8 +419,7 @@ class KeptSamples {
  private:
   bool on_;
   size_t budget_, reserve_;
-  int nj_;
-  bool velocities_, sensor_;
+  const detail::MotionPlan& plan_;
   size_t size_;
   std::atomic<size_t> used_{0};
   std::atomic<bool> overflow_{false};
@@ -508,15 +470,11 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
   const std::string_view text = file.text();
   const detail::MotionPlan plan(&model,
                                 detail::bind_columns(model, text, path, data.samples, true));
-  if (plan.derived && plan.cols.time < 0)
-    throw InputError(fmt::format(
-        "{}: a motion log needs joint velocities and accelerations: columns JOINT_vel and "
-        "JOINT_acc for every joint, or a time column t to derive them from the positions",
-        path));
   // The filter: what filter_motion learns from t first (order, runs, the
   // median step), from a scan of t alone, then its checks in its order.
   std::optional<FilterPlan> filter;
   if (plan.derived) {
+    detail::require_time_column(path, plan.cols.time >= 0);
     const detail::TimeScan ts = detail::scan_log_times(file, plan, stream);
     detail::check_time_series(path, ts.rows, ts.steps.total, ts.first_line);
     filter = plan_filter(ts.dt, data.filter, plan.cols.source, ts.first_line, ts.last_line);
@@ -534,21 +492,17 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
   head_carry.line_base = plan.cols.header_line + 1;
   detail::sequence_rows(plan, f, head_carry, head.rows);
   detail::SampleCollector head_rows(plan);
-  detail::LogShape shape;
-  detail::prepared_rows(plan, f, head.rows, [&](const detail::FinalRow& r) {
-    shape.see(r);
-    head_rows.add(r);
-  });
+  detail::prepared_rows(plan, f, head.rows, [&](const detail::FinalRow& r) { head_rows.add(r); });
   const Samples head_samples = head_rows.take(path);
 
   MotionIdentification out;
-  bool gravity_varies = shape.gravity_varies, sensor_moves = shape.sensor_moves;
+  // What the head shows (a fixed gravity, a sensor at rest) holds until a row
+  // of the stream shows otherwise.
+  BaseParameterOptions bo = motion_base_options(head_samples, offset);
+  const Eigen::Vector3d g0 = bo.sensor_gravity;
+  const double g_tolerance = detail::fixed_gravity_tolerance(g0);
   while (true) {
     try {
-      BaseParameterOptions bo = motion_base_options(Samples{}, offset);
-      bo.fixed_gravity = shape.any && !gravity_varies;
-      bo.sensor_gravity = shape.g0;
-      bo.sensor_moving = sensor_moves;
       out.base = find_base_parameters(model, bo);
       const BaseParameters& base = out.base;
       // The largest residual without a pass of its own: the prepared samples
@@ -602,8 +556,11 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
             return Part{tracked(), {}};
           },
           [&](Part& part, const detail::FinalRow& r) {
-            if (bo.fixed_gravity && shape.varies(r)) throw detail::AssumptionFailed{true, false};
-            if (!bo.sensor_moving && detail::LogShape::moves(r))
+            if (bo.fixed_gravity &&
+                (Eigen::Map<const Eigen::Vector3d>(r.g) - g0).norm() > g_tolerance)
+              throw detail::AssumptionFailed{true, false};
+            if (!bo.sensor_moving && r.sm &&
+                Eigen::Map<const Eigen::Matrix<double, 9, 1>>(r.sm).cwiseAbs().maxCoeff() > 0.0)
               throw detail::AssumptionFailed{false, true};
             part.acc.add(r.motion());
             kept.store(r, part.rows);
@@ -639,8 +596,8 @@ MotionIdentification identify_motion_csv(const Model& model, const std::string& 
       return out;
     } catch (const detail::AssumptionFailed& e) {
       // They only turn one way: at most two more passes.
-      gravity_varies = gravity_varies || e.gravity_varies;
-      sensor_moves = sensor_moves || e.sensor_moves;
+      bo.fixed_gravity = bo.fixed_gravity && !e.gravity_varies;
+      bo.sensor_moving = bo.sensor_moving || e.sensor_moves;
     }
   }
 }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "identify/motion_pipeline.hpp"
 #include "massid/core/base_regressor.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/io/csv.hpp"
@@ -20,11 +21,7 @@ Samples prepare_motion_samples(const Model& model, Samples raw, const MotionData
   if (!joints_missing && !upstream_missing) {
     s = std::move(raw);
   } else {
-    if (raw.time.size() != raw.size())
-      throw InputError(fmt::format(
-          "{}: a motion log needs joint velocities and accelerations: columns JOINT_vel and "
-          "JOINT_acc for every joint, or a time column t to derive them from the positions",
-          raw.source));
+    detail::require_time_column(raw.source, raw.time.size() == raw.size());
     r.derived = true;
     s = filter_motion(raw, options.filter, &r.kernels);
     r.decimation = options.filter.decimation > 0
@@ -51,10 +48,10 @@ BaseParameterOptions motion_base_options(const Samples& s, bool offset) {
     double spread = 0.0;
     for (int i = 0; i < s.size(); ++i)
       spread = std::max(spread, (s.gravity.row(i).transpose() - g0).norm());
-    o.fixed_gravity = spread <= 1e-6 * std::max(g0.norm(), 1e-300);
+    o.fixed_gravity = spread <= detail::fixed_gravity_tolerance(g0);
     o.sensor_gravity = g0;
+    o.sensor_moving = s.has_sensor_motion() && s.sensor_motion.cwiseAbs().maxCoeff() > 0.0;
   }
-  o.sensor_moving = s.has_sensor_motion() && s.sensor_motion.cwiseAbs().maxCoeff() > 0.0;
   return o;
 }
 

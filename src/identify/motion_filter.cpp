@@ -204,14 +204,9 @@ MotionFilter::MotionFilter(const FilterKernels& k, int width, int num_derived, i
       static_cast<int>(k.first.size()) != len_ || static_cast<int>(k.second.size()) != len_)
     throw std::invalid_argument("MotionFilter: kernels of inconsistent length");
   // Window slot j holds x_{i-H+j}, which pairs with weight index k = H - j, i.e. k + H = 2H - j.
-  rev_smooth_.resize(len_);
-  rev_first_.resize(len_);
-  rev_second_.resize(len_);
-  for (int j = 0; j < len_; ++j) {
-    rev_smooth_[j] = k.smooth[len_ - 1 - j];
-    rev_first_[j] = k.first[len_ - 1 - j];
-    rev_second_[j] = k.second[len_ - 1 - j];
-  }
+  rev_smooth_.assign(k.smooth.rbegin(), k.smooth.rend());
+  rev_first_.assign(k.first.rbegin(), k.first.rend());
+  rev_second_.assign(k.second.rbegin(), k.second.rend());
   buffer_.assign(static_cast<std::size_t>(2 * len_) * std::max(width_, 1), 0.0);
   times_.assign(len_, 0.0);
   lines_.assign(len_, 0);

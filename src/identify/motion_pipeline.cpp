@@ -10,26 +10,23 @@ namespace massid {
 
 namespace detail {
 
+SampleCollector::SampleCollector(const MotionPlan& p) : plan_(p) {
+  const int nqd = p.final_qd ? p.nj : 0, nu = p.up ? p.nu : 0, nqdu = p.final_qdu ? p.nu : 0;
+  groups_ = {{&FinalRow::q, &Samples::q, p.nj, {}},
+             {&FinalRow::qd, &Samples::qd, nqd, {}},
+             {&FinalRow::qdd, &Samples::qdd, nqd, {}},
+             {&FinalRow::qu, &Samples::q_upstream, nu, {}},
+             {&FinalRow::qdu, &Samples::qd_upstream, nqdu, {}},
+             {&FinalRow::qddu, &Samples::qdd_upstream, nqdu, {}},
+             {&FinalRow::g, &Samples::gravity, 3, {}},
+             {&FinalRow::sm, &Samples::sensor_motion, p.final_sensor ? 9 : 0, {}},
+             {&FinalRow::w, &Samples::wrench, 6, {}}};
+}
+
 void SampleCollector::add(const FinalRow& r) {
-  const MotionPlan& p = plan_;
-  if (n_ == 0) {
-    qd_ = r.qd != nullptr;
-    qdu_ = r.qdu != nullptr;
-  }
   ++n_;
-  q_.insert(q_.end(), r.q, r.q + p.nj);
-  if (qd_) {
-    qd_v_.insert(qd_v_.end(), r.qd, r.qd + p.nj);
-    qdd_.insert(qdd_.end(), r.qdd, r.qdd + p.nj);
-  }
-  if (p.up) qu_.insert(qu_.end(), r.qu, r.qu + p.nu);
-  if (qdu_) {
-    qdu_v_.insert(qdu_v_.end(), r.qdu, r.qdu + p.nu);
-    qddu_.insert(qddu_.end(), r.qddu, r.qddu + p.nu);
-  }
-  g_.insert(g_.end(), r.g, r.g + 3);
-  if (p.final_sensor) sm_.insert(sm_.end(), r.sm, r.sm + 9);
-  w_.insert(w_.end(), r.w, r.w + 6);
+  for (Group& g : groups_)
+    if (g.n > 0) g.values.insert(g.values.end(), r.*g.from, r.*g.from + g.n);
   t_.push_back(r.t);
   line_.push_back(r.line);
   block_.push_back(static_cast<int>(r.block));
@@ -37,22 +34,10 @@ void SampleCollector::add(const FinalRow& r) {
 
 Samples SampleCollector::take(const std::string& source) {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const auto matrix = [&](const std::vector<double>& v, int cols) -> Eigen::MatrixXd {
-    if (n_ == 0 || cols == 0) return Eigen::MatrixXd(n_, cols);
-    return Eigen::Map<const RowMajor>(v.data(), n_, cols);
-  };
   const MotionPlan& p = plan_;
   Samples s;
   s.source = source;
-  s.q = matrix(q_, p.nj);
-  s.qd = matrix(qd_v_, qd_ ? p.nj : 0);
-  s.qdd = matrix(qdd_, qd_ ? p.nj : 0);
-  s.q_upstream = matrix(qu_, p.up ? p.nu : 0);
-  s.qd_upstream = matrix(qdu_v_, qdu_ ? p.nu : 0);
-  s.qdd_upstream = matrix(qddu_, qdu_ ? p.nu : 0);
-  s.gravity = matrix(g_, 3);
-  s.sensor_motion = matrix(sm_, p.final_sensor ? 9 : 0);
-  s.wrench = matrix(w_, 6);
+  for (const Group& g : groups_) s.*g.to = Eigen::Map<const RowMajor>(g.values.data(), n_, g.n);
   if (p.cols.time >= 0) s.time = Eigen::Map<const Eigen::VectorXd>(t_.data(), n_);
   s.line = std::move(line_);
   if (p.cols.block >= 0) s.block = std::move(block_);
@@ -175,9 +160,7 @@ Samples filter_motion(const Samples& samples, const MotionFilterOptions& options
   b.n = n;
   detail::Carry carry;
   detail::sequence_rows(plan, &f, carry, b);
-  if (carry.run_length < f.kernels.size())
-    detail::throw_short_run(plan, f, carry.run_length, carry.run_first_line, carry.last_line,
-                            carry.run_block);
+  detail::check_run(plan, f, carry);
   detail::SampleCollector out(plan);
   detail::prepared_rows(plan, &f, b, [&](const detail::FinalRow& r) { out.add(r); });
   Samples s = out.take(samples.source);

@@ -50,6 +50,7 @@ struct MotionPlan {
   int stride = 0;           // a stored row: width values, t, block
   bool post_moving = false, post_resolve = false;  // after the filter
   bool final_sensor = false;                       // the prepared samples have sensor motion
+  bool final_qd = false, final_qdu = false;        // they have qd, qdd (qd_up, qdd_up)
 
   // `resolve`: gravity and sensor motion from the upstream joints (a model
   // is needed); without, the columns are taken as they are (filter_motion).
@@ -111,6 +112,8 @@ struct MotionPlan {
       post_resolve = up && (cols.gravity_from_upstream || post_moving);
     }
     final_sensor = has_sensor || post_moving;
+    final_qd = has_qd || derive_q;
+    final_qdu = has_qdu || derive_up;
   }
 
   // A parsed line's values (SampleColumns layout) as a stored row.
@@ -139,6 +142,11 @@ struct MotionPlan {
     row[width + 1] = cols.block >= 0 ? v[cols.block] : 0.0;
   }
 };
+
+// motion_base_options' fixed gravity: every sample's within this of the first's, g0.
+inline double fixed_gravity_tolerance(const Eigen::Vector3d& g0) {
+  return 1e-6 * std::max(g0.norm(), 1e-300);
+}
 
 // One prepared sample (what prepare_motion_samples' Samples holds in a row).
 struct FinalRow {
@@ -187,20 +195,10 @@ inline ParsedBlock parse_rows(std::string_view text, const MotionPlan& plan, siz
 }
 
 // A stored row as a prepared sample (no filter).
-inline FinalRow unfiltered(const MotionPlan& plan, const double* r, int line) {
-  const int W = plan.width;
-  return FinalRow{r + plan.o_q,
-                  plan.has_qd ? r + plan.o_qd : nullptr,
-                  plan.has_qd ? r + plan.o_qdd : nullptr,
-                  plan.up ? r + plan.o_qu : nullptr,
-                  plan.has_qdu ? r + plan.o_qdu : nullptr,
-                  plan.has_qdu ? r + plan.o_qddu : nullptr,
-                  r + plan.o_g,
-                  plan.has_sensor ? r + plan.o_sm : nullptr,
-                  r + plan.o_w,
-                  r[W],
-                  r[W + 1],
-                  line};
+inline FinalRow unfiltered(const MotionPlan& p, const double* r, int line) {
+  const auto at = [r](int offset) { return offset >= 0 ? r + offset : nullptr; };  // -1: none
+  return FinalRow{at(p.o_q), at(p.o_qd), at(p.o_qdd), at(p.o_qu), at(p.o_qdu),    at(p.o_qddu),
+                  at(p.o_g), at(p.o_sm), at(p.o_w),   r[p.width], r[p.width + 1], line};
 }
 
 // What the sequential stage carries from block to block.
@@ -218,6 +216,15 @@ struct Carry {
 
 inline std::string where(const std::string& source, int line) {
   return fmt::format("{}:{}", source, line);
+}
+
+// A motion log whose velocities and accelerations are to be derived needs t.
+inline void require_time_column(const std::string& source, bool has_time) {
+  if (!has_time)
+    throw InputError(fmt::format(
+        "{}: a motion log needs joint velocities and accelerations: columns JOINT_vel and "
+        "JOINT_acc for every joint, or a time column t to derive them from the positions",
+        source));
 }
 
 // filter_motion's errors for a log that is no time series: fewer than two
@@ -247,6 +254,12 @@ inline void check_time_series(const std::string& source, long long rows, long lo
           plan.cols.block >= 0 ? fmt::format(", block {}", static_cast<int>(block)) : std::string(),
           static_cast<double>(m - 1) * dt, rate, f.kernels.cutoff, L, H, (L - 1) * dt),
       {{Hint::Setting::Cutoff, "higher"}});
+}
+
+// throw_short_run for the current run when it is shorter than the filter.
+inline void check_run(const MotionPlan& plan, const FilterPlan& f, const Carry& c) {
+  if (c.any && c.run_length < f.kernels.size())
+    throw_short_run(plan, f, c.run_length, c.run_first_line, c.last_line, c.run_block);
 }
 
 // The sequential stage of block b: absolute lines; with the filter, the runs
@@ -279,8 +292,7 @@ inline void sequence_rows(const MotionPlan& plan, const FilterPlan* f, Carry& c,
     const double blk = r[plan.width + 1];
     const int line = b.line[i];
     if (!c.any || (blocks && blk != c.run_block)) {
-      if (c.any && c.run_length < L)
-        throw_short_run(plan, *f, c.run_length, c.run_first_line, c.last_line, c.run_block);
+      check_run(plan, *f, c);
       c.run_length = 0;
       c.run_first_line = line;
       c.run_block = blk;
@@ -399,16 +411,23 @@ struct OrderError {
 // add() copies a row (the filter reuses its buffers), take() the samples.
 class SampleCollector {
  public:
-  explicit SampleCollector(const MotionPlan& plan) : plan_(plan) {}
+  explicit SampleCollector(const MotionPlan& plan);
   void add(const FinalRow& r);
   // `source`: the samples' source; the flags and root gravity are the plan's.
   Samples take(const std::string& source);
 
  private:
+  // One array of the samples: from a row's `from`, `n` values (0: none).
+  struct Group {
+    const double* FinalRow::*from;
+    Eigen::MatrixXd Samples::*to;
+    int n;
+    std::vector<double> values;
+  };
   const MotionPlan& plan_;
   int n_ = 0;
-  bool qd_ = false, qdu_ = false;
-  std::vector<double> q_, qd_v_, qdd_, qu_, qdu_v_, qddu_, g_, sm_, w_, t_;
+  std::vector<Group> groups_;
+  std::vector<double> t_;
   std::vector<int> line_, block_;
 };
 

@@ -13,20 +13,16 @@ namespace {
 
 // The rows of `table` at the given file lines (in order).
 CsvTable keep_lines(CsvTable table, const std::vector<int>& lines) {
-  CsvTable out = std::move(table);
-  std::vector<std::vector<std::string>> rows;
-  std::vector<int> kept;
   size_t k = 0;
-  for (int r = 0; r < out.num_rows() && k < lines.size(); ++r)
-    if (out.line[r] == lines[k]) {
-      rows.push_back(std::move(out.rows[r]));
-      kept.push_back(out.line[r]);
-      ++k;
+  for (int r = 0; r < table.num_rows() && k < lines.size(); ++r)
+    if (table.line[r] == lines[k]) {
+      std::swap(table.rows[k], table.rows[r]);  // (k <= r)
+      table.line[k++] = table.line[r];
     }
-  out.rows = std::move(rows);
-  out.line = std::move(kept);
-  out.column_offset.clear();
-  return out;
+  table.rows.resize(k);
+  table.line.resize(k);
+  table.column_offset.clear();
+  return table;
 }
 
 }  // namespace

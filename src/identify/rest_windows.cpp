@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -17,6 +16,12 @@ namespace massid {
 namespace {
 
 using detail::median;
+
+// The sample period: the median step of t (at least two rows).
+double median_step(const Eigen::VectorXd& t) {
+  const Eigen::VectorXd steps = t.tail(t.size() - 1) - t.head(t.size() - 1);
+  return median(std::vector<double>(steps.begin(), steps.end()));
+}
 
 // 8 sigma of a signal's noise from its steps (motion is rare among them), at least `floor`.
 double tolerance(const Eigen::Ref<const Eigen::VectorXd>& x, double floor) {
@@ -51,15 +56,9 @@ struct Reference {
 void block_stats(const Eigen::MatrixXd& wrench, int r, int len,
                  const Eigen::Matrix<double, 6, 1>& level, Eigen::Matrix<double, 6, 1>& mean,
                  Eigen::Matrix<double, 6, 1>& energy) {
-  mean.setZero();
-  energy.setZero();
-  for (int i = r; i < r + len; ++i) {
-    const Eigen::Matrix<double, 6, 1> d = wrench.row(i).transpose() - level;
-    mean += d;
-    energy += d.cwiseAbs2();
-  }
-  mean /= len;
-  energy /= len;
+  const Eigen::MatrixXd d = wrench.middleRows(r, len).rowwise() - level.transpose();
+  mean = d.colwise().sum().transpose() / len;
+  energy = d.cwiseAbs2().colwise().sum().transpose() / len;
 }
 
 Reference reference(const Eigen::MatrixXd& wrench, const std::vector<RestWindow>& windows,
@@ -70,9 +69,8 @@ Reference reference(const Eigen::MatrixXd& wrench, const std::vector<RestWindow>
     const int mid = (w.first + w.last + 1) / 2;
     Eigen::Matrix<double, 6, 1> level;
     for (int c = 0; c < 6; ++c) {
-      std::vector<double> v;
-      for (int i = mid; i <= w.last; ++i) v.push_back(wrench(i, c));
-      level[c] = median(std::move(v));
+      const auto half = wrench.col(c).segment(mid, w.last - mid + 1);
+      level[c] = median(std::vector<double>(half.begin(), half.end()));
     }
     ref.level.push_back(level);
     Eigen::Matrix<double, 6, 1> m, e;
@@ -158,9 +156,7 @@ RestWindows every_row(int n) {
 RestWindows find_rest_windows(const Samples& s, const RestWindowOptions& o) {
   const int n = s.size();
   if (o.detection == RestDetection::Off || s.time.size() != n || n < 3) return every_row(n);
-  std::vector<double> steps(static_cast<std::size_t>(n - 1));
-  for (int i = 0; i + 1 < n; ++i) steps[i] = s.time[i + 1] - s.time[i];
-  const double dt = median(steps);
+  const double dt = median_step(s.time);
   if (!(dt > 0.0) || dt > o.max_step) return every_row(n);
   const int k = std::max(1, static_cast<int>(std::lround(o.lag / dt)));
 
@@ -253,12 +249,7 @@ void check_quasi_static(const Model& model, const Samples& s, const RestWindowOp
   if (s.gravity_from_force || !s.has_wrench() || s.q.cols() != model.num_joints()) return;
   if (out.criterion.find("gravity") != std::string::npos && !upstream && !s.has_sensor_motion())
     return;
-  double dt = 0.0;
-  {
-    std::vector<double> steps(static_cast<std::size_t>(n - 1));
-    for (int i = 0; i + 1 < n; ++i) steps[i] = s.time[i + 1] - s.time[i];
-    dt = median(std::move(steps));
-  }
+  const double dt = median_step(s.time);
   const int k = std::max(1, static_cast<int>(std::lround(o.lag / dt)));
   if (n < 2 * k + 3) return;
   double noise_f = std::numeric_limits<double>::infinity(), noise_m = noise_f;
@@ -274,27 +265,22 @@ void check_quasi_static(const Model& model, const Samples& s, const RestWindowOp
   Eigen::MatrixXd Y(6, pi.size());
   const int nj = model.num_joints(), nu = model.num_upstream_joints();
   Eigen::VectorXd q(nj), qd(nj), qdd(nj), qu(nu), qdu(nu), qddu(nu);
-  Eigen::Matrix<double, 9, 1> motion;
+  Eigen::Matrix<double, 9, 1> motion = Eigen::Matrix<double, 9, 1>::Zero();  // the sensor frame's
   bool slow = true;
   for (int i = k; i + k < n; ++i) {
     differences(s.q, s.time, i, k, qd, qdd);
     q = s.q.row(i).transpose();
     double speed = qd.size() ? qd.cwiseAbs().maxCoeff() : 0.0;
-    FrameMotion sensor;
     if (upstream) {
       differences(s.q_upstream, s.time, i, k, qdu, qddu);
       qu = s.q_upstream.row(i).transpose();
       speed = std::max(speed, nu ? qdu.cwiseAbs().maxCoeff() : 0.0);
       upstream_sensor_frame(model, qu.data(), qdu.data(), qddu.data(), s.root_gravity, nullptr,
                             motion.data());
-      sensor.omega = motion.head<3>();
-      sensor.omega_dot = motion.segment<3>(3);
-      sensor.accel = motion.tail<3>();
     } else if (s.has_sensor_motion()) {  // the sensor frame's motion as the log gives it
-      sensor.omega = s.sensor_motion.row(i).segment<3>(0).transpose();
-      sensor.omega_dot = s.sensor_motion.row(i).segment<3>(3).transpose();
-      sensor.accel = s.sensor_motion.row(i).segment<3>(6).transpose();
+      motion = s.sensor_motion.row(i).transpose();
     }
+    const FrameMotion sensor{motion.head<3>(), motion.segment<3>(3), motion.tail<3>()};
     forward_kinematics(model, data, q, qd, qdd, Eigen::Vector3d::Zero(), sensor);
     motion_regressor(model, data, Y);
     const Eigen::Matrix<double, 6, 1> w = Y * pi;
@@ -334,12 +320,7 @@ Samples rest_samples(const Samples& s, const RestWindows& w) {
   for (const RestWindow& win : w.windows)
     for (int r = win.first; r <= win.last; ++r) rows.push_back(r);
   const auto pick = [&rows](auto& m) {
-    if (m.rows() == 0) return;
-    std::decay_t<decltype(m)> out;
-    out.resize(static_cast<Eigen::Index>(rows.size()), m.cols());
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      out.row(static_cast<Eigen::Index>(i)) = m.row(rows[i]);
-    m = std::move(out);
+    if (m.rows() > 0) m = m(rows, Eigen::all).eval();
   };
   Samples out = s;
   for_each_joint_stream_array(out, pick);
