@@ -24,13 +24,11 @@ PredictionErrors prediction_errors(const Eigen::MatrixXd& measured,
                                    const Eigen::MatrixXd& predicted) {
   PredictionErrors e;
   const Eigen::MatrixXd d = measured - predicted;
-  const double n = static_cast<double>(measured.rows());
-  for (int k = 0; k < 6; ++k) {
-    e.rms[k] = std::sqrt(d.col(k).squaredNorm() / n);
-    e.max[k] = d.col(k).cwiseAbs().maxCoeff();
-    e.range[k] = measured.col(k).maxCoeff() - measured.col(k).minCoeff();
-    e.percent_of_range[k] = e.range[k] > 0 ? 100.0 * e.rms[k] / e.range[k] : INFINITY;
-  }
+  e.rms = (d.colwise().squaredNorm() / static_cast<double>(measured.rows())).cwiseSqrt();
+  e.max = d.cwiseAbs().colwise().maxCoeff();
+  e.range = measured.colwise().maxCoeff() - measured.colwise().minCoeff();
+  e.percent_of_range =
+      (e.range.array() > 0).select(100.0 * e.rms.array() / e.range.array(), INFINITY);
   return e;
 }
 
@@ -93,13 +91,12 @@ std::string identify_report(const Model& model, const BaseParameters& base,
                                             : "gx,gy,gz",
                   model.sensor_link());
   if (s.delay.applied)
-    out += s.delay.estimated
-               ? fmt::format(
-                     "wrench delay behind the joints: {:.4g} ms +- {:.2g} ms (estimated: the "
-                     "fit's chi^2 over {} delays), applied\n",
-                     1e3 * s.delay.value, 1e3 * s.delay.std, s.delay.scan.size())
-               : fmt::format("wrench delay behind the joints: {:.4g} ms (given), applied\n",
-                             1e3 * s.delay.value);
+    out +=
+        fmt::format("wrench delay behind the joints: {:.4g} ms {}, applied\n", 1e3 * s.delay.value,
+                    s.delay.estimated ? fmt::format("+- {:.2g} ms (estimated: the fit's chi^2 "
+                                                    "over {} delays)",
+                                                    1e3 * s.delay.std, s.delay.scan.size())
+                                      : "(given)");
   if (s.rest.continuous)
     out += fmt::format(
         "rest windows of a continuous log: {} windows, {} of {} rows used ({} rows found moving "
@@ -130,10 +127,9 @@ std::string identify_report(const Model& model, const BaseParameters& base,
                        s.stddev[base.total_mass]);
   else
     out += "total mass: not identifiable (constant gravity with offsets: it joins offset fz)\n";
-  if (base.motion())
-    out += fmt::format("condition number (all rows, columns scaled): {:.4g}\n", s.condition_number);
-  else
-    out += fmt::format("condition number (eq. 36, moment rows): {:.4g}\n", s.condition_number);
+  out += fmt::format("condition number ({}): {:.4g}\n",
+                     base.motion() ? "all rows, columns scaled" : "eq. 36, moment rows",
+                     s.condition_number);
   out += "residual RMS:";
   for (int k = 0; k < 6; ++k)
     out += fmt::format("  {} {:.3g}", kWrenchColumns[k], s.residual_rms[k]);
