@@ -92,17 +92,6 @@ std::string joint_column(const Joint& j, const std::vector<std::string>& header,
   return c >= 0 ? header[c] : j.name + suffix;
 }
 
-std::string vec_text(const Eigen::Vector3d& v, int precision = 4) {
-  return fmt::format("({:.{}f}, {:.{}f}, {:.{}f})", v.x(), precision, v.y(), precision, v.z(),
-                     precision);
-}
-
-std::string matrix_text(const Eigen::Matrix3d& R) {
-  return fmt::format(
-      "[[{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}]]", R(0, 0),
-      R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2));
-}
-
 bool constant(const Eigen::VectorXd& c) { return c.size() > 0 && c.maxCoeff() == c.minCoeff(); }
 
 // Rows per independent value of a residual whose rows are in time order
@@ -389,11 +378,13 @@ void check_rotation(Context& c, const Centred& k) {
   c.add(deg > kRotationError ? Severity::Error : Severity::Warning, "frame-rotation",
         fmt::format(
             "{}: the force direction disagrees with {} by {:.2f} deg (noise explains {:.2g} deg) "
-            "over {}: the wrench frame is rotated against {}; best fit f = M R g with R = {} "
-            "({:.2f} deg about {}; {}). Rotate fx,fy,fz and mx,my,mz by R^T into the frame of that "
-            "gravity ({}), or make the URDF's sensor link the sensor's frame",
+            "over {}: the wrench frame is rotated against {}; best fit f = M R g with R = "
+            "[[{:.4f}], [{:.4f}], [{:.4f}]] ({:.2f} deg about ({:.3f}); {}). Rotate fx,fy,fz and "
+            "mx,my,mz by R^T into the frame of that gravity ({}), or make the URDF's sensor link "
+            "the sensor's frame",
             c.s.source, gravity, deg, kRotationSigmas * sigma_angle / kDeg, c.lines(), against,
-            matrix_text(R), aa.angle() / kDeg, vec_text(aa.axis(), 3), basis, or_gravity),
+            fmt::join(R.row(0), ", "), fmt::join(R.row(1), ", "), fmt::join(R.row(2), ", "),
+            aa.angle() / kDeg, fmt::join(aa.axis(), ", "), basis, or_gravity),
         tilt ? std::vector<Hint>{{Hint::Setting::LevelGravity, ""}} : std::vector<Hint>{});
 }
 
@@ -1260,7 +1251,7 @@ namespace {
 // than two such rows (or a residual not [N x 6], which beyond_noise refuses).
 Eigen::Vector2d measured_rms(const Samples& samples, const Eigen::MatrixXd& residual) {
   const int N = static_cast<int>(residual.rows());
-  double rms[2] = {0.0, 0.0};
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();  // of |force|^2, |moment|^2
   int finite = 0;
   const bool measured = samples.wrench.rows() == N && samples.wrench.cols() == 6;
   for (int i = 0; i < N && residual.cols() == 6; ++i)
@@ -1268,12 +1259,11 @@ Eigen::Vector2d measured_rms(const Samples& samples, const Eigen::MatrixXd& resi
       const auto w = measured && samples.wrench.row(i).allFinite()
                          ? Eigen::Matrix<double, 1, 6>(samples.wrench.row(i))
                          : Eigen::Matrix<double, 1, 6>(residual.row(i));
-      rms[0] += w.head<3>().squaredNorm();
-      rms[1] += w.tail<3>().squaredNorm();
+      sum += Eigen::Vector2d(w.head<3>().squaredNorm(), w.tail<3>().squaredNorm());
       ++finite;
     }
   if (finite < 2) return Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
-  return {std::sqrt(rms[0] / finite), std::sqrt(rms[1] / finite)};
+  return (sum / finite).cwiseSqrt();
 }
 
 // The rows beyond the noise (d above the threshold), the threshold and each
