@@ -13,9 +13,10 @@
 namespace massid {
 namespace {
 
-const char* joint_type_name(const Joint& j) {
-  if (j.type == JointType::Prismatic) return "prismatic";
-  return j.continuous ? "continuous" : "revolute";
+const char* joint_type_name(JointType type, bool continuous = false) {
+  if (type == JointType::Fixed) return "fixed";
+  if (type == JointType::Prismatic) return "prismatic";
+  return continuous ? "continuous" : "revolute";
 }
 
 }  // namespace
@@ -41,16 +42,13 @@ std::string model_report(const Model& model, const BaseParameters& base) {
     if (l.parent < 0)
       out += "sensor link";
     else
-      out += fmt::format("{} joint '{}' from '{}'",
-                         l.type == JointType::Fixed       ? "fixed"
-                         : l.type == JointType::Prismatic ? "prismatic"
-                                                          : "revolute",
-                         l.joint, model.links[l.parent].name);
+      out += fmt::format("{} joint '{}' from '{}'", joint_type_name(l.type), l.joint,
+                         model.links[l.parent].name);
     out += l.has_inertial ? fmt::format(", URDF mass {:.6g} kg\n", l.mass) : ", no <inertial>\n";
   }
   out += fmt::format("movable joints: {}\n", model.num_joints());
   for (const Joint& j : model.joints) {
-    out += fmt::format("  {:<20} {:<10}", j.name, joint_type_name(j));
+    out += fmt::format("  {:<20} {:<10}", j.name, joint_type_name(j.type, j.continuous));
     if (j.limited) out += fmt::format(" [{:.6g}, {:.6g}]", j.lower, j.upper);
     if (j.limited && (j.lower != j.urdf_lower || j.upper != j.urdf_upper))
       out += fmt::format(" (URDF [{:.6g}, {:.6g}], narrowed by its mimic joints' limits)",
