@@ -71,16 +71,16 @@ std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::stri
            {{Setting::SigmaForce, ""}, {Setting::SigmaMoment, ""}}});
     }
   }
+  // Runs of consecutive outliers: an external wrench acting for a while
+  // (setup_checks.hpp, find_contact_episodes), named apart from the others.
+  const std::vector<ContactEpisode> contact =
+      find_contact_episodes(s.outliers, s.outlier_threshold);
   // Rows an external wrench drives (contact) that the outlier test does not
   // flag (they inflate the fitted noise), found by predict's rule: named as
   // contact, with the robust fit as the fix.
-  if (!s.robust && !s.beyond_noise.empty()) {
-    const std::vector<ContactEpisode> flagged =
-        s.outliers.empty() ? std::vector<ContactEpisode>{}
-                           : find_contact_episodes(s.outliers, s.outlier_threshold);
+  if (!s.robust && contact.empty()) {
     const std::vector<ContactEpisode> hidden =
-        flagged.empty() ? find_contact_episodes(s.beyond_noise, s.beyond_noise_threshold)
-                        : std::vector<ContactEpisode>{};
+        find_contact_episodes(s.beyond_noise, s.beyond_noise_threshold);
     if (!hidden.empty())
       out.push_back(
           {fmt::format("{}: {} carry an external wrench (contact?): consecutive samples whose "
@@ -114,10 +114,6 @@ std::vector<Warning> identify_warnings(const IdentifySummary& s, const std::stri
   }
   if (s.outliers.empty()) return out;
   const double fraction = static_cast<double>(s.outliers.size()) / std::max(s.samples, 1);
-  // Runs of consecutive outliers: an external wrench acting for a while
-  // (setup_checks.hpp, find_contact_episodes), named apart from the others.
-  const std::vector<ContactEpisode> contact =
-      find_contact_episodes(s.outliers, s.outlier_threshold);
   if (!contact.empty())
     out.push_back(
         {fmt::format("{}: {} carry an external wrench (contact?): consecutive samples with "

@@ -1,5 +1,6 @@
 // fit_physical: the log-Cholesky least-squares problem of physical.hpp, solved
-// by Ceres. Equations: Wensing, Kim & Slotine 2017 (pseudo-inertia),
+// by Ceres, and parameter_scales (estimation.hpp), whose scales its prior
+// shares. Equations: Wensing, Kim & Slotine 2017 (pseudo-inertia),
 // Rucker & Wensing 2022 (log-Cholesky parameterisation).
 #include "massid/identify/physical.hpp"
 
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 
 #include "core/cross_matrix.hpp"
 #include "massid/core/errors.hpp"
@@ -28,6 +30,25 @@ constexpr double kNegligibleCostFall = 1e-8;
 
 using Theta = std::array<double, 10>;
 
+// Ten parameters of a body, m, h and I's ixx, ixy, ixz, iyy, iyz, izz: with
+// h = m c and I about the centre of mass the prior's target
+// (parameters_of_theta's order), with I about the origin the standard parameters.
+Eigen::Matrix<double, 10, 1> ten_parameters(double m, const Eigen::Vector3d& h,
+                                            const Eigen::Matrix3d& I) {
+  Eigen::Matrix<double, 10, 1> q;
+  q << m, h, I(0, 0), I(0, 1), I(0, 2), I(1, 1), I(1, 2), I(2, 2);
+  return q;
+}
+
+// The scales of parameter_scales and of the prior: the identified total mass
+// when positive (else the URDF's) and the robot's reach.
+std::pair<double, double> mass_and_reach(const Model& model, const BaseParameters& base,
+                                         const IdentifySummary* summary) {
+  if (summary && base.total_mass >= 0 && summary->value[base.total_mass] > 0)
+    return {summary->value[base.total_mass], reach(model)};
+  return {model.nominal_total_mass(), reach(model)};
+}
+
 // The ten standard parameters (m, h, inertia about the origin) of a body given
 // in frame B, in frame A, with T mapping B coordinates to A (r_A = t + R r_B):
 // h_A = m t + R h_B, I_A = R I_B R^T - m [t]^2 - [t][R h_B] - [R h_B][t].
@@ -40,69 +61,56 @@ Eigen::Matrix<double, 10, 1> moved_parameters(const Eigen::Matrix<double, 10, 1>
   Eigen::Matrix3d I;
   I << p[4], p[5], p[6], p[5], p[7], p[8], p[6], p[8], p[9];
   const Eigen::Matrix3d St = skew(t), Sh = skew(h);
-  const Eigen::Matrix3d Ia = R * I * R.transpose() - m * St * St - St * Sh - Sh * St;
-  Eigen::Matrix<double, 10, 1> out;
-  out << m, m * t + h, Ia(0, 0), Ia(0, 1), Ia(0, 2), Ia(1, 1), Ia(1, 2), Ia(2, 2);
-  return out;
+  return ten_parameters(m, m * t + h, R * I * R.transpose() - m * St * St - St * Sh - Sh * St);
 }
 
-// U of the log-Cholesky parameters (physical.hpp), upper triangular 4x4,
-// U[i][j] for j >= i (the rest is left unset).
+template <class T>
+using Matrix4 = Eigen::Matrix<T, 4, 4>;
+
+// The entries (i, j) of U that theta_4 .. theta_9 scale (s12, s23, s13, t1, t2, t3).
+constexpr int kShear[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};
+
+// U of the log-Cholesky parameters (physical.hpp), upper triangular 4x4:
 //   theta = (alpha, d1, d2, d3, s12, s23, s13, t1, t2, t3)
 //   U = e^alpha [[e^d1, s12, s13, t1], [0, e^d2, s23, t2], [0, 0, e^d3, t3], [0, 0, 0, 1]]
 template <class T>
-void cholesky_factor(const T* theta, T U[4][4]) {
+Matrix4<T> cholesky_factor(const T* theta) {
   using std::exp;
   const T e = exp(theta[0]);
-  U[0][0] = e * exp(theta[1]);
-  U[1][1] = e * exp(theta[2]);
-  U[2][2] = e * exp(theta[3]);
-  U[3][3] = e;
-  U[0][1] = e * theta[4];
-  U[1][2] = e * theta[5];
-  U[0][2] = e * theta[6];
-  U[0][3] = e * theta[7];
-  U[1][3] = e * theta[8];
-  U[2][3] = e * theta[9];
+  Matrix4<T> U = Matrix4<T>::Zero();
+  for (int i = 0; i < 3; ++i) U(i, i) = e * exp(theta[1 + i]);
+  U(3, 3) = e;
+  for (int k = 0; k < 6; ++k) U(kShear[k][0], kShear[k][1]) = e * theta[4 + k];
+  return U;
 }
 
 // (U U^T)_ij summed over the columns k < columns: J_ij = sum_{k >= max(i,j)}
 // U_ik U_jk with columns = 4; with 3, the entries of Ubar Ubar^T (Ubar the
 // top-left 3x3 block of U).
 template <class T>
-T product_entry(const T U[4][4], int i, int j, int columns) {
+T product_entry(const Matrix4<T>& U, int i, int j, int columns) {
   T s = T(0.0);
-  for (int k = std::max(i, j); k < columns; ++k) s += U[i][k] * U[j][k];
+  for (int k = std::max(i, j); k < columns; ++k) s += U(i, k) * U(j, k);
   return s;
-}
-
-// A symmetric 3x3 S as the rotational inertia tr(S) 1 - S, in the order
-// ixx, ixy, ixz, iyy, iyz, izz (J's Sigma = 1/2 tr(I) 1 - I inverts to I = tr(Sigma) 1 - Sigma).
-template <class T>
-void inertia_of_sigma(const T S[3][3], T* out) {
-  const T tr = S[0][0] + S[1][1] + S[2][2];
-  out[0] = tr - S[0][0];
-  out[1] = -S[0][1];
-  out[2] = -S[0][2];
-  out[3] = tr - S[1][1];
-  out[4] = -S[1][2];
-  out[5] = tr - S[2][2];
 }
 
 // m, h and a rotational inertia of theta: m = J_33, h = J_{0:3,3}, and
 //   about the origin (the standard parameters): Sigma = J_{0:3,0:3};
 //   about the centre of mass (the prior's coordinates): Sigma_C = Sigma - h h^T / m,
-//   the Schur complement of m in J, which for J = U U^T is Ubar Ubar^T.
+//   the Schur complement of m in J, which for J = U U^T is Ubar Ubar^T;
+// the inertia I = tr(S) 1 - S of that S (J's Sigma = 1/2 tr(I) 1 - I inverts to
+// I = tr(Sigma) 1 - Sigma) in the order ixx, ixy, ixz, iyy, iyz, izz.
 template <class T>
 void parameters_of_theta(const T* theta, T* out, bool about_com) {
-  T U[4][4];
-  cholesky_factor(theta, U);
+  const Matrix4<T> U = cholesky_factor(theta);
   out[0] = product_entry(U, 3, 3, 4);
   for (int i = 0; i < 3; ++i) out[1 + i] = product_entry(U, i, 3, 4);
   T S[3][3];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) S[i][j] = product_entry(U, i, j, about_com ? 3 : 4);
-  inertia_of_sigma(S, out + 4);
+  const T tr = S[0][0] + S[1][1] + S[2][2];
+  for (int i = 0, k = 4; i < 3; ++i)
+    for (int j = i; j < 3; ++j) out[k++] = i == j ? tr - S[i][j] : -S[i][j];
 }
 
 // Prior residuals of one link: weight_k (q_k(theta) - target_k).
@@ -134,13 +142,12 @@ struct DivergenceResidual {
   bool operator()(const T* theta, T* r) const {
     using std::log;
     using std::sqrt;
-    T U[4][4];
-    cholesky_factor(theta, U);
+    const Matrix4<T> U = cholesky_factor(theta);
     int k = 0;
     for (int i = 0; i < 4; ++i)
       for (int j = i; j < 4; ++j) {
         T v = T(0.0);  // V_ij = sum_{i <= m <= j} U0^-1_im U_mj
-        for (int m = i; m <= j; ++m) v += U0_inverse(i, m) * U[m][j];
+        for (int m = i; m <= j; ++m) v += U0_inverse(i, m) * U(m, j);
         if (i != j) {
           r[k++] = std::sqrt(2.0) * weight * v;
           continue;
@@ -215,15 +222,8 @@ Theta theta_of_pseudo_inertia(const Eigen::Matrix4d& J) {
   const double e = U(3, 3);
   Theta t;
   t[0] = std::log(e);
-  t[1] = std::log(U(0, 0) / e);
-  t[2] = std::log(U(1, 1) / e);
-  t[3] = std::log(U(2, 2) / e);
-  t[4] = U(0, 1) / e;
-  t[5] = U(1, 2) / e;
-  t[6] = U(0, 2) / e;
-  t[7] = U(0, 3) / e;
-  t[8] = U(1, 3) / e;
-  t[9] = U(2, 3) / e;
+  for (int i = 0; i < 3; ++i) t[1 + i] = std::log(U(i, i) / e);
+  for (int k = 0; k < 6; ++k) t[4 + k] = U(kShear[k][0], kShear[k][1]) / e;
   return t;
 }
 
@@ -236,17 +236,20 @@ Eigen::Matrix4d positive_definite(const Eigen::Matrix4d& J) {
   return eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
 }
 
-// Ten parameters of a body, m, m c and I's ixx, ixy, ixz, iyy, iyz, izz: with
-// I about the centre of mass the prior's target (parameters_of_theta's order),
-// with I about the origin the standard parameters.
-Eigen::Matrix<double, 10, 1> ten_parameters(double m, const Eigen::Vector3d& c,
-                                            const Eigen::Matrix3d& I) {
-  Eigen::Matrix<double, 10, 1> q;
-  q << m, m * c, I(0, 0), I(0, 1), I(0, 2), I(1, 1), I(1, 2), I(2, 2);
-  return q;
-}
-
 }  // namespace
+
+Eigen::VectorXd parameter_scales(const Model& model, const BaseParameters& base,
+                                 const IdentifySummary* summary) {
+  const auto [mass, length] = mass_and_reach(model, base, summary);
+  Eigen::VectorXd out(base.num_mass());
+  for (int i = 0; i < base.num_mass(); ++i) {
+    const std::string& unit = base.params[i].unit;
+    const int power = unit == "kg" ? 0 : unit == "kg m" ? 1 : 2;
+    out[i] = mass > 0 && length > 0 ? mass * std::pow(length, power)
+                                    : std::numeric_limits<double>::quiet_NaN();
+  }
+  return out;
+}
 
 PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
                              const IdentifySummary& identified, const PhysicalOptions& options) {
@@ -261,13 +264,10 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
                     "{} (not the same model?)",
                     identified.value.size(), base.num_unknowns()));
 
-  // The prior's scales s_k = M L^k (as parameter_scales, report.hpp): the
-  // identified total mass (else the URDF's, else 1 kg) and the reach (else 1 m).
-  double mass = model.nominal_total_mass();
-  if (base.total_mass >= 0 && identified.value[base.total_mass] > 0)
-    mass = identified.value[base.total_mass];
+  // The prior's scales s_k = M L^k (as parameter_scales): the identified
+  // total mass (else the URDF's, else 1 kg) and the reach (else 1 m).
+  auto [mass, length] = mass_and_reach(model, base, &identified);
   if (!(mass > 0)) mass = 1.0;
-  double length = reach(model);
   if (!(length > 0)) length = 1.0;
   Eigen::Matrix<double, 10, 1> weight;
   weight << 1.0 / mass, Eigen::Vector3d::Constant(1.0 / (mass * length)),
@@ -293,7 +293,7 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
       I = 0.4 * m * r * r * Eigen::Matrix3d::Identity();
     }
     theta[l] = theta_of_pseudo_inertia(
-        positive_definite(pseudo_inertia(ten_parameters(m, c, inertia_about_origin(m, c, I)))));
+        positive_definite(pseudo_inertia(ten_parameters(m, m * c, inertia_about_origin(m, c, I)))));
     // Bounds (physical.hpp): the mass within [min_mass_fraction,
     // 1/min_mass_fraction] M; each spread e^d, the centre of mass t and the
     // shears s within 1/min_extent_fraction L (spreads at least
@@ -313,14 +313,10 @@ PhysicalSummary fit_physical(const Model& model, const BaseParameters& base,
     }
     if (out.static_layout) {  // at rest: each link keeps the URDF's inertia about its centre
       auto* prior = new ceres::AutoDiffCostFunction<PriorResidual, 10, 10>(
-          new PriorResidual{ten_parameters(m, c, I), weight});
+          new PriorResidual{ten_parameters(m, m * c, I), weight});
       problem.AddResidualBlock(prior, nullptr, theta[l].data());
     } else {  // in motion: the log-det divergence from the prior body
-      Eigen::Matrix4d U0 = Eigen::Matrix4d::Zero();
-      double U0a[4][4];
-      cholesky_factor(theta[l].data(), U0a);
-      for (int i = 0; i < 4; ++i)
-        for (int j = i; j < 4; ++j) U0(i, j) = U0a[i][j];
+      const Eigen::Matrix4d U0 = cholesky_factor(theta[l].data());
       auto* prior =
           new ceres::AutoDiffCostFunction<DivergenceResidual, 10, 10>(new DivergenceResidual{
               U0.triangularView<Eigen::Upper>().solve(Eigen::Matrix4d::Identity()),

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -91,17 +92,6 @@ std::string joint_column(const Joint& j, const std::vector<std::string>& header,
   return c >= 0 ? header[c] : j.name + suffix;
 }
 
-std::string vec_text(const Eigen::Vector3d& v, int precision = 4) {
-  return fmt::format("({:.{}f}, {:.{}f}, {:.{}f})", v.x(), precision, v.y(), precision, v.z(),
-                     precision);
-}
-
-std::string matrix_text(const Eigen::Matrix3d& R) {
-  return fmt::format(
-      "[[{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}], [{:.4f}, {:.4f}, {:.4f}]]", R(0, 0),
-      R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2));
-}
-
 bool constant(const Eigen::VectorXd& c) { return c.size() > 0 && c.maxCoeff() == c.minCoeff(); }
 
 // Rows per independent value of a residual whose rows are in time order
@@ -152,6 +142,9 @@ struct Context {
   Eigen::MatrixXd nom;   // [sub x 6] URDF wrench at the subset, gravity scaled to g0
   double reach = 0.0;    // largest distance of a link origin or com from the sensor origin
 
+  // "lines 4-900": the rows the checks read.
+  std::string lines() const { return fmt::format("lines {}-{}", s.line.front(), s.line.back()); }
+
   void add(Severity sev, const char* code, std::string message, std::vector<Hint> hints = {}) {
     if (sev == Severity::Error) hints.push_back({Hint::Setting::Checks, "off"});
     out.push_back({sev, code, std::move(message), std::move(hints)});
@@ -165,13 +158,10 @@ Samples sample_rows(const Samples& s, const std::vector<int>& rows) {
   out.gravity_from_force = s.gravity_from_force;
   out.gravity_from_upstream = s.gravity_from_upstream;
   out.root_gravity = s.root_gravity;
-  const auto n = static_cast<Eigen::Index>(rows.size());
   for (auto [from, to] :
-       {std::pair{&s.q, &out.q}, {&s.gravity, &out.gravity}, {&s.wrench, &out.wrench}}) {
-    to->resize(n, from->cols());
-    if (from->rows() > 0)
-      for (Eigen::Index k = 0; k < n; ++k) to->row(k) = from->row(rows[k]);
-  }
+       {std::pair{&s.q, &out.q}, {&s.gravity, &out.gravity}, {&s.wrench, &out.wrench}})
+    *to = from->rows() > 0 ? Eigen::MatrixXd((*from)(rows, Eigen::all))
+                           : Eigen::MatrixXd(static_cast<Eigen::Index>(rows.size()), from->cols());
   if (!s.line.empty())
     for (const int r : rows) out.line.push_back(s.line[r]);
   return out;
@@ -242,9 +232,9 @@ void check_gravity_magnitude(Context& c) {
   else if (med > 29.5 && med < 34.5)
     fix = "they look like ft/s^2: multiply gx,gy,gz by 0.3048";
   c.add(Severity::Error, "gravity-magnitude",
-        fmt::format("{}: gx,gy,gz have a median magnitude of {:.6g} m/s^2 (lines {}-{}), not "
-                    "Earth's 9.81: every identified parameter would be off by the same factor; {}",
-                    c.s.source, med, c.s.line.front(), c.s.line.back(), fix));
+        fmt::format("{}: gx,gy,gz have a median magnitude of {:.6g} m/s^2 ({}), not Earth's 9.81: "
+                    "every identified parameter would be off by the same factor; {}",
+                    c.s.source, med, c.lines(), fix));
 }
 
 // Centred gravity and force, and the eigen-decomposition of the gravity scatter
@@ -374,29 +364,27 @@ void check_rotation(Context& c, const Centred& k) {
   const double deg = angle / kDeg;
   if (!(deg > kRotationWarn && angle > kRotationSigmas * sigma_angle)) return;
   const Eigen::AngleAxisd aa(R);
-  // What gravity came from, and so what may be the rotated one.
+  // What gravity came from (the tilt columns, the joints above the sensor,
+  // gx,gy,gz), and so what may be the rotated one: {gravity, against, or_gravity}.
   const bool tilt = gravity_from_tilt(c);
-  const std::string gravity = tilt ? "the level gravity turned by tilt_x_deg,tilt_y_deg"
-                              : c.s.gravity_from_upstream
-                                  ? "gravity from the joints above the sensor link"
-                                  : "gx,gy,gz";
-  const std::string against = tilt                        ? "that gravity"
-                              : c.s.gravity_from_upstream ? "the URDF's sensor link"
-                                                          : "the gravity columns";
-  const std::string or_gravity =
-      tilt ? "or, if the level gravity is the rotated one, give it as R times it (--gravity, "
-             "sensor frame, platform level)"
-      : c.s.gravity_from_upstream ? "or check the joints above it and --root-gravity"
-                                  : "or gx,gy,gz by R if they are the rotated ones";
+  static const char* const kFrom[3][3] = {
+      {"the level gravity turned by tilt_x_deg,tilt_y_deg", "that gravity",
+       "or, if the level gravity is the rotated one, give it as R times it (--gravity, sensor "
+       "frame, platform level)"},
+      {"gravity from the joints above the sensor link", "the URDF's sensor link",
+       "or check the joints above it and --root-gravity"},
+      {"gx,gy,gz", "the gravity columns", "or gx,gy,gz by R if they are the rotated ones"}};
+  const auto [gravity, against, or_gravity] = kFrom[tilt ? 0 : c.s.gravity_from_upstream ? 1 : 2];
   c.add(deg > kRotationError ? Severity::Error : Severity::Warning, "frame-rotation",
-        fmt::format("{}: the force direction disagrees with {} by {:.2f} deg (noise explains "
-                    "{:.2g} deg) over lines {}-{}: the wrench frame is rotated against {}; best "
-                    "fit f = M R g with R = {} ({:.2f} deg about {}; {}). Rotate fx,fy,fz and "
-                    "mx,my,mz by R^T into the frame of that gravity ({}), or make the URDF's "
-                    "sensor link the sensor's frame",
-                    c.s.source, gravity, deg, kRotationSigmas * sigma_angle / kDeg,
-                    c.s.line.front(), c.s.line.back(), against, matrix_text(R), aa.angle() / kDeg,
-                    vec_text(aa.axis(), 3), basis, or_gravity),
+        fmt::format(
+            "{}: the force direction disagrees with {} by {:.2f} deg (noise explains {:.2g} deg) "
+            "over {}: the wrench frame is rotated against {}; best fit f = M R g with R = "
+            "[[{:.4f}], [{:.4f}], [{:.4f}]] ({:.2f} deg about ({:.3f}); {}). Rotate fx,fy,fz and "
+            "mx,my,mz by R^T into the frame of that gravity ({}), or make the URDF's sensor link "
+            "the sensor's frame",
+            c.s.source, gravity, deg, kRotationSigmas * sigma_angle / kDeg, c.lines(), against,
+            fmt::join(R.row(0), ", "), fmt::join(R.row(1), ", "), fmt::join(R.row(2), ", "),
+            aa.angle() / kDeg, fmt::join(aa.axis(), ", "), basis, or_gravity),
         tilt ? std::vector<Hint>{{Hint::Setting::LevelGravity, ""}} : std::vector<Hint>{});
 }
 
@@ -545,15 +533,10 @@ ChannelFit moment_channels(const Context& c) {
   const BaseParameters base = find_base_parameters(c.model, bo);
   const Eigen::MatrixXd A = stacked_regressor(c.model, base, s);
   Eigen::MatrixXd Am(3 * n, A.cols());
-  Eigen::MatrixXd Y(3, n);
-  for (int k = 0; k < n; ++k) {
-    Am.middleRows(3 * k, 3) = A.middleRows(6 * k + 3, 3);
-    Y.col(k) = s.wrench.row(k).tail<3>().transpose();
-  }
-  for (Eigen::Index j = 0; j < Am.cols(); ++j) {
-    const double norm = Am.col(j).norm();
-    if (norm > 0) Am.col(j) /= norm;
-  }
+  for (int k = 0; k < n; ++k) Am.middleRows(3 * k, 3) = A.middleRows(6 * k + 3, 3);
+  const Eigen::MatrixXd Y = s.wrench.rightCols(3).transpose();
+  const Eigen::RowVectorXd norm = Am.colwise().norm();  // unit columns (a zero one stays)
+  Am.array().rowwise() /= (norm.array() > 0).select(norm.array(), 1.0);
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Am);
   qr.setThreshold(1e-10);
   const Eigen::Index r = qr.rank();
@@ -620,11 +603,11 @@ std::string channels_text(const Eigen::Matrix3d& P, char kind, std::string* fix)
                                 kind, axis[k]));
     }
   }
+  // "a", "a and b", "a, b and c".
   auto join = [](const std::vector<std::string>& v) {
-    std::string t;
-    for (size_t i = 0; i < v.size(); ++i)
-      t += (i ? (i + 1 == v.size() ? " and " : ", ") : "") + v[i];
-    return t;
+    return v.size() < 2
+               ? fmt::format("{}", fmt::join(v, ""))
+               : fmt::format("{} and {}", fmt::join(v.begin(), v.end() - 1, ", "), v.back());
   };
   if (fix) *fix = join(how);
   return join(what);
@@ -645,20 +628,19 @@ void report_channels(Context& c, const ChannelTest& t, char kind, const ChannelT
   }
   const bool force = kind == 'f';
   c.add(Severity::Error, force ? "force-channels" : "moment-channels",
-        fmt::format("{}: the {} channels do not fit the URDF with gx,gy,gz as recorded (lines "
-                    "{}-{}), but do if {} ({} residual RMS {:.3g} {} as recorded, {:.3g} {} so){}: "
-                    "a sign or the column mapping is wrong in the sensor's configuration or the "
-                    "logger; {} (massid wants the sensor's own right-handed axes)",
-                    c.s.source, force ? "force" : "moment", c.s.line.front(), c.s.line.back(), what,
+        fmt::format("{}: the {} channels do not fit the URDF with gx,gy,gz as recorded ({}), but "
+                    "do if {} ({} residual RMS {:.3g} {} as recorded, {:.3g} {} so){}: a sign or "
+                    "the column mapping is wrong in the sensor's configuration or the logger; {} "
+                    "(massid wants the sensor's own right-handed axes)",
+                    c.s.source, force ? "force" : "moment", c.lines(), what,
                     force ? "force" : "moment", t.rms_recorded, force ? "N" : "N m", t.rms_best,
                     force ? "N" : "N m", extra, fix));
 }
 
 // The median of |f_i| over the rows (robust to an offset and a few bad rows).
 double median_force(const Context& c) {
-  std::vector<double> n(c.N);
-  for (int i = 0; i < c.N; ++i) n[i] = c.F.row(i).norm();
-  return median(n);
+  const Eigen::VectorXd n = c.F.rowwise().norm();
+  return median({n.data(), n.data() + n.size()});
 }
 
 // force-units. Statistic: r = median |f_i| / (M g0), the total mass the force
@@ -669,12 +651,11 @@ void check_force_units(Context& c) {
   const double f = median_force(c);
   const double r = f / (c.M * kStandardGravity);
   if (r >= kUnitLow && r <= kUnitHigh)
-    c.add(
-        Severity::Error, "force-units",
-        fmt::format("{}: fx,fy,fz imply a total mass of {:.4g} kg, {:.0f} times the URDF's {:.4g} "
-                    "kg (median |f| {:.4g} over lines {}-{}): the forces look like mN; divide "
-                    "fx,fy,fz by 1000 (massid wants N)",
-                    c.s.source, r * c.M, r, c.M, f, c.s.line.front(), c.s.line.back()));
+    c.add(Severity::Error, "force-units",
+          fmt::format("{}: fx,fy,fz imply a total mass of {:.4g} kg, {:.0f} times the URDF's "
+                      "{:.4g} kg (median |f| {:.4g} over {}): the forces look like mN; divide "
+                      "fx,fy,fz by 1000 (massid wants N)",
+                      c.s.source, r * c.M, r, c.M, f, c.lines()));
 }
 
 // moment-units. Statistics: r = RMS |m_i| / RMS |m_URDF,i| (the measured
@@ -685,21 +666,17 @@ void check_force_units(Context& c) {
 // explains a lever arm longer than the robot.
 void check_moment_units(Context& c) {
   if (!(c.M > 0) || c.sub.empty()) return;
-  double mm = 0, mn = 0;
-  for (size_t k = 0; k < c.sub.size(); ++k) {
-    mm += c.s.wrench.row(c.sub[k]).tail<3>().squaredNorm();
-    mn += c.nom.row(k).tail<3>().squaredNorm();
-  }
   const double n = static_cast<double>(c.sub.size());
-  const double rms_meas = std::sqrt(mm / n), rms_nom = std::sqrt(mn / n);
+  const double rms_meas = std::sqrt(c.s.wrench(c.sub, Eigen::seqN(3, 3)).squaredNorm() / n);
+  const double rms_nom = std::sqrt(c.nom.rightCols(3).squaredNorm() / n);
   if (!(rms_nom > 0)) return;
   const double r = rms_meas / rms_nom, lever = rms_meas / (c.M * kStandardGravity);
   if (r >= kUnitLow && r <= kUnitHigh && lever > 3.0 * c.reach + 0.01)
     c.add(Severity::Error, "moment-units",
-          fmt::format("{}: mx,my,mz are {:.0f} times what the URDF predicts (RMS {:.4g}, lever "
-                      "arm {:.3g} m for a robot that reaches {:.3g} m, lines {}-{}): the moments "
-                      "look like N mm; divide mx,my,mz by 1000 (massid wants N m)",
-                      c.s.source, r, rms_meas, lever, c.reach, c.s.line.front(), c.s.line.back()));
+          fmt::format("{}: mx,my,mz are {:.0f} times what the URDF predicts (RMS {:.4g}, lever arm "
+                      "{:.3g} m for a robot that reaches {:.3g} m, {}): the moments look like N "
+                      "mm; divide mx,my,mz by 1000 (massid wants N m)",
+                      c.s.source, r, rms_meas, lever, c.reach, c.lines()));
 }
 
 // force-units / moment-units when the URDF has no mass (no <inertial> on any
@@ -723,9 +700,8 @@ void check_units_without_mass(Context& c) {
   const std::string why = fmt::format(
       "the URDF has no mass (no <inertial> on a measured link), so the wrench is judged by the "
       "robot's size: RMS |m| / RMS |f| puts the centre of mass {:.3g} m from the sensor origin, "
-      "for "
-      "a robot that reaches {:.3g} m, lines {}-{}",
-      lever, c.reach, c.s.line.front(), c.s.line.back());
+      "for a robot that reaches {:.3g} m, {}",
+      lever, c.reach, c.lines());
   if (lever > 30.0 * c.reach + 0.01)
     c.add(Severity::Error, "moment-units",
           fmt::format("{}: {}: the moments look like N mm; divide mx,my,mz by 1000 (massid wants "
@@ -944,12 +920,13 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
     const double scale = kind_range[a / 3];
     if (wrench_constant[a] && scale > 0 && range[a] > 0.05 * scale) {
       force_broken |= a < 3;
-      c.add(Severity::Error, "constant-wrench",
-            fmt::format("{}: column '{}' is {} in all {} rows (lines {}-{}), yet the URDF's {} "
-                        "varies by {:.4g} {} over them: the channel looks dead (cable, logger, "
-                        "wrong column); fix the recording",
-                        c.s.source, kWrenchColumns[a], W(0, a), c.N, c.s.line.front(),
-                        c.s.line.back(), kWrenchColumns[a], range[a], a < 3 ? "N" : "N m"));
+      c.add(
+          Severity::Error, "constant-wrench",
+          fmt::format(
+              "{}: column '{}' is {} in all {} rows ({}), yet the URDF's {} varies by {:.4g} {} "
+              "over them: the channel looks dead (cable, logger, wrong column); fix the recording",
+              c.s.source, kWrenchColumns[a], W(0, a), c.N, c.lines(), kWrenchColumns[a], range[a],
+              a < 3 ? "N" : "N m"));
     }
   }
   for (int a = 0; a < 6; ++a)
@@ -961,10 +938,9 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
       if (!(differ > 0.01 * scale)) continue;
       force_broken |= a < 3 || b < 3;
       c.add(Severity::Error, "duplicate-columns",
-            fmt::format("{}: columns '{}' and '{}' are identical in all {} rows (lines {}-{}): one "
-                        "channel was recorded twice; fix the logger's column mapping",
-                        c.s.source, kWrenchColumns[a], kWrenchColumns[b], c.N, c.s.line.front(),
-                        c.s.line.back()));
+            fmt::format("{}: columns '{}' and '{}' are identical in all {} rows ({}): one channel "
+                        "was recorded twice; fix the logger's column mapping",
+                        c.s.source, kWrenchColumns[a], kWrenchColumns[b], c.N, c.lines()));
     }
   const int nj = c.model.num_joints();
   std::vector<bool> joint_constant(nj);
@@ -974,24 +950,23 @@ bool check_columns(Context& c, const SetupCheckOptions& options) {
     if (joint_constant[j] && options.constant_joints)
       c.add(
           Severity::Warning, "constant-joint",
-          fmt::format("{}: column '{}' is {} in all {} rows (lines {}-{}): joint '{}' never "
-                      "moves, so the parameters only its motion separates cannot be identified; "
-                      "move it in the plan, or if it was held still, hold it at its value",
-                      c.s.source, col, format_number(c.s.q(0, j)), c.N, c.s.line.front(),
-                      c.s.line.back(), c.model.joints[j].name),
+          fmt::format("{}: column '{}' is {} in all {} rows ({}): joint '{}' never moves, so the "
+                      "parameters only its motion separates cannot be identified; move it in the "
+                      "plan, or if it was held still, hold it at its value",
+                      c.s.source, col, format_number(c.s.q(0, j)), c.N, c.lines(),
+                      c.model.joints[j].name),
           {{Hint::Setting::HoldJoints, c.model.joints[j].name + "=" + format_number(c.s.q(0, j))}});
   }
   for (int a = 0; a < nj; ++a)
     for (int b = a + 1; b < nj; ++b) {
       if (joint_constant[a] || joint_constant[b] || c.s.q.col(a) != c.s.q.col(b)) continue;
       c.add(Severity::Warning, "duplicate-columns",
-            fmt::format("{}: joint columns '{}' and '{}' are identical in all {} rows (lines "
-                        "{}-{}): if the logger wrote one joint into both, fix its column mapping; "
-                        "if the joints really moved together, the data cannot separate what each "
-                        "moves (move them independently)",
-                        c.s.source, joint_column(c.model.joints[a], c.header),
-                        joint_column(c.model.joints[b], c.header), c.N, c.s.line.front(),
-                        c.s.line.back()));
+            fmt::format(
+                "{}: joint columns '{}' and '{}' are identical in all {} rows ({}): if the logger "
+                "wrote one joint into both, fix its column mapping; if the joints really moved "
+                "together, the data cannot separate what each moves (move them independently)",
+                c.s.source, joint_column(c.model.joints[a], c.header),
+                joint_column(c.model.joints[b], c.header), c.N, c.lines()));
     }
   return force_broken;
 }
@@ -1024,12 +999,9 @@ std::vector<int> rows_against_gravity(const Samples& s) {
   X.col(3).setOnes();
   using Map = Eigen::Matrix<double, 4, 3>;
   const auto fit = [&](const std::vector<int>& rows) -> Map {
-    Eigen::MatrixXd A(rows.size(), 4), B(rows.size(), 3);
-    for (size_t k = 0; k < rows.size(); ++k) {
-      A.row(static_cast<Eigen::Index>(k)) = X.row(rows[k]);
-      B.row(static_cast<Eigen::Index>(k)) = F.row(rows[k]);
-    }
-    return A.completeOrthogonalDecomposition().solve(B);
+    return Eigen::MatrixXd(X(rows, Eigen::all))
+        .completeOrthogonalDecomposition()
+        .solve(Eigen::MatrixXd(F(rows, Eigen::all)));
   };
   const auto squared = [&](const Map& B) -> Eigen::VectorXd {
     return (F - X * B).rowwise().squaredNorm();
@@ -1063,9 +1035,7 @@ std::vector<int> rows_against_gravity(const Samples& s) {
       kept = std::move(next);
       B = fit(kept);
     }
-    const Eigen::VectorXd r2 = squared(B);
-    double objective = 0.0;
-    for (int i : kept) objective += r2[i];
+    const double objective = squared(B)(kept).sum();
     if (objective < best_objective) {
       best_objective = objective;
       best = B;
@@ -1084,9 +1054,8 @@ std::vector<int> rows_against_gravity(const Samples& s) {
     if (static_cast<int>(kept.size()) < h) return {};  // not a minority against the map
     const Map B = fit(kept);
     r2 = squared(B);
-    double sum = 0.0;
-    for (int i : kept) sum += r2[i];
-    sigma2 = std::max(sum / std::max(1.0, 3.0 * static_cast<double>(kept.size()) - 12.0), floor2);
+    sigma2 = std::max(r2(kept).sum() / std::max(1.0, 3.0 * static_cast<double>(kept.size()) - 12.0),
+                      floor2);
   }
   std::vector<int> away;
   for (int i = 0; i < N; ++i)
@@ -1140,12 +1109,10 @@ std::vector<SetupFinding> check_setup(const Model& model, const Samples& samples
       if (away.empty()) {
         check_wiring(c);
       } else {
-        std::vector<int> rows;
-        for (int i = 0, k = 0; i < c.N; ++i)
-          if (k < static_cast<int>(away.size()) && away[k] == i)
-            ++k;
-          else
-            rows.push_back(i);
+        std::vector<int> all(static_cast<size_t>(c.N)), rows;
+        std::iota(all.begin(), all.end(), 0);
+        std::set_difference(all.begin(), all.end(), away.begin(), away.end(),
+                            std::back_inserter(rows));
         const Samples consistent = sample_rows(samples, rows);
         Context cc(model, consistent, header, out);
         nominal(cc);
@@ -1284,7 +1251,7 @@ namespace {
 // than two such rows (or a residual not [N x 6], which beyond_noise refuses).
 Eigen::Vector2d measured_rms(const Samples& samples, const Eigen::MatrixXd& residual) {
   const int N = static_cast<int>(residual.rows());
-  double rms[2] = {0.0, 0.0};
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();  // of |force|^2, |moment|^2
   int finite = 0;
   const bool measured = samples.wrench.rows() == N && samples.wrench.cols() == 6;
   for (int i = 0; i < N && residual.cols() == 6; ++i)
@@ -1292,12 +1259,11 @@ Eigen::Vector2d measured_rms(const Samples& samples, const Eigen::MatrixXd& resi
       const auto w = measured && samples.wrench.row(i).allFinite()
                          ? Eigen::Matrix<double, 1, 6>(samples.wrench.row(i))
                          : Eigen::Matrix<double, 1, 6>(residual.row(i));
-      rms[0] += w.head<3>().squaredNorm();
-      rms[1] += w.tail<3>().squaredNorm();
+      sum += Eigen::Vector2d(w.head<3>().squaredNorm(), w.tail<3>().squaredNorm());
       ++finite;
     }
   if (finite < 2) return Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
-  return {std::sqrt(rms[0] / finite), std::sqrt(rms[1] / finite)};
+  return (sum / finite).cwiseSqrt();
 }
 
 // The rows beyond the noise (d above the threshold), the threshold and each
@@ -1315,9 +1281,7 @@ Beyond beyond_noise(const std::vector<int>& line, const Eigen::MatrixXd& residua
     throw std::invalid_argument(
         "find_contact_episodes: residual must be [N x 6] with one file line per row");
   Beyond out;
-  int finite = 0;
-  for (int i = 0; i < N; ++i)
-    if (residual.row(i).allFinite()) ++finite;
+  const auto finite = residual.array().isFinite().rowwise().all().count();
   if (finite < 2 || !measured_rms.allFinite()) return out;
   // Per axis: median and robust scale of the finite residuals; a floor of
   // 1e-9 of the measured wrench's RMS of its kind (noise-free data: round-off

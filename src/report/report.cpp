@@ -13,9 +13,10 @@
 namespace massid {
 namespace {
 
-const char* joint_type_name(const Joint& j) {
-  if (j.type == JointType::Prismatic) return "prismatic";
-  return j.continuous ? "continuous" : "revolute";
+const char* joint_type_name(JointType type, bool continuous = false) {
+  if (type == JointType::Fixed) return "fixed";
+  if (type == JointType::Prismatic) return "prismatic";
+  return continuous ? "continuous" : "revolute";
 }
 
 }  // namespace
@@ -24,13 +25,11 @@ PredictionErrors prediction_errors(const Eigen::MatrixXd& measured,
                                    const Eigen::MatrixXd& predicted) {
   PredictionErrors e;
   const Eigen::MatrixXd d = measured - predicted;
-  const double n = static_cast<double>(measured.rows());
-  for (int k = 0; k < 6; ++k) {
-    e.rms[k] = std::sqrt(d.col(k).squaredNorm() / n);
-    e.max[k] = d.col(k).cwiseAbs().maxCoeff();
-    e.range[k] = measured.col(k).maxCoeff() - measured.col(k).minCoeff();
-    e.percent_of_range[k] = e.range[k] > 0 ? 100.0 * e.rms[k] / e.range[k] : INFINITY;
-  }
+  e.rms = (d.colwise().squaredNorm() / static_cast<double>(measured.rows())).cwiseSqrt();
+  e.max = d.cwiseAbs().colwise().maxCoeff();
+  e.range = measured.colwise().maxCoeff() - measured.colwise().minCoeff();
+  e.percent_of_range =
+      (e.range.array() > 0).select(100.0 * e.rms.array() / e.range.array(), INFINITY);
   return e;
 }
 
@@ -43,16 +42,13 @@ std::string model_report(const Model& model, const BaseParameters& base) {
     if (l.parent < 0)
       out += "sensor link";
     else
-      out += fmt::format("{} joint '{}' from '{}'",
-                         l.type == JointType::Fixed       ? "fixed"
-                         : l.type == JointType::Prismatic ? "prismatic"
-                                                          : "revolute",
-                         l.joint, model.links[l.parent].name);
+      out += fmt::format("{} joint '{}' from '{}'", joint_type_name(l.type), l.joint,
+                         model.links[l.parent].name);
     out += l.has_inertial ? fmt::format(", URDF mass {:.6g} kg\n", l.mass) : ", no <inertial>\n";
   }
   out += fmt::format("movable joints: {}\n", model.num_joints());
   for (const Joint& j : model.joints) {
-    out += fmt::format("  {:<20} {:<10}", j.name, joint_type_name(j));
+    out += fmt::format("  {:<20} {:<10}", j.name, joint_type_name(j.type, j.continuous));
     if (j.limited) out += fmt::format(" [{:.6g}, {:.6g}]", j.lower, j.upper);
     if (j.limited && (j.lower != j.urdf_lower || j.upper != j.urdf_upper))
       out += fmt::format(" (URDF [{:.6g}, {:.6g}], narrowed by its mimic joints' limits)",
@@ -93,13 +89,12 @@ std::string identify_report(const Model& model, const BaseParameters& base,
                                             : "gx,gy,gz",
                   model.sensor_link());
   if (s.delay.applied)
-    out += s.delay.estimated
-               ? fmt::format(
-                     "wrench delay behind the joints: {:.4g} ms +- {:.2g} ms (estimated: the "
-                     "fit's chi^2 over {} delays), applied\n",
-                     1e3 * s.delay.value, 1e3 * s.delay.std, s.delay.scan.size())
-               : fmt::format("wrench delay behind the joints: {:.4g} ms (given), applied\n",
-                             1e3 * s.delay.value);
+    out +=
+        fmt::format("wrench delay behind the joints: {:.4g} ms {}, applied\n", 1e3 * s.delay.value,
+                    s.delay.estimated ? fmt::format("+- {:.2g} ms (estimated: the fit's chi^2 "
+                                                    "over {} delays)",
+                                                    1e3 * s.delay.std, s.delay.scan.size())
+                                      : "(given)");
   if (s.rest.continuous)
     out += fmt::format(
         "rest windows of a continuous log: {} windows, {} of {} rows used ({} rows found moving "
@@ -130,10 +125,9 @@ std::string identify_report(const Model& model, const BaseParameters& base,
                        s.stddev[base.total_mass]);
   else
     out += "total mass: not identifiable (constant gravity with offsets: it joins offset fz)\n";
-  if (base.motion())
-    out += fmt::format("condition number (all rows, columns scaled): {:.4g}\n", s.condition_number);
-  else
-    out += fmt::format("condition number (eq. 36, moment rows): {:.4g}\n", s.condition_number);
+  out += fmt::format("condition number ({}): {:.4g}\n",
+                     base.motion() ? "all rows, columns scaled" : "eq. 36, moment rows",
+                     s.condition_number);
   out += "residual RMS:";
   for (int k = 0; k < 6; ++k)
     out += fmt::format("  {} {:.3g}", kWrenchColumns[k], s.residual_rms[k]);
