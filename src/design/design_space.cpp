@@ -73,11 +73,9 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
   } else {
     tilts_ = o.tilts.empty() ? std::vector<Tilt>{Tilt{}} : o.tilts;
   }
-  for (size_t k = 0; k < tilts_.size() && !cone_; ++k)
-    if (tilt_angle(level_, tilts_[k]) < 1e-12) {
-      level_group_ = static_cast<int>(k);
-      break;
-    }
+  const auto level = std::find_if(tilts_.begin(), tilts_.end(),
+                                  [&](const Tilt& t) { return tilt_angle(level_, t) < 1e-12; });
+  if (!cone_ && level != tilts_.end()) level_group_ = static_cast<int>(level - tilts_.begin());
   // The points checked for clearance, those whose height changes: one that
   // moves at a constant height (a centre of mass off a vertical axis) is
   // where the mount puts it, as the fixed links are.
@@ -97,10 +95,9 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
 bool DesignSpace::level_allowed() const { return cone_ || level_group_ >= 0; }
 
 bool DesignSpace::tilts_other_than_level() const {
-  if (cone_) return tilt_max_ > 0.0;
-  for (const Tilt& t : tilts_)
-    if (tilt_angle(level_, t) >= 1e-12) return true;
-  return false;
+  return cone_ ? tilt_max_ > 0.0 : std::any_of(tilts_.begin(), tilts_.end(), [&](const Tilt& t) {
+    return tilt_angle(level_, t) >= 1e-12;
+  });
 }
 
 double DesignSpace::clearance(const Eigen::VectorXd& q, int* link) {
