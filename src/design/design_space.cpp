@@ -161,10 +161,6 @@ std::vector<Tilt> cone_tilts(const Eigen::Vector3d& level, double tilt_max, int 
   return out;
 }
 
-Tilt DesignSpace::clamp_to_cone(Tilt t) const {
-  return massid::clamp_to_cone(level_, tilt_max_, t);
-}
-
 PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   PlanPose pose;
@@ -181,7 +177,7 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
       // Half on the cone's rim (where good plans go: overshoot, then clamp), half inside.
       const double az = 2 * std::numbers::pi * u(rng);
       const double angle = u(rng) < 0.5 ? 1.5 * tilt_max_ : tilt_max_ * std::sqrt(u(rng));
-      pose.tilt = clamp_to_cone({angle * std::cos(az), angle * std::sin(az)});
+      pose.tilt = clamp_to_cone(level_, tilt_max_, {angle * std::cos(az), angle * std::sin(az)});
     } else {
       pose.group = std::min<int>(num_tilts() - 1, static_cast<int>(u(rng) * num_tilts()));
       pose.tilt = tilts_[pose.group];
@@ -212,8 +208,9 @@ bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPo
     position(out, free_[i]) = std::clamp(x[i], free_[i].lo, free_[i].hi);
   out.group = like.group;
   out.level = like.level;
-  out.tilt = own_tilt() && !like.level ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]})
-                                       : like.tilt;
+  out.tilt = own_tilt() && !like.level
+                 ? clamp_to_cone(level_, tilt_max_, {x[dimension() - 2], x[dimension() - 1]})
+                 : like.tilt;
   out.gravity = tilted_gravity(level_, out.tilt);
   arm_pose(out);
   return high_enough(out);
@@ -226,7 +223,9 @@ Eigen::VectorXd DesignSpace::steps() const {
   return s;
 }
 
-Tilt DesignSpace::set_tilt(int k, Tilt t) { return tilts_[k] = clamp_to_cone(t); }
+Tilt DesignSpace::set_tilt(int k, Tilt t) {
+  return tilts_[k] = clamp_to_cone(level_, tilt_max_, t);
+}
 
 double DesignSpace::clearance(const PlanPose& pose, std::string* what) {
   if (arm_) {
