@@ -193,9 +193,7 @@ Samples trajectory_at(const FourierTrajectory& tr, const Eigen::VectorXd& times,
   const int n = static_cast<int>(times.size()), nj = tr.num_joints();
   Samples s;
   s.source = "trajectory";
-  s.q.resize(n, nj);
-  s.qd.resize(n, nj);
-  s.qdd.resize(n, nj);
+  for (Eigen::MatrixXd* m : {&s.q, &s.qd, &s.qdd}) m->resize(n, nj);
   s.gravity = gravity.transpose().replicate(n, 1);
   s.time = times;
   s.line.resize(n);
