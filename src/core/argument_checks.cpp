@@ -1,6 +1,6 @@
 #include "core/argument_checks.hpp"
 
-#include <string>
+#include <fmt/format.h>
 
 #include "massid/core/errors.hpp"
 #include "massid/core/model.hpp"
@@ -10,20 +10,19 @@ namespace massid::detail {
 
 void throw_size_error(const char* function, const char* argument, Eigen::Index got,
                       Eigen::Index expected, const char* meaning) {
-  throw ArgumentError(std::string("massid::") + function + ": " + argument + " has " +
-                      std::to_string(got) + (got == 1 ? " entry" : " entries") + ", expected " +
-                      std::to_string(expected) + " (" + meaning + ")");
+  throw ArgumentError(fmt::format("massid::{}: {} has {} {}, expected {} ({})", function, argument,
+                                  got, got == 1 ? "entry" : "entries", expected, meaning));
 }
 
 void throw_index_error(const char* function, const char* argument, Eigen::Index i,
                        Eigen::Index count) {
-  throw ArgumentError(std::string("massid::") + function + ": " + argument + " = " +
-                      std::to_string(i) + " is outside [0, " + std::to_string(count) + ")");
+  throw ArgumentError(
+      fmt::format("massid::{}: {} = {} is outside [0, {})", function, argument, i, count));
 }
 
 void throw_empty_error(const char* function, const char* maker) {
-  throw ArgumentError(std::string("massid::") + function +
-                      ": the predictor is empty (make it with " + maker + ")");
+  throw ArgumentError(
+      fmt::format("massid::{}: the predictor is empty (make it with {})", function, maker));
 }
 
 void check_samples(const char* function, const Model& model, const Samples& s) {

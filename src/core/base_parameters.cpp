@@ -3,6 +3,7 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 
 #include "massid/core/kinematics.hpp"
@@ -99,9 +100,7 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
   // the offsets' columns come first, and what they span is not identifiable.
   const int rows = static_cast<int>(Ys.rows());
   const bool offsets_first = layout.inertia() && options.offset && options.fixed_gravity;
-  Eigen::MatrixXd O = Eigen::MatrixXd::Zero(rows, offsets_first ? 6 : 0);
-  for (int c = 0; c < O.cols(); ++c)
-    for (int s = 0; s < S; ++s) O(6 * s + c, c) = 1.0;
+  const Eigen::MatrixXd O = Eigen::MatrixXd::Identity(6, offsets_first ? 6 : 0).replicate(S, 1);
 
   // Greedy Gram-Schmidt (twice, for orthogonality) on unit-norm columns; a
   // column whose norm is round-off against the largest is zero (in motion,
@@ -110,11 +109,7 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
   for (int c = 0; c < n; ++c) largest = std::max(largest, Ys.col(c).norm());
   const double zero = layout.inertia() ? 1e-10 * largest : 0.0;
   std::vector<int> kept, dependent;
-  Eigen::MatrixXd Q(rows, 0);
-  for (int c = 0; c < O.cols(); ++c) {
-    Q.conservativeResize(Eigen::NoChange, Q.cols() + 1);
-    Q.col(Q.cols() - 1) = O.col(c) / O.col(c).norm();
-  }
+  Eigen::MatrixXd Q = O / std::sqrt(static_cast<double>(S));  // the offsets' unit columns
   for (int c : order) {
     const double norm = Ys.col(c).norm();
     if (norm <= zero) {
@@ -147,10 +142,8 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
 
   // K' in pi' coordinates, then K = K' P with M_t = sum of the masses.
   Eigen::MatrixXd Kp = Eigen::MatrixXd::Zero(nb, n);
-  for (int i = 0; i < nb; ++i) {
-    Kp(i, kept[i]) = 1.0;
-    for (size_t d = 0; d < dependent.size(); ++d) Kp(i, dependent[d]) = clean(beta(i, d));
-  }
+  Kp(Eigen::all, kept).setIdentity();
+  Kp(Eigen::all, dependent) = beta.topRows(nb).unaryExpr(&clean);
   Eigen::MatrixXd K = Kp;
   for (int l = 1; l < L; ++l) K.col(layout.index(l, kMass)) += Kp.col(kMass);
   // Coefficients below the rank tolerance relative to the largest of their
@@ -158,16 +151,13 @@ BaseParameters find_base_parameters(const Model& model, const BaseParameterOptio
   // so beta carries errors up to eps / rank_tolerance): drop them from K, the
   // terms and the expression (ur5_robot.urdf's 1.57079632679 for pi/2 gave
   // "1.95866e-11 ixz(wrist_1_link)" with wrist_1 held, in motion).
-  for (int i = 0; i < nb; ++i) {
-    const double largest = K.row(i).cwiseAbs().maxCoeff();
-    for (int j = 0; j < n; ++j)
-      if (std::abs(K(i, j)) < options.rank_tolerance * largest) K(i, j) = 0.0;
-  }
+  const Eigen::VectorXd cut = options.rank_tolerance * K.rowwise().lpNorm<Eigen::Infinity>();
+  K = (K.array().abs() < cut.replicate(1, n).array()).select(0.0, K);
 
   // Names: first moments (and inertias) from the most distal link inwards (p1
   // = mx of the last link, as in the paper), then moving masses, M last.
   std::vector<int> rank(nb);
-  for (int i = 0; i < nb; ++i) rank[i] = i;
+  std::iota(rank.begin(), rank.end(), 0);
   auto key = [&](int i) {
     const int c = kept[i], link = layout.link_of(c), k = layout.kind_of(c);
     if (c == kMass) return std::pair{2, 0};

@@ -51,13 +51,9 @@ void base_regressor(const Model& model, const BaseParameters& base, RegressorDat
 }
 
 FrameMotion sensor_motion(const Samples& s, int i) {
-  FrameMotion m;
-  if (s.has_sensor_motion()) {
-    m.omega = s.sensor_motion.row(i).segment<3>(0).transpose();
-    m.omega_dot = s.sensor_motion.row(i).segment<3>(3).transpose();
-    m.accel = s.sensor_motion.row(i).segment<3>(6).transpose();
-  }
-  return m;
+  if (!s.has_sensor_motion()) return {};
+  const auto m = s.sensor_motion.row(i);
+  return {m.segment<3>(0).transpose(), m.segment<3>(3).transpose(), m.segment<3>(6).transpose()};
 }
 
 void base_regressor(const Model& model, const BaseParameters& base, RegressorData& data,

@@ -77,14 +77,11 @@ Model hold_joints(Model model, const std::vector<std::pair<std::string, double>>
                                    model.source, name, model.sensor_link()));
     fix_link(model.links[model.joints[j].link], value);
     // Its mimic joints are held too, where they follow it.
-    for (auto m = model.mimics.begin(); m != model.mimics.end();) {
-      if (m->master != name) {
-        ++m;
-        continue;
-      }
-      fix_link(model.links[m->link], m->multiplier * value + m->offset);
-      m = model.mimics.erase(m);
-    }
+    const auto follows = [&](const MimicJoint& m) { return m.master == name; };
+    for (const MimicJoint& m : model.mimics)
+      if (follows(m)) fix_link(model.links[m.link], m.multiplier * value + m.offset);
+    model.mimics.erase(std::remove_if(model.mimics.begin(), model.mimics.end(), follows),
+                       model.mimics.end());
     model.joints.erase(model.joints.begin() + j);
     model.held.emplace_back(name, value);
   }

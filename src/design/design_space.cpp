@@ -73,11 +73,9 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
   } else {
     tilts_ = o.tilts.empty() ? std::vector<Tilt>{Tilt{}} : o.tilts;
   }
-  for (size_t k = 0; k < tilts_.size() && !cone_; ++k)
-    if (tilt_angle(level_, tilts_[k]) < 1e-12) {
-      level_group_ = static_cast<int>(k);
-      break;
-    }
+  const auto level = std::find_if(tilts_.begin(), tilts_.end(),
+                                  [&](const Tilt& t) { return tilt_angle(level_, t) < 1e-12; });
+  if (!cone_ && level != tilts_.end()) level_group_ = static_cast<int>(level - tilts_.begin());
   // The points checked for clearance, those whose height changes: one that
   // moves at a constant height (a centre of mass off a vertical axis) is
   // where the mount puts it, as the fixed links are.
@@ -97,10 +95,9 @@ DesignSpace::DesignSpace(const Model& model, const DesignOptions& o)
 bool DesignSpace::level_allowed() const { return cone_ || level_group_ >= 0; }
 
 bool DesignSpace::tilts_other_than_level() const {
-  if (cone_) return tilt_max_ > 0.0;
-  for (const Tilt& t : tilts_)
-    if (tilt_angle(level_, t) >= 1e-12) return true;
-  return false;
+  return cone_ ? tilt_max_ > 0.0 : std::any_of(tilts_.begin(), tilts_.end(), [&](const Tilt& t) {
+    return tilt_angle(level_, t) >= 1e-12;
+  });
 }
 
 double DesignSpace::clearance(const Eigen::VectorXd& q, int* link) {
@@ -164,10 +161,6 @@ std::vector<Tilt> cone_tilts(const Eigen::Vector3d& level, double tilt_max, int 
   return out;
 }
 
-Tilt DesignSpace::clamp_to_cone(Tilt t) const {
-  return massid::clamp_to_cone(level_, tilt_max_, t);
-}
-
 PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   PlanPose pose;
@@ -184,7 +177,7 @@ PlanPose DesignSpace::sample(std::mt19937_64& rng, bool level) {
       // Half on the cone's rim (where good plans go: overshoot, then clamp), half inside.
       const double az = 2 * std::numbers::pi * u(rng);
       const double angle = u(rng) < 0.5 ? 1.5 * tilt_max_ : tilt_max_ * std::sqrt(u(rng));
-      pose.tilt = clamp_to_cone({angle * std::cos(az), angle * std::sin(az)});
+      pose.tilt = clamp_to_cone(level_, tilt_max_, {angle * std::cos(az), angle * std::sin(az)});
     } else {
       pose.group = std::min<int>(num_tilts() - 1, static_cast<int>(u(rng) * num_tilts()));
       pose.tilt = tilts_[pose.group];
@@ -215,8 +208,9 @@ bool DesignSpace::pose_at(const Eigen::VectorXd& x, const PlanPose& like, PlanPo
     position(out, free_[i]) = std::clamp(x[i], free_[i].lo, free_[i].hi);
   out.group = like.group;
   out.level = like.level;
-  out.tilt = own_tilt() && !like.level ? clamp_to_cone({x[dimension() - 2], x[dimension() - 1]})
-                                       : like.tilt;
+  out.tilt = own_tilt() && !like.level
+                 ? clamp_to_cone(level_, tilt_max_, {x[dimension() - 2], x[dimension() - 1]})
+                 : like.tilt;
   out.gravity = tilted_gravity(level_, out.tilt);
   arm_pose(out);
   return high_enough(out);
@@ -229,7 +223,9 @@ Eigen::VectorXd DesignSpace::steps() const {
   return s;
 }
 
-Tilt DesignSpace::set_tilt(int k, Tilt t) { return tilts_[k] = clamp_to_cone(t); }
+Tilt DesignSpace::set_tilt(int k, Tilt t) {
+  return tilts_[k] = clamp_to_cone(level_, tilt_max_, t);
+}
 
 double DesignSpace::clearance(const PlanPose& pose, std::string* what) {
   if (arm_) {

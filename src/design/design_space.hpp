@@ -61,7 +61,6 @@ class DesignSpace {
   // A wrist: the arm's joints, their gravity and its clearances (design_space.cpp's end).
   void init_arm(const DesignOptions& o);
   void arm_pose(PlanPose& pose) const;
-  Tilt clamp_to_cone(Tilt t) const;
 
   const Model& model_;
   Eigen::Vector3d level_;

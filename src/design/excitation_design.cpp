@@ -1,6 +1,8 @@
 // design_excitation (excitation.hpp): the Hooke-Jeeves search over the
 // Fourier coefficients of an exciting trajectory, on the criterion of
-// design_criterion.hpp, within the joints' limits and above the platform.
+// design_criterion.hpp, within the joints' limits and above the platform;
+// and random_fourier_trajectory and sample_trajectory, which share the
+// search's limits and sampling.
 #include <fmt/format.h>
 
 #include <Eigen/Cholesky>
@@ -9,6 +11,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
+#include <random>
 
 #include "core/median.hpp"
 #include "design/arm_clearance.hpp"
@@ -88,6 +92,12 @@ Eigen::VectorXd limit_scale(const FourierTrajectory& tr, const std::vector<Joint
   return s;
 }
 
+// Joint j's coefficients times s[j] (q0 stays).
+void scale_joints(FourierTrajectory& tr, const Eigen::VectorXd& s) {
+  tr.a.array().colwise() *= s.array();
+  tr.b.array().colwise() *= s.array();
+}
+
 // The search's coordinates x of a trajectory, per joint: the free
 // coefficients (a_2..a_K, b_2..b_K; one harmonic: b_1), the centre as a
 // fraction of the limited range (-1..1; 0 for an unlimited joint) and the
@@ -140,14 +150,12 @@ class Coordinates {
         tr.b(j, 0) = -kb;
       }
       const JointBounds& b = bounds_[j];
-      tr.q0[j] = b.limited ? 0.5 * (b.lo + b.hi) + 0.5 * (b.hi - b.lo) * centre(x, j) : 0.0;
+      const double centre = std::clamp(xj[per_joint() - 2], -0.95, 0.95);
+      tr.q0[j] = b.limited ? 0.5 * (b.lo + b.hi) + 0.5 * (b.hi - b.lo) * centre : 0.0;
     }
     return tr;
   }
 
-  double centre(const Eigen::VectorXd& x, int j) const {
-    return std::clamp(x[j * per_joint() + per_joint() - 2], -0.95, 0.95);
-  }
   double amplitude(const Eigen::VectorXd& x, int j) const {
     return std::clamp(x[j * per_joint() + per_joint() - 1], 0.05, 1.0);
   }
@@ -178,6 +186,49 @@ class Coordinates {
   int K_;
   double period_;
 };
+
+// The trajectory at `times` (s): t, q, qd, qdd, `gravity` in every row, lines from 1.
+Samples trajectory_at(const FourierTrajectory& tr, const Eigen::VectorXd& times,
+                      const Eigen::Vector3d& gravity) {
+  const int n = static_cast<int>(times.size()), nj = tr.num_joints();
+  Samples s;
+  s.source = "trajectory";
+  for (Eigen::MatrixXd* m : {&s.q, &s.qd, &s.qdd}) m->resize(n, nj);
+  s.gravity = gravity.transpose().replicate(n, 1);
+  s.time = times;
+  s.line.resize(n);
+  std::iota(s.line.begin(), s.line.end(), 1);
+  Eigen::VectorXd q(nj), qd(nj), qdd(nj);
+  for (int i = 0; i < n; ++i) {
+    tr.evaluate(times[i], q, qd, qdd);
+    s.q.row(i) = q.transpose();
+    s.qd.row(i) = qd.transpose();
+    s.qdd.row(i) = qdd.transpose();
+  }
+  return s;
+}
+
+// `one` once for every block's gravity, the blocks one after the other: t
+// continues (block b starts at b block_time), lines number the rows, `block`
+// the blocks from 0 (none for one block).
+Samples per_block(const Samples& one, const std::vector<Eigen::Vector3d>& gravities,
+                  double block_time) {
+  const int n = one.size(), blocks = static_cast<int>(gravities.size());
+  Samples s = one;
+  s.q = one.q.replicate(blocks, 1);
+  s.qd = one.qd.replicate(blocks, 1);
+  s.qdd = one.qdd.replicate(blocks, 1);
+  s.gravity.resize(n * blocks, 3);
+  s.time.resize(n * blocks);
+  s.line.resize(n * blocks);
+  std::iota(s.line.begin(), s.line.end(), 1);
+  for (int b = 0; b < blocks; ++b) {
+    s.gravity.middleRows(b * n, n).rowwise() = gravities[b].transpose();
+    s.time.segment(b * n, n) = b * block_time + one.time.array();
+    if (blocks > 1) s.block.insert(s.block.end(), n, b);
+  }
+  return s;
+}
 
 // Samples over trajectory_joints(model) -> the model's: a wrist's first
 // columns become the upstream joints, whose kinematics give gravity and the
@@ -261,11 +312,9 @@ class GridCriterion {
   // The trajectory of x scaled to the limits on the grid.
   FourierTrajectory scaled(const Coordinates& coords, const Eigen::VectorXd& x) const {
     FourierTrajectory tr = coords.raw(x);
-    const Eigen::VectorXd s = limit_scale(tr, bounds_, grid_);
-    for (int j = 0; j < tr.num_joints(); ++j) {
-      tr.a.row(j) *= s[j] * coords.amplitude(x, j);
-      tr.b.row(j) *= s[j] * coords.amplitude(x, j);
-    }
+    Eigen::VectorXd s = limit_scale(tr, bounds_, grid_);
+    for (int j = 0; j < tr.num_joints(); ++j) s[j] *= coords.amplitude(x, j);
+    scale_joints(tr, s);
     return tr;
   }
 
@@ -331,27 +380,10 @@ class GridCriterion {
   // The information matrix of the given rows (every block).
   Eigen::MatrixXd information(const Samples& s) { return information_of(crit_, s, R_); }
 
-  // The grid's samples of every block.
+  // The grid's samples of every block (the blocks share their times: nothing reads them).
   Samples sample(const FourierTrajectory& tr) const {
-    const int n = static_cast<int>(grid_.size()), nj = tr.num_joints();
-    const int blocks = static_cast<int>(gravities_.size());
-    Samples s;
+    Samples s = per_block(trajectory_at(tr, grid_, gravities_[0]), gravities_, 0.0);
     s.source = "the exciting trajectory";
-    s.q.resize(n * blocks, nj);
-    s.qd.resize(n * blocks, nj);
-    s.qdd.resize(n * blocks, nj);
-    s.gravity.resize(n * blocks, 3);
-    Eigen::VectorXd q(nj), qd(nj), qdd(nj);
-    for (int i = 0; i < n; ++i) {
-      tr.evaluate(grid_[i], q, qd, qdd);
-      for (int b = 0; b < blocks; ++b) {
-        s.q.row(b * n + i) = q.transpose();
-        s.qd.row(b * n + i) = qd.transpose();
-        s.qdd.row(b * n + i) = qdd.transpose();
-        s.gravity.row(b * n + i) = gravities_[b].transpose();
-      }
-    }
-    for (int i = 0; i < n * blocks; ++i) s.line.push_back(i + 1);
     return arm_samples(model_, std::move(s), options_);
   }
 
@@ -418,44 +450,62 @@ void pattern_search(const Coordinates& coords, GridCriterion& grid, Eigen::Vecto
   }
 }
 
-// The criterion's figure (condition number, or log det) of a score.
-double figure(const CriterionRows& crit, double score) {
-  return crit.figure(crit.criterion() == Criterion::DOpt ? score : std::exp(score));
-}
-
 // The trajectory sampled at the written rate, every block one after the
-// other: t continues (a block starts one sample period after the previous
-// ends), `block` numbers them from 0.
+// other (per_block: a block starts one sample period after the previous ends).
 Samples written_samples(const Model& model, const FourierTrajectory& tr,
                         const ExcitationOptions& o) {
   const std::vector<Eigen::Vector3d> gravities = block_gravities(o);
-  Samples one = sample_trajectory(tr, o.duration, o.rate, gravities[0]);
-  const int n = one.size(), blocks = static_cast<int>(gravities.size());
-  const double block_time = (n - 1) / o.rate + 1.0 / o.rate;
-  Samples s = one;
-  s.q.resize(n * blocks, tr.num_joints());
-  s.qd.resize(n * blocks, tr.num_joints());
-  s.qdd.resize(n * blocks, tr.num_joints());
-  s.gravity.resize(n * blocks, 3);
-  s.time.resize(n * blocks);
-  s.line.resize(n * blocks);
-  s.block.resize(n * blocks);
-  for (int b = 0; b < blocks; ++b) {
-    s.q.middleRows(b * n, n) = one.q;
-    s.qd.middleRows(b * n, n) = one.qd;
-    s.qdd.middleRows(b * n, n) = one.qdd;
-    s.gravity.middleRows(b * n, n).rowwise() = gravities[b].transpose();
-    for (int i = 0; i < n; ++i) {
-      s.time[b * n + i] = b * block_time + one.time[i];
-      s.line[b * n + i] = b * n + i + 1;
-      s.block[b * n + i] = b;
-    }
-  }
-  if (blocks == 1) s.block.clear();
-  return arm_samples(model, std::move(s), o);
+  const Samples one = sample_trajectory(tr, o.duration, o.rate, gravities[0]);
+  return arm_samples(model, per_block(one, gravities, (one.size() - 1) / o.rate + 1.0 / o.rate), o);
 }
 
 }  // namespace
+
+FourierTrajectory random_fourier_trajectory(const Model& model, int harmonics, double period,
+                                            std::uint64_t seed, const ExcitationLimits& limits) {
+  return random_fourier_trajectory(model.joints, harmonics, period, seed, limits);
+}
+
+FourierTrajectory random_fourier_trajectory(const std::vector<Joint>& joints, int harmonics,
+                                            double period, std::uint64_t seed,
+                                            const ExcitationLimits& limits) {
+  const int nj = static_cast<int>(joints.size()), K = std::max(1, harmonics);
+  FourierTrajectory tr;
+  tr.period = period;
+  tr.q0.resize(nj);
+  tr.a.resize(nj, K);
+  tr.b.resize(nj, K);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  for (int j = 0; j < nj; ++j) {
+    const Joint& joint = joints[j];
+    tr.q0[j] = joint.limited ? 0.5 * (joint.lower + joint.upper) : 0.0;
+    for (int k = 0; k < K; ++k) {
+      tr.a(j, k) = normal(rng) / (k + 1);
+      tr.b(j, k) = normal(rng) / (k + 1);
+    }
+    // At rest at t = 0: sum_k a_k = 0 and sum_k k b_k = 0 (harmonic 1 absorbs them).
+    if (K > 1) {
+      tr.a(j, 0) -= tr.a.row(j).sum();
+      double kb = 0.0;
+      for (int k = 1; k < K; ++k) kb += (k + 1) * tr.b(j, k);
+      tr.b(j, 0) = -kb;
+    } else {
+      tr.a(j, 0) = 0.0;  // one harmonic: velocity zero at t = 0 (acceleration not)
+    }
+  }
+  // Scale each joint to its tightest limit, judged on a dense grid over one period.
+  const int grid = 400 * K;
+  scale_joints(tr, limit_scale(tr, joint_bounds(joints, limits),
+                               Eigen::VectorXd::LinSpaced(grid, 0.0, grid - 1.0) * period / grid));
+  return tr;
+}
+
+Samples sample_trajectory(const FourierTrajectory& tr, double duration, double rate,
+                          const Eigen::Vector3d& gravity) {
+  const int n = static_cast<int>(std::floor(duration * rate + 1e-9)) + 1;
+  return trajectory_at(tr, Eigen::VectorXd::LinSpaced(n, 0.0, n - 1.0) / rate, gravity);
+}
 
 std::vector<Eigen::Vector3d> block_gravities(const ExcitationOptions& o) {
   if (o.tilts.empty()) return {o.level_gravity};
@@ -505,6 +555,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
 
   GridCriterion crit(model, base, opts, bounds, grid);
   const Coordinates coords(bounds, K, o.period);
+  const CriterionRows& rows = crit.criterion();
 
   // Random starts (and the baseline): the first `candidates` start, the
   // first `random_baseline` give the median.
@@ -520,8 +571,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
     if (c < o.random_baseline) {
       // The baseline's figure without the clearance: random coefficients
       // scaled to the same joint limits.
-      const double v = crit.criterion().value(crit.information(crit.sample(scaled)));
-      baseline.push_back(crit.criterion().figure(v));
+      baseline.push_back(rows.figure(rows.value(crit.information(crit.sample(scaled)))));
     }
     if (c >= std::max(1, o.candidates)) continue;
     const double f = crit.score(scaled);
@@ -537,7 +587,9 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   }
   out.random_median = median(baseline);
   out.random_count = static_cast<int>(baseline.size());
-  out.start_figure = fx < kInfeasible / 2 ? figure(crit.criterion(), fx) : kNoLimit;
+  out.start_figure = fx < kInfeasible / 2  // a score is log cond, or -log det
+                         ? rows.figure(rows.criterion() == Criterion::DOpt ? fx : std::exp(fx))
+                         : kNoLimit;
 
   // The search, then the written samples: shrink where a sample exceeds a
   // limit, and check the clearance; a miss between grid points reruns the
@@ -565,12 +617,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
                         {Hint::Setting::MinHeight, "none"}});
     best = crit.scaled(coords, x);
     const Samples one = sample_trajectory(best, o.duration, o.rate, o.level_gravity);
-    const Eigen::VectorXd s = limit_scale(best, bounds, one.time);
-    for (int j = 0; j < best.num_joints(); ++j)
-      if (s[j] < 1.0) {
-        best.a.row(j) *= s[j];
-        best.b.row(j) *= s[j];
-      }
+    scale_joints(best, limit_scale(best, bounds, one.time).cwiseMin(1.0));
     const Miss c = crit.miss(
         arm_samples(model, sample_trajectory(best, o.duration, o.rate, o.level_gravity), o), 0.0);
     if (!(c.deficit > 0.0)) break;
@@ -585,8 +632,7 @@ ExcitationSummary design_excitation(const Model& model, const BaseParameters& ba
   }
   out.trajectory = best;
   out.evaluations = crit.evaluations();
-  out.grid_figure =
-      crit.criterion().figure(crit.criterion().value(crit.information(crit.sample(best))));
+  out.grid_figure = rows.figure(rows.value(crit.information(crit.sample(best))));
   const Samples written = written_samples(model, best, o);
 
   // Figures of the written samples: every row, noise-weighted.
