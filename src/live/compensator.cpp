@@ -35,7 +35,6 @@ struct Compensator::Impl {
   std::optional<IdentifiedModelData> data;  // identified's workspace
   detail::SampleColumns columns;
   CompensatorOptions options;
-  bool dynamic = false;
   bool upstream_motion = false;         // the sensor frame's motion from the upstream joints' rates
   std::vector<double> values;           // [columns.num_values] the line's values, binding order
   std::string header, note;             // output header; notes on the columns
@@ -121,7 +120,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   m.identified = identified;
   const std::string& params_name = identified.source();
   m.options = options;
-  m.dynamic = identified.dynamic();
+  const bool dynamic = identified.dynamic();
   SampleOptions read;
   read.root_gravity = options.root_gravity;
   read.level_gravity = options.level_gravity;
@@ -133,7 +132,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
                                   fmt::format("{}:{}", source, h.header_line), read);
   }
   const Model& model = m.reading;
-  m.columns = detail::bind_header(model, text, source, read, m.dynamic);
+  m.columns = detail::bind_header(model, text, source, read, dynamic);
   detail::SampleColumns& c = m.columns;
   const std::vector<std::string>& header = c.header;
   const std::string where = fmt::format("{}:{}", source, c.header_line);
@@ -156,7 +155,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
 
   std::vector<std::string> notes;
   if (!c.note.empty()) notes.push_back(c.note);
-  if (m.dynamic) {
+  if (dynamic) {
     if (c.num_joints > 0 && c.qd < 0) {
       std::vector<std::string> need;
       for (const Joint& j : model.joints) {
@@ -294,8 +293,8 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
   const double* js = m.delay > 0.0 ? m.delayed_values(v) : v;
   FrameMotion sensor;
   const Eigen::Vector3d g = m.gravity(js, sensor);
-  if (m.dynamic && c.sensor >= 0) {
-    const Eigen::Map<const Eigen::Matrix<double, 9, 1>> s(js + c.sensor);  // wx..az
+  if (c.sensor >= 0) {  // wx..az (bound for a dynamic fit only)
+    const Eigen::Map<const Eigen::Matrix<double, 9, 1>> s(js + c.sensor);
     sensor = {s.head<3>(), s.segment<3>(3), s.tail<3>()};
   }
   const double* qd = c.qd >= 0 ? js + c.qd : js;  // static, or no joints: never read
