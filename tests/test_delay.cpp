@@ -3,6 +3,7 @@
 // trajectory evaluated there) gives its delay back within 0.2 ms, and the fit
 // with it applied matches the URDF's base parameters as a log without lag
 // does; a known delay applied gives the same; a lag beyond the scan is named.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -188,6 +189,38 @@ TEST(Delay, PredictAndCompensateApplyTheIdentifiedDelay) {
     for (std::size_t c = 1; c < table.rows[r].size(); ++c) line += "," + table.rows[r][c];
     live.compensate(line, r + 2);
     ASSERT_EQ(live.compensated(), with.compensated.row(r).transpose()) << "row " << r;
+  }
+  // The delay interpolates in t: a line whose t does not increase is refused.
+  std::string last = table.rows.back()[0];
+  for (std::size_t c = 1; c < table.rows.back().size(); ++c) last += "," + table.rows.back()[c];
+  try {
+    live.compensate(last, table.num_rows() + 2);
+    ADD_FAILURE() << "a repeated t was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(fmt::format("stdin:{}: t = ", table.num_rows() + 2), 0), 0u) << what;
+    EXPECT_NE(what.find("does not increase (the previous line's is "), std::string::npos) << what;
+    EXPECT_NE(what.find("): the clock delay needs time in order"), std::string::npos) << what;
+  }
+
+  // Lines 7 ms apart, then 1 ms apart, with a 12 ms delay: the ring of the
+  // lines kept grows while its oldest line is anywhere in it; still
+  // predict_log's figures on the same lines, bit for bit.
+  const IdentifiedModel longer = delayed.with_delay(0.012);
+  std::string text = header + "\n";
+  for (int r = 0; r < table.num_rows(); r += r < 300 ? 7 : 1) {
+    text += table.rows[r][0];
+    for (std::size_t c = 1; c < table.rows[r].size(); ++c) text += "," + table.rows[r][c];
+    text += "\n";
+  }
+  const CsvTable uneven = parse_csv(text, "uneven.csv");
+  const LogPrediction expected = predict_log(longer, uneven, "uneven.csv", po);
+  Compensator grown(longer, header + "\n", "stdin");
+  for (int r = 0; r < uneven.num_rows(); ++r) {
+    std::string line = uneven.rows[r][0];
+    for (std::size_t c = 1; c < uneven.rows[r].size(); ++c) line += "," + uneven.rows[r][c];
+    grown.compensate(line, r + 2);
+    ASSERT_EQ(grown.compensated(), expected.compensated.row(r).transpose()) << "row " << r;
   }
 
   // Without t the delay cannot be applied; a wrench ahead of the joints live

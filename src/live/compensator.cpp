@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -21,15 +22,10 @@ namespace massid {
 
 namespace {
 
-using VectorMap = Eigen::Map<const Eigen::VectorXd>;
-
 int find(const std::vector<std::string>& header, const std::string& name) {
   const auto it = std::find(header.begin(), header.end(), name);
   return it == header.end() ? -1 : static_cast<int>(it - header.begin());
 }
-
-// Where gravity comes from, per line.
-enum class GravityFrom { Columns, Upstream, Tilt };
 
 }  // namespace
 
@@ -38,20 +34,16 @@ struct Compensator::Impl {
   Model reading;  // identified's model as the header asks (with_pose_columns: the sensor's pose)
   std::optional<IdentifiedModelData> data;  // identified's workspace
   detail::SampleColumns columns;
-  GravityFrom gravity_from = GravityFrom::Columns;
-  int tilt = -1;  // value index of tilt_x_deg (read in rad), then tilt_y_deg
   CompensatorOptions options;
-  bool dynamic = false;
   bool upstream_motion = false;         // the sensor frame's motion from the upstream joints' rates
   std::vector<double> values;           // [columns.num_values] the line's values, binding order
   std::string header, note;             // output header; notes on the columns
   std::string line_out;                 // the output line, reused (capacity kept)
   Wrench compensated = Wrench::Zero();  // the last good line's fx..mz_comp
   std::optional<Tracker> tracker;       // options.track
-  bool time_tracker = false;            // options.time_tracker
   long long tracker_ns = 0;             // its last update's time (time_tracker)
-  double last_t = 0.0;                  // the last good line's t (tracking)
-  int lines_done = 0;
+  // The last line's t (tracking, the clock delay: time in order).
+  double last_t = -std::numeric_limits<double>::infinity();
   double last_quaternion[4] = {0, 0, 0, 0};  // the sensor's pose's, the last line's
   bool pose_signed = false;                  // last_quaternion holds a line's
 
@@ -68,17 +60,12 @@ struct Compensator::Impl {
   std::vector<double> delayed;  // [num_values] the joint stream at t_i - delay
 
   Eigen::Vector3d gravity(const double* v, FrameMotion& sensor) const;
-  const double* delayed_values(const double* v, int line_no);
+  const double* delayed_values(const double* v);
 };
 
-const double* Compensator::Impl::delayed_values(const double* v, int line_no) {
+const double* Compensator::Impl::delayed_values(const double* v) {
   const std::size_t n = values.size(), cap = ring_t.size();
   const double t = v[columns.time];
-  if (count > 0 && !(t > ring_t[(first + count - 1) % cap]))
-    throw InputError(
-        fmt::format("{}:{}: t = {} does not increase (the previous line's is {}): the "
-                    "clock delay needs time in order",
-                    columns.source, line_no, t, ring_t[(first + count - 1) % cap]));
   const double target = t - delay;
   // Lines before the latest at or before the target are no longer needed.
   while (count >= 2 && ring_t[(first + 1) % cap] <= target) {
@@ -87,13 +74,9 @@ const double* Compensator::Impl::delayed_values(const double* v, int line_no) {
   }
   if (count == cap) {  // grow (while the ring learns the delay's span), oldest first
     const std::size_t grown = std::max<std::size_t>(2 * cap, 8);
-    std::vector<double> r(grown * n), rt(grown);
-    for (std::size_t k = 0; k < count; ++k) {
-      const std::size_t from = (first + k) % cap;
-      std::copy_n(ring.data() + from * n, n, r.data() + k * n);
-      rt[k] = ring_t[from];
-    }
-    ring = std::move(r), ring_t = std::move(rt), first = 0;
+    std::rotate(ring.begin(), ring.begin() + first * n, ring.end());  // full: oldest at 0
+    std::rotate(ring_t.begin(), ring_t.begin() + first, ring_t.end());
+    ring.resize(grown * n), ring_t.resize(grown), first = 0;
   }
   const std::size_t at = (first + count) % ring_t.size();
   std::copy_n(v, n, ring.data() + at * n);
@@ -112,24 +95,20 @@ const double* Compensator::Impl::delayed_values(const double* v, int line_no) {
 }
 
 Eigen::Vector3d Compensator::Impl::gravity(const double* v, FrameMotion& sensor) const {
+  // Gravity from gx,gy,gz, else the upstream joints, else the platform's tilt
+  // (tilt_x_deg in rad at tilt_value, then tilt_y_deg), as the reader bound it.
   const detail::SampleColumns& c = columns;
-  switch (gravity_from) {
-    case GravityFrom::Tilt:
-      return tilted_gravity(c.level_gravity, Tilt{v[tilt], v[tilt + 1]});
-    case GravityFrom::Upstream:
-    case GravityFrom::Columns:
-      break;
-  }
+  if (c.gravity_from_tilt)
+    return tilted_gravity(c.level_gravity, Tilt{v[c.tilt_value], v[c.tilt_value + 1]});
   // The joints above the sensor link (upstream_sensor_frame, kinematics.hpp).
-  if (gravity_from == GravityFrom::Upstream || upstream_motion) {
-    const Model& model = reading;
+  if (c.gravity_from_upstream || upstream_motion) {
     Eigen::Vector3d g;
     Eigen::Matrix<double, 9, 1> m;
-    upstream_sensor_frame(model, v + c.q_up, upstream_motion ? v + c.qd_up : nullptr,
+    upstream_sensor_frame(reading, v + c.q_up, upstream_motion ? v + c.qd_up : nullptr,
                           upstream_motion ? v + c.qdd_up : nullptr, options.root_gravity, g.data(),
                           upstream_motion ? m.data() : nullptr);
     if (upstream_motion) sensor = {m.head<3>(), m.segment<3>(3), m.tail<3>()};
-    if (gravity_from == GravityFrom::Upstream) return g;
+    if (c.gravity_from_upstream) return g;
   }
   return Eigen::Vector3d(v[c.gravity], v[c.gravity + 1], v[c.gravity + 2]);
 }
@@ -141,7 +120,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   m.identified = identified;
   const std::string& params_name = identified.source();
   m.options = options;
-  m.dynamic = identified.dynamic();
+  const bool dynamic = identified.dynamic();
   SampleOptions read;
   read.root_gravity = options.root_gravity;
   read.level_gravity = options.level_gravity;
@@ -153,7 +132,7 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
                                   fmt::format("{}:{}", source, h.header_line), read);
   }
   const Model& model = m.reading;
-  m.columns = detail::bind_header(model, text, source, read, m.dynamic);
+  m.columns = detail::bind_header(model, text, source, read, dynamic);
   detail::SampleColumns& c = m.columns;
   const std::vector<std::string>& header = c.header;
   const std::string where = fmt::format("{}:{}", source, c.header_line);
@@ -164,24 +143,19 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
           "drop or rename it",
           where, w));
 
-  // Gravity: gx,gy,gz, else the upstream joints, else the platform's tilt.
-  if (c.gravity_from_upstream) {  // (with the tilt columns too: map_columns' error)
-    m.gravity_from = GravityFrom::Upstream;
-  } else if (c.gravity_from_tilt) {  // bound by the reader (csv_stream.hpp), turned here
-    m.gravity_from = GravityFrom::Tilt;
-    m.tilt = c.tilt_value;
-  } else if (c.gravity_from_force) {
+  // Gravity: gx,gy,gz, else the upstream joints, else the platform's tilt
+  // (Impl::gravity), never the measured force.
+  if (c.gravity_from_force)
     throw InputError(fmt::format(
         "{}: no gravity: add columns gx,gy,gz (m/s^2, sensor frame), or tilt_x_deg,tilt_y_deg "
         "(the platform's tilt){}; compensate does not take gravity from the measured force",
         where,
         model.num_upstream_joints() > 0 ? ", or the columns of the joints above the sensor link"
                                         : ""));
-  }
 
   std::vector<std::string> notes;
   if (!c.note.empty()) notes.push_back(c.note);
-  if (m.dynamic) {
+  if (dynamic) {
     if (c.num_joints > 0 && c.qd < 0) {
       std::vector<std::string> need;
       for (const Joint& j : model.joints) {
@@ -215,15 +189,13 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
           "motion (a dynamic fit compensates those)",
           params_name));
   }
-  // The clock delay: t is needed; a wrench ahead of the joints would need
-  // lines not read yet.
+  // Tracking and the clock delay need t (a static binding leaves it); a
+  // wrench ahead of the joints would need lines not read yet.
   m.delay = identified.delay();
-  const auto bind_time = [&] {
-    if (c.time < 0 && find(header, "t") >= 0 && c.target[find(header, "t")] < 0)
-      c.time = detail::bind_value(c, find(header, "t"), 1.0);  // a static binding leaves t
-  };
+  const int t_column = find(header, "t");
+  if ((options.track || m.delay != 0.0) && c.time < 0 && t_column >= 0 && c.target[t_column] < 0)
+    c.time = detail::bind_value(c, t_column, 1.0);
   if (options.track) {
-    bind_time();
     if (c.time < 0)
       throw InputError(fmt::format(
           "{}: --track needs the time column t (the offsets drift with time); add t", where));
@@ -234,7 +206,6 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
             "rename it",
             where, name));
     m.tracker.emplace(identified, options.tracker);
-    m.time_tracker = options.time_tracker;
     notes.push_back(fmt::format(
         "tracking a payload on link '{}' and the sensor's offsets; sensor noise taken as {:.4g} "
         "N, {:.4g} N m",
@@ -247,7 +218,6 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
           "{}: {} has a negative clock delay ({:.4g} ms: the wrench ahead of the joints): "
           "compensating it live needs lines not read yet; massid predict applies it to a file",
           where, params_name, 1e3 * m.delay));
-    bind_time();
     if (c.time < 0)
       throw InputError(fmt::format(
           "{}: {} has the wrench's clock delay ({:.4g} ms, identify --delay): compensate applies "
@@ -268,10 +238,8 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   while (!h.empty() && (h.back() == '\n' || h.back() == '\r')) h.remove_suffix(1);
   h = h.substr(h.rfind('\n') == std::string_view::npos ? 0 : h.rfind('\n') + 1);
   if (h.substr(0, 3) == "\xEF\xBB\xBF") h.remove_prefix(3);  // UTF-8 BOM
-  m.header = std::string(h);
-  for (const char* w : kWrenchColumns) m.header += fmt::format(",{}_comp", w);
-  if (m.tracker)
-    for (const char* name : kTrackerColumns) m.header += fmt::format(",{}", name);
+  m.header = fmt::format("{},{}_comp", h, fmt::join(kWrenchColumns, "_comp,"));
+  if (m.tracker) m.header += fmt::format(",{}", fmt::join(kTrackerColumns, ","));
   m.header += '\n';
   m.line_out.reserve(4096);
 }
@@ -313,43 +281,38 @@ std::string_view Compensator::compensate(std::string_view line, int line_no) {
     m.pose_signed = true;
   }
 
+  if (m.tracker || m.delay > 0.0) {  // t in order
+    const double t = v[c.time];
+    if (!(t > m.last_t))
+      throw InputError(fmt::format(
+          "{}:{}: t = {} does not increase (the previous line's is {}): {} needs time in order",
+          c.source, line_no, t, m.last_t, m.delay > 0.0 ? "the clock delay" : "tracking"));
+    m.last_t = t;
+  }
   // The joint stream: this line's, or with a clock delay the one at t - delay.
-  const double* js = m.delay > 0.0 ? m.delayed_values(v, line_no) : v;
+  const double* js = m.delay > 0.0 ? m.delayed_values(v) : v;
   FrameMotion sensor;
   const Eigen::Vector3d g = m.gravity(js, sensor);
-  if (m.dynamic && c.sensor >= 0) {
-    const double* s = js + c.sensor;
-    sensor.omega = Eigen::Vector3d(s[0], s[1], s[2]);
-    sensor.omega_dot = Eigen::Vector3d(s[3], s[4], s[5]);
-    sensor.accel = Eigen::Vector3d(s[6], s[7], s[8]);
+  if (c.sensor >= 0) {  // wx..az (bound for a dynamic fit only)
+    const Eigen::Map<const Eigen::Matrix<double, 9, 1>> s(js + c.sensor);
+    sensor = {s.head<3>(), s.segment<3>(3), s.tail<3>()};
   }
   const double* qd = c.qd >= 0 ? js + c.qd : js;  // static, or no joints: never read
   const double* qdd = c.qdd >= 0 ? js + c.qdd : js;
   const Eigen::Map<const Wrench> measured(v + c.wrench);
   if (m.tracker) {
     // measured - predicted(mechanism and payload) - offset, by the tracker.
-    const double t = v[c.time];
-    if (m.lines_done > 0 && !(t > m.last_t))
-      throw InputError(fmt::format(
-          "{}:{}: t = {} does not increase (the previous line's is {}): tracking needs time in "
-          "order",
-          c.source, line_no, t, m.last_t));
     using Clock = std::chrono::steady_clock;
-    const Clock::time_point t0 = m.time_tracker ? Clock::now() : Clock::time_point{};
-    m.compensated = m.tracker
-                        ->update(t, js, c.qd >= 0 ? qd : nullptr, c.qdd >= 0 ? qdd : nullptr, g,
-                                 sensor, measured)
-                        .compensated;
-    if (m.time_tracker)
+    const Clock::time_point t0 = m.options.time_tracker ? Clock::now() : Clock::time_point{};
+    m.compensated = m.tracker->update(m.last_t, js, qd, qdd, g, sensor, measured).compensated;
+    if (m.options.time_tracker)
       m.tracker_ns =
           std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
-    m.last_t = t;
   } else {
     // The mechanism's wrench; measured - predicted - offset (identified_model.hpp).
     const Wrench predicted = m.identified.predict(*m.data, js, qd, qdd, g, sensor);
     m.compensated = m.identified.compensate(measured, predicted);
   }
-  ++m.lines_done;
 
   // The input text, then the six values as format_number writes them.
   std::string& out = m.line_out;

@@ -1,6 +1,7 @@
 #include "massid/live/identified_model.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -58,14 +59,12 @@ IdentifiedModel IdentifiedModel::from_params(Model model, const ParamsFile& para
                                             : values_in_basis(params, model, base);
   // The file's std where its basis is this one (the same names in order).
   Eigen::VectorXd stddev;
-  bool same =
-      !options.physical && static_cast<int>(params.base_parameters.size()) == base.num_mass();
-  for (int i = 0; same && i < base.num_mass(); ++i)
-    same = params.base_parameters[static_cast<std::size_t>(i)].name == base.params[i].name;
-  if (same) {
+  const std::vector<ParamsFile::Entry>& file = params.base_parameters;
+  if (!options.physical &&
+      std::equal(file.begin(), file.end(), base.params.begin(), base.params.end(),
+                 [](const auto& e, const auto& p) { return e.name == p.name; })) {
     stddev.resize(base.num_unknowns());
-    for (int i = 0; i < base.num_mass(); ++i)
-      stddev[i] = params.base_parameters[static_cast<std::size_t>(i)].stddev;
+    for (int i = 0; i < base.num_mass(); ++i) stddev[i] = file[static_cast<std::size_t>(i)].stddev;
     if (base.offset) stddev.tail<6>() = params.offset_std;
   }
   return from_values(std::move(model), std::move(base), std::move(values), std::move(stddev), {},
@@ -116,9 +115,9 @@ IdentifiedModel IdentifiedModel::load(const std::string& urdf_path, const Params
           std::find(missing.begin(), missing.end(), t.link) == missing.end())
         missing.push_back(t.link);
   if (!missing.empty()) {
-    std::string names;
-    for (std::size_t i = 0; i < missing.size() && i < 8; ++i)
-      names += (i ? ", '" : "'") + missing[i] + "'";
+    const std::size_t shown = std::min<std::size_t>(missing.size(), 8);
+    std::string names =
+        fmt::format("'{}'", fmt::join(missing.begin(), missing.begin() + shown, "', '"));
     if (missing.size() > 8) names += fmt::format(" and {} more", missing.size() - 8);
     throw InputError(fmt::format(
         "{}: the params file belongs to another robot (its links {} are not in {}): give the URDF "
@@ -220,14 +219,8 @@ Eigen::MatrixXd IdentifiedModel::compensate_rows(
 
 Wrench IdentifiedModel::predict_gravity(IdentifiedModelData& data, const double* q,
                                         const Eigen::Vector3d& g) const {
-  const Impl& m = checked("IdentifiedModel::predict_gravity");
-  const int n = m.model.num_joints();
-  if (m.base.motion()) {
-    const double* zeros = data.zeros.data();
-    return predict_motion(m.motion, *data.motion, n > 0 ? q : zeros, zeros, zeros, g);
-  }
-  return massid::predict(m.predictor, *data.rest,
-                         Eigen::Map<const Eigen::VectorXd>(n > 0 ? q : data.zeros.data(), n), g);
+  checked("IdentifiedModel::predict_gravity");
+  return predict(data, q, data.zeros.data(), data.zeros.data(), g);  // at rest
 }
 
 Wrench IdentifiedModel::predict_gravity(IdentifiedModelData& data,
@@ -242,11 +235,11 @@ Wrench IdentifiedModel::predict(IdentifiedModelData& data, const double* q, cons
                                 const double* qdd, const Eigen::Vector3d& g,
                                 const FrameMotion& sensor) const {
   const Impl& m = checked("IdentifiedModel::predict");
-  if (!m.base.motion()) return predict_gravity(data, q, g);
   const int n = m.model.num_joints();
-  const double* zeros = data.zeros.data();
-  return predict_motion(m.motion, *data.motion, n > 0 ? q : zeros, n > 0 ? qd : zeros,
-                        n > 0 ? qdd : zeros, g, sensor);
+  if (n == 0) q = qd = qdd = data.zeros.data();  // no joints: may be null
+  if (!m.base.motion())
+    return massid::predict(m.predictor, *data.rest, Eigen::Map<const Eigen::VectorXd>(q, n), g);
+  return predict_motion(m.motion, *data.motion, q, qd, qdd, g, sensor);
 }
 
 Eigen::MatrixXd IdentifiedModel::predict_samples(IdentifiedModelData& data,

@@ -66,7 +66,7 @@ struct TrackerColumn {
   detail::store4(p + 8, v.c);
   detail::store4(p + 12, v.d);
 }
-// v += s u (u a column in memory); tracker_sub: v -= s u.
+// v += s u (u a column in memory; v -= s u as s -> -s: the same bits).
 [[gnu::always_inline]] inline void tracker_add(TrackerColumn& v, double s, const double* u) {
   TrackerColumn w;
   tracker_load(w, u);
@@ -74,14 +74,6 @@ struct TrackerColumn {
   v.b += w.b * s;
   v.c += w.c * s;
   v.d += w.d * s;
-}
-[[gnu::always_inline]] inline void tracker_sub(TrackerColumn& v, double s, const double* u) {
-  TrackerColumn w;
-  tracker_load(w, u);
-  v.a -= w.a * s;
-  v.b -= w.b * s;
-  v.c -= w.c * s;
-  v.d -= w.d * s;
 }
 
 // A vector of 6 (a wrench, a column of Y or S) as rows 0-3 and 4-5.
@@ -223,7 +215,7 @@ void tracker_correct(double* x, double* P, double* G, const double* L, const dou
     TrackerColumn g;
     tracker_load(g, G + kState * j);
 #pragma GCC unroll 16
-    for (int k = 0; k < j; ++k) tracker_sub(g, L[6 * k + j], G + kState * k);
+    for (int k = 0; k < j; ++k) tracker_add(g, -L[6 * k + j], G + kState * k);
     tracker_store(G + kState * j, g);
   }
   TrackerColumn a;
@@ -238,12 +230,7 @@ void tracker_correct(double* x, double* P, double* G, const double* L, const dou
     g.c *= r;
     g.d *= r;
     tracker_store(G + kState * j, g);
-    // x += G w
-    const double w = v[j] * r;
-    a.a += g.a * w;
-    a.b += g.b * w;
-    a.c += g.c * w;
-    a.d += g.d * w;
+    tracker_add(a, v[j] * r, G + kState * j);  // x += G w
   }
   tracker_store(x, a);
   // P -= G G^T: P(r, c) -= sum_j G(r, j) G(c, j), on and below the
@@ -314,24 +301,16 @@ Eigen::Matrix3d consistent_inertia(const Eigen::Matrix3d& I) {
 }
 
 Wrench tracker_noise(const Wrench& residual_rms, double sigma_force, double sigma_moment) {
-  Wrench noise = TrackerOptions{}.noise;
-  for (int k = 0; k < 6; ++k)
-    if (residual_rms[k] > 0) noise[k] = residual_rms[k];
+  Wrench noise = (residual_rms.array() > 0).select(residual_rms, TrackerOptions{}.noise);
   if (sigma_force > 0) noise.head<3>().setConstant(sigma_force);
   if (sigma_moment > 0) noise.tail<3>().setConstant(sigma_moment);
   return noise;
 }
 
 const char* tracker_event_name(TrackerEvent event) {
-  switch (event) {
-    case TrackerEvent::Change:
-      return "change";
-    case TrackerEvent::Contact:
-      return "contact";
-    case TrackerEvent::None:
-      break;
-  }
-  return "";
+  static const char* const names[] = {"", "change", "contact"};  // None, Change, Contact
+  const auto i = static_cast<std::size_t>(event);
+  return i < std::size(names) ? names[i] : "";
 }
 
 struct Tracker::Impl {
@@ -384,16 +363,23 @@ struct Tracker::Impl {
                                       gain.inv.data(), gain.v.data());
   }
 
+  // A row's e = z - H x against the current state (Y's inertia columns,
+  // zero at rest, taken only in motion).
+  Wrench residual(const TrackerRow& r) const {
+    Wrench e = r.z - x.tail<6>();
+    if (r.moving)
+      e.noalias() -= r.Y * x.head<kPayload>();
+    else
+      e.noalias() -= r.Y.leftCols<kRestColumns>() * x.head<kRestColumns>();
+    return e;
+  }
+
   // The gate's d^2 of the newest row (TrackerOptions::exact_d2): S = H P H^T
   // + R >= R, so d^2 = e^T S^-1 e <= e^T R^-1 e, and a row within the gate by
   // that bound is within it by S: S is formed only for the rows beyond it.
   double gate_d2(const TrackerRow& r) {
     if (!options.exact_d2) {
-      Wrench e = r.z - x.tail<6>();
-      if (r.moving)
-        e.noalias() -= r.Y * x.head<kPayload>();
-      else
-        e.noalias() -= r.Y.leftCols<kRestColumns>() * x.head<kRestColumns>();
+      const Wrench e = residual(r);
       const double bound = (e.array().square() * noise_inv.array()).sum();
       if (bound <= options.gate) return bound;
     }
@@ -411,7 +397,7 @@ struct Tracker::Impl {
   // equations axis by axis as outer products of Y's rows on the columns they
   // can have non-zero.
   void refit_share(TrackerRow& r) const {
-    const Wrench e = r.z - r.Y * x.head<kPayload>() - x.tail<6>();
+    const Wrench e = residual(r);
     const Wrench& w = noise_inv;
     r.A.setZero();
     r.b.setZero();
@@ -467,7 +453,7 @@ struct Tracker::Impl {
     P.topLeftCorner<kPayload, kPayload>().diagonal() = prior_var;
   }
 
-  void write_estimate(const Wrench& measured_minus_mechanism, const TrackerRow& r);
+  void write_estimate(const TrackerRow& r);
 
   void rigid_mechanism();
 };
@@ -513,13 +499,12 @@ void Tracker::Impl::rigid_mechanism() {
   }
 }
 
-void Tracker::Impl::write_estimate(const Wrench& z, const TrackerRow& r) {
+void Tracker::Impl::write_estimate(const TrackerRow& r) {
   TrackerEstimate& out = estimate;
   const double m = x[0];
   out.mass = std::max(m, 0.0);
   out.mass_std = std::sqrt(std::max(P(0, 0), 0.0));
   const Eigen::Vector3d h = x.segment<3>(1);
-  const Eigen::Matrix3d Phh = P.block<3, 3>(1, 1);
   // The centre of mass h / m and its std (first order) once the mass is seen.
   if (out.mass > 3.0 * out.mass_std && out.mass > 0.0) {
     out.com = h / out.mass;
@@ -530,16 +515,15 @@ void Tracker::Impl::write_estimate(const Wrench& z, const TrackerRow& r) {
     out.com_stds = C.diagonal().cwiseMax(0.0).cwiseSqrt();
   } else {
     out.com.setZero();
-    out.com_stds = Phh.diagonal().cwiseMax(0.0).cwiseSqrt() /
+    out.com_stds = P.diagonal().segment<3>(1).cwiseMax(0.0).cwiseSqrt() /
                    std::max(std::max(out.mass, 3.0 * out.mass_std), 1e-12);
   }
   out.com_std = out.com_stds.maxCoeff();
   // The inertia about the centre of mass, projected: principal moments
   // l_k = d_i + d_j with the second moments d >= 0 (PSD and the triangle
   // inequalities).
-  double inertia_std = 0.0;
-  for (int k = 4; k < kPayload; ++k) inertia_std = std::max(inertia_std, P(k, k));
-  out.inertia_determined = std::sqrt(inertia_std) <= options.inertia_determined;
+  const double inertia_var = P.diagonal().segment<6>(kRestColumns).maxCoeff();
+  out.inertia_determined = std::sqrt(std::max(inertia_var, 0.0)) <= options.inertia_determined;
   if (out.inertia_determined) {
     Eigen::Matrix3d I;
     I << x[4], x[5], x[6], x[5], x[7], x[8], x[6], x[8], x[9];
@@ -551,11 +535,7 @@ void Tracker::Impl::write_estimate(const Wrench& z, const TrackerRow& r) {
   }
   out.offset = x.tail<6>();
   out.offset_std = P.bottomRightCorner<6, 6>().diagonal().cwiseMax(0.0).cwiseSqrt();
-  out.compensated = z - x.tail<6>();
-  if (r.moving)
-    out.compensated.noalias() -= r.Y * x.head<kPayload>();
-  else
-    out.compensated.noalias() -= r.Y.leftCols<kRestColumns>() * x.head<kRestColumns>();
+  out.compensated = residual(r);
 }
 
 Tracker::Tracker(const IdentifiedModel& identified, const TrackerOptions& options) {
@@ -634,17 +614,15 @@ const TrackerEstimate& Tracker::update(double t, const double* q, const double* 
   // The mechanism's wrench and LINK's regressor, from the same joints.
   const Model& model = m.identified.model();
   const int n = model.num_joints();
-  const double* z0 = m.zeros.data();
-  const bool motion = m.dynamic && qd != nullptr && qdd != nullptr;
+  if (!m.dynamic || qd == nullptr || qdd == nullptr) qd = qdd = m.zeros.data();  // at rest
   using VectorMap = Eigen::Map<const Eigen::VectorXd>;
-  forward_kinematics(model, m.kin, VectorMap(n > 0 ? q : z0, n), VectorMap(motion ? qd : z0, n),
-                     VectorMap(motion ? qdd : z0, n), gravity, m.dynamic ? sensor : FrameMotion{});
+  forward_kinematics(model, m.kin, VectorMap(q, n), VectorMap(qd, n), VectorMap(qdd, n), gravity,
+                     m.dynamic ? sensor : FrameMotion{});
   ++m.count;
   TrackerRow& r = m.row(m.count);
   r.Y = link_regressor(m.kin, m.link);
   const Wrench predicted = m.rigid ? Wrench(r.Y * m.theta_rigid)
-                                   : m.identified.predict(m.data, n > 0 ? q : z0, motion ? qd : z0,
-                                                          motion ? qdd : z0, gravity, sensor);
+                                   : m.identified.predict(m.data, q, qd, qdd, gravity, sensor);
   r.moving = (r.Y.rightCols<kPayload - kRestColumns>().array() != 0.0).any();
   r.z = measured - predicted;
   m.estimate.d2 = m.gate_d2(r);
@@ -676,7 +654,7 @@ const TrackerEstimate& Tracker::update(double t, const double* q, const double* 
     if (m.last_flagged < j - o.lag) m.learn(m.row(j));
     m.next_commit = j + 1;
   }
-  m.write_estimate(r.z, r);
+  m.write_estimate(r);
   return m.estimate;
 }
 
