@@ -9,13 +9,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <locale>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string_view>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "io/edit_distance.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/model.hpp"
@@ -171,44 +172,16 @@ void check_tree(const tinyxml2::XMLDocument& doc, const std::string& source) {
   }
 }
 
-// True when s is well-formed UTF-8 (no overlong forms, surrogates or code
-// points above U+10FFFF).
-bool valid_utf8(std::string_view s) {
-  size_t i = 0;
-  while (i < s.size()) {
-    const auto b = static_cast<unsigned char>(s[i]);
-    int more = 0;
-    unsigned lo = 0x80, hi = 0xBF;  // range of the first continuation byte
-    if (b < 0x80) {
-      ++i;
-      continue;
-    } else if (b >= 0xC2 && b <= 0xDF) {
-      more = 1;
-    } else if (b >= 0xE0 && b <= 0xEF) {
-      more = 2;
-      if (b == 0xE0) lo = 0xA0;
-      if (b == 0xED) hi = 0x9F;
-    } else if (b >= 0xF0 && b <= 0xF4) {
-      more = 3;
-      if (b == 0xF0) lo = 0x90;
-      if (b == 0xF4) hi = 0x8F;
-    } else {
-      return false;
-    }
-    if (i + more >= s.size()) return false;  // truncated sequence
-    for (int k = 1; k <= more; ++k) {
-      const auto c = static_cast<unsigned char>(s[i + k]);
-      if (c < (k == 1 ? lo : 0x80) || c > (k == 1 ? hi : 0xBF)) return false;
-    }
-    i += more + 1;
-  }
-  return true;
-}
-
-// Names reach JSON output (params files), which must be UTF-8.
+// Names reach JSON output (params files), which must be UTF-8: nlohmann's
+// writer refuses what is not (type_error 316: malformed, overlong, a
+// surrogate, beyond U+10FFFF, truncated).
 void check_name(const tinyxml2::XMLDocument& doc, const std::string& source, const char* tag,
                 const std::string& name) {
-  if (valid_utf8(name)) return;
+  try {
+    nlohmann::json(name).dump();
+    return;
+  } catch (const nlohmann::json::type_error&) {
+  }
   std::string shown;
   for (const char ch : name) {
     const auto b = static_cast<unsigned char>(ch);
@@ -565,11 +538,7 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
 }
 
 Model load_urdf(const std::string& path, const std::string& sensor_link) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open URDF file", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return load_urdf_string(text.str(), sensor_link, path);
+  return load_urdf_string(read_file(path, "cannot open URDF file"), sensor_link, path);
 }
 
 }  // namespace massid
