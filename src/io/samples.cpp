@@ -220,7 +220,9 @@ std::vector<std::string> column_roles(const Model& model, const std::vector<std:
 std::string file_column_note(const Model& model, const std::string& path,
                              const SampleOptions& options) {
   const detail::MappedFile file(path);
-  return detail::bind_header(model, file.text(), path, options, options.sensor_motion).note;
+  detail::SampleColumns header;
+  detail::read_header(file.text(), path, header);
+  return detail::bind_header(model, std::move(header), options, options.sensor_motion).note;
 }
 
 Model with_pose_columns(Model model, const std::vector<std::string>& header,
