@@ -227,12 +227,22 @@ JointType joint_type(const urdf::JointConstSharedPtr& j, const std::string& sour
   }
 }
 
-Eigen::Vector3d joint_axis(const urdf::JointConstSharedPtr& j, const std::string& source,
-                           int line) {
-  const Eigen::Vector3d axis(j->axis.x, j->axis.y, j->axis.z);
-  if (axis.norm() < 1e-12)
+// A link's joint or a step of the chain above the sensor link: `j`'s name
+// checked, its origin, type and (movable) unit axis into `out`; its line.
+template <class LinkOrStep>
+int read_joint(LinkOrStep& out, const urdf::JointConstSharedPtr& j,
+               const tinyxml2::XMLDocument& doc, const std::string& source) {
+  const int line = element_line(doc, "joint", j->name);
+  check_name(doc, source, "joint", j->name);
+  out.joint = j->name;
+  out.origin = to_isometry(j->parent_to_joint_origin_transform);
+  out.type = joint_type(j, source, line);
+  if (out.type == JointType::Fixed) return line;
+  out.axis = Eigen::Vector3d(j->axis.x, j->axis.y, j->axis.z);
+  if (out.axis.norm() < 1e-12)
     throw InputError(fmt::format("{}:{}: joint '{}' has a zero axis", source, line, j->name));
-  return axis.normalized();
+  out.axis.normalize();
+  return line;
 }
 
 Joint make_joint(const urdf::JointConstSharedPtr& j, JointType type, int link,
@@ -416,14 +426,8 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   // dropped: the sensor frame's gravity must then come from gx,gy,gz columns.
   try {
     for (urdf::LinkConstSharedPtr at = root; at->parent_joint; at = at->getParent()) {
-      const urdf::JointConstSharedPtr j = at->parent_joint;
-      const int line = element_line(doc, "joint", j->name);
-      check_name(doc, source, "joint", j->name);
       ChainStep step;
-      step.joint = j->name;
-      step.origin = to_isometry(j->parent_to_joint_origin_transform);
-      step.type = joint_type(j, source, line);
-      if (step.type != JointType::Fixed) step.axis = joint_axis(j, source, line);
+      read_joint(step, at->parent_joint, doc, source);
       model.upstream.insert(model.upstream.begin(), step);
     }
     for (ChainStep& step : model.upstream) {
@@ -509,13 +513,8 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
     }
     if (cur.parent >= 0) {
       const urdf::JointConstSharedPtr j = cur.link->parent_joint;
-      const int line = element_line(doc, "joint", j->name);
-      check_name(doc, source, "joint", j->name);
-      link.joint = j->name;
-      link.origin = to_isometry(j->parent_to_joint_origin_transform);
-      link.type = joint_type(j, source, line);
+      const int line = read_joint(link, j, doc, source);
       if (link.type != JointType::Fixed) {
-        link.axis = joint_axis(j, source, line);
         const Joint joint = make_joint(j, link.type, model.num_links(), source, line);
         if (j->mimic) {
           mimics.push_back({model.num_links(), j->name, j->mimic->joint_name, j->mimic->multiplier,
