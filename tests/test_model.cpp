@@ -1,3 +1,4 @@
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <string>
@@ -69,8 +70,18 @@ TEST(Model, NamesMustBeUtf8) {
                        "<joint name=\"j\xC3\" type=\"continuous\"><parent link=\"a\"/>"
                        "<child link=\"b\"/><axis xyz=\"0 0 1\"/></joint>\n</robot>"),
             "r.urdf:4: joint name 'j\\xC3' is not UTF-8 text");
-  // Multi-byte UTF-8 is fine.
+  // Not UTF-8 either: an overlong form, a surrogate, a code point beyond
+  // U+10FFFF, a sequence cut short.
+  for (const std::string bad : {"\xC0\xAF", "\xE0\x80\xAF", "\xED\xA0\x80", "\xF4\x90\x80\x80",
+                                "\xE2\x82", "\xF0\x9F\xA4"}) {
+    std::string shown;
+    for (const char ch : bad) shown += fmt::format("\\x{:02X}", static_cast<unsigned char>(ch));
+    EXPECT_EQ(load_error("<robot name=\"r\">\n<link name=\"a" + bad + "\"/>\n</robot>"),
+              "r.urdf:2: link name 'a" + shown + "' is not UTF-8 text");
+  }
+  // Multi-byte UTF-8 is fine (the largest code point, U+10FFFF, too).
   EXPECT_EQ(load_error("<robot name=\"r\"><link name=\"\xC3\xA9l\xE2\x82\xAC\xF0\x9F\xA4\x96\"/>"
                        "</robot>"),
             "no error");
+  EXPECT_EQ(load_error("<robot name=\"r\"><link name=\"a\xF4\x8F\xBF\xBF\"/></robot>"), "no error");
 }

@@ -14,9 +14,8 @@ void write_plan(const std::string& path, const Model& model, const std::vector<P
     for (const Joint& j : model.upstream_joints) header.push_back(j.name);
   for (const Joint& j : model.joints) header.push_back(j.name);
   for (const auto& [name, value] : model.held) header.push_back(name);
-  for (const char* c : {"gx", "gy", "gz"}) header.push_back(c);
-  if (!wrist)
-    for (const char* c : {"tilt_x_deg", "tilt_y_deg"}) header.push_back(c);
+  header.insert(header.end(), {"gx", "gy", "gz"});
+  if (!wrist) header.insert(header.end(), {"tilt_x_deg", "tilt_y_deg"});
   std::vector<std::vector<std::string>> rows;
   const double deg = 180.0 / std::numbers::pi;
   for (const PlanPose& p : plan) {

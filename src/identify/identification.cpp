@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <utility>
@@ -228,9 +227,7 @@ void write_identification(const std::string& path, const Identification& ident, 
 }
 
 Identification read_identification(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open file", path));
-  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
+  const std::string bytes = read_file(path);
   Identification out;
   try {
     record_json j = record_json::from_cbor(bytes);

@@ -5,12 +5,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <tuple>
 
+#include "io/atomic_file.hpp"
 #include "massid/core/errors.hpp"
 
 namespace massid {
@@ -271,10 +270,7 @@ std::string replace_inertials(const std::string& urdf, const std::string& source
 
 std::string identified_urdf(const Model& model, const PhysicalSummary& physical,
                             const std::string& note) {
-  std::ifstream in(model.source, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot read the URDF", model.source));
-  std::stringstream text;
-  text << in.rdbuf();
+  const std::string text = read_file(model.source, "cannot read the URDF");
   if (static_cast<int>(physical.links.size()) != model.num_links())
     throw InputError(fmt::format("{}: the physical parameters are of another model", model.source));
   std::vector<LinkInertial> edits;
@@ -290,7 +286,7 @@ std::string identified_urdf(const Model& model, const PhysicalSummary& physical,
                                                        "fit's small body"
                                               : note});
   }
-  return replace_inertials(text.str(), model.source, edits);
+  return replace_inertials(text, model.source, edits);
 }
 
 }  // namespace massid

@@ -9,11 +9,21 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <vector>
 
 #include "massid/core/errors.hpp"
 
 namespace massid {
+
+std::string read_file(const std::string& path, const char* error) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: {}", path, error));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
 void write_file_atomically(const std::string& path, const std::string& content) {
   std::string tmpl = path + ".tmp.XXXXXX";

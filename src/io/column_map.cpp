@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <iterator>
 #include <numbers>
 #include <set>
 
@@ -203,23 +204,21 @@ Model with_pose_columns(Model model, const std::vector<std::string>& header,
                         const std::string& where, const ColumnNames& names) {
   if (model.pose != SensorPoseColumns::None) return model;
   const auto has = [&](const std::string& role) { return has_role(header, names, role); };
-  // Of a group: the names present, and whether all are.
-  const auto present = [&](const auto& group, bool& all) {
-    std::vector<std::string> out, missing;
-    for (const char* n : group) (has(n) ? out : missing).push_back(n);
-    all = missing.empty();
-    if (!out.empty() && !all)
+  // Whether the header has all of a group (some of it: an error).
+  const auto complete = [&](const auto& group) {
+    std::vector<std::string> missing;
+    for (const char* n : group)
+      if (!has(n)) missing.push_back(n);
+    if (!missing.empty() && missing.size() < std::size(group))
       throw InputError(fmt::format(
           "{}: column(s) {} missing (the header has some of the sensor's pose {} but not all): "
           "give all of them, or rename the columns that are not these",
           where, fmt::join(missing, ","), fmt::join(std::begin(group), std::end(group), ",")));
-    return out;
+    return missing.empty();
   };
-  bool quaternion = false, matrix = false, position = false;
-  const std::vector<std::string> q = present(kPoseQuaternion, quaternion);
-  const std::vector<std::string> r = present(kPoseMatrix, matrix);
+  const bool quaternion = complete(kPoseQuaternion), matrix = complete(kPoseMatrix);
   if (!quaternion && !matrix) return model;  // x,y,z alone: no pose, columns as before
-  present(kPosePosition, position);
+  const bool position = complete(kPosePosition);
   const std::string pose = quaternion ? "qx,qy,qz,qw" : "r11..r33";
   if (quaternion && matrix)
     throw InputError(fmt::format(

@@ -16,6 +16,14 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
+size_t next_line(std::string_view text, size_t pos, std::string_view& line) {
+  const size_t nl = text.find('\n', pos);
+  const size_t end = nl == std::string_view::npos ? text.size() : nl;
+  line = text.substr(pos, end - pos);
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  return nl == std::string_view::npos ? text.size() : nl + 1;
+}
+
 void split(std::string_view line, const std::string& source, int line_no,
            std::vector<std::string>& fields, std::vector<int>& offsets) {
   fields.clear();

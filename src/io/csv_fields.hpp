@@ -3,6 +3,7 @@
 // reader (csv_stream.cpp) share.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -11,6 +12,10 @@ namespace massid::detail {
 
 // s without leading blanks and trailing blanks or '\r'.
 std::string_view trim(std::string_view s);
+
+// The line starting at byte pos of text (without its '\n' and a '\r' before
+// it) into `line`; returns the position after it.
+size_t next_line(std::string_view text, size_t pos, std::string_view& line);
 
 // Splits one line into fields (double-quoted fields may hold commas and "");
 // offsets are 1-based character columns. Throws InputError naming

@@ -1,9 +1,8 @@
 #include <fmt/format.h>
 
-#include <fstream>
-#include <sstream>
-
+#include "io/atomic_file.hpp"
 #include "io/csv_fields.hpp"
+#include "io/csv_stream.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/io/csv.hpp"
 
@@ -23,44 +22,30 @@ double CsvTable::number(int row, int column) const {
 CsvTable parse_csv(const std::string& text, const std::string& source) {
   CsvTable table;
   table.source = source;
-  std::string_view rest(text);
-  if (rest.substr(0, 3) == "\xEF\xBB\xBF") rest.remove_prefix(3);  // UTF-8 BOM
-  int line_no = 0;
+  detail::SampleColumns h;  // the header: the streaming reader's rules and messages
+  detail::read_header(text, source, h);
+  table.header = std::move(h.header);
+  table.header_line = h.header_line;
   std::vector<std::string> fields;
   std::vector<int> offsets;
-  while (!rest.empty()) {
-    const size_t nl = rest.find('\n');
-    std::string_view line = rest.substr(0, nl);
-    rest = nl == std::string_view::npos ? std::string_view() : rest.substr(nl + 1);
+  std::string_view line;
+  int line_no = h.header_line;
+  for (size_t pos = h.data_begin; pos < text.size();) {
+    pos = detail::next_line(text, pos, line);
     ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const std::string_view content = detail::trim(line);
     if (content.empty() || content.front() == '#') continue;
     detail::split(line, source, line_no, fields, offsets);
-    if (table.header.empty()) {
-      table.header_line = line_no;
-      detail::check_header(fields, offsets, source, line_no);
-      table.header = fields;
-      continue;
-    }
     detail::check_row_width(line, offsets, table.header.size(), source, line_no);
     table.rows.push_back(fields);
     table.column_offset.push_back(offsets);
     table.line.push_back(line_no);
   }
-  if (table.header.empty())
-    throw InputError(fmt::format("{}:1:1: empty file, no header row", source));
   if (table.rows.empty())
     throw InputError(fmt::format("{}:{}:1: header but no data rows", source, table.header_line));
   return table;
 }
 
-CsvTable read_csv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open file", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_csv(text.str(), path);
-}
+CsvTable read_csv(const std::string& path) { return parse_csv(read_file(path), path); }
 
 }  // namespace massid

@@ -17,18 +17,6 @@
 #include "massid/io/read_samples.hpp"
 
 namespace massid::detail {
-namespace {
-
-// Next line [begin, line_end) from pos; returns the position after it.
-size_t next_line(std::string_view text, size_t pos, std::string_view& line) {
-  const size_t nl = text.find('\n', pos);
-  const size_t end = nl == std::string_view::npos ? text.size() : nl;
-  line = text.substr(pos, end - pos);
-  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-  return nl == std::string_view::npos ? text.size() : nl + 1;
-}
-
-}  // namespace
 
 MappedFile::MappedFile(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -61,6 +49,7 @@ int line_number(std::string_view text, size_t pos) {
 }
 
 void read_header(std::string_view text, const std::string& source, SampleColumns& c) {
+  c.source = source;
   size_t pos = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // UTF-8 BOM
   int line_no = 0;
   std::vector<std::string> fields;
@@ -81,20 +70,14 @@ void read_header(std::string_view text, const std::string& source, SampleColumns
   if (c.header.empty()) throw InputError(fmt::format("{}:1:1: empty file, no header row", source));
 }
 
-namespace {
-
-// bind_columns, and with require_rows false bind_header.
-SampleColumns bind(const Model& model, std::string_view text, const std::string& source,
-                   const SampleOptions& options, bool motion, bool require_rows) {
+SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
+                           const SampleOptions& options, bool motion) {
   SampleColumns c;
-  c.source = source;
-  c.g0 = options.g0;
-  c.root_gravity = options.root_gravity;
   read_header(text, source, c);
-  std::string_view line;
   // read_csv's check: at least one data row. (Rows are checked in full later;
   // a malformed row is reported when it is reached.)
-  bool any = !require_rows;
+  bool any = false;
+  std::string_view line;
   for (size_t p = c.data_begin; p < text.size() && !any;) {
     p = next_line(text, p, line);
     const std::string_view content = trim(line);
@@ -102,9 +85,15 @@ SampleColumns bind(const Model& model, std::string_view text, const std::string&
   }
   if (!any)
     throw InputError(fmt::format("{}:{}:1: header but no data rows", source, c.header_line));
+  return bind_header(model, std::move(c), options, motion);
+}
 
+SampleColumns bind_header(const Model& model, SampleColumns c, const SampleOptions& options,
+                          bool motion) {
+  c.g0 = options.g0;
+  c.root_gravity = options.root_gravity;
   // The one binding (column_map.hpp): every header error, read_samples' messages.
-  const std::string where = fmt::format("{}:{}", source, c.header_line);
+  const std::string where = fmt::format("{}:{}", c.source, c.header_line);
   const ColumnMap map =
       map_columns(model, c.header, where, WrenchColumns::Required, options.columns, motion);
   c.level_gravity = level_gravity_of(model, map.gravity_from, options, where);
@@ -171,18 +160,6 @@ SampleColumns bind(const Model& model, std::string_view text, const std::string&
   return c;
 }
 
-}  // namespace
-
-SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
-                           const SampleOptions& options, bool motion) {
-  return bind(model, text, source, options, motion, true);
-}
-
-SampleColumns bind_header(const Model& model, std::string_view text, const std::string& source,
-                          const SampleOptions& options, bool motion) {
-  return bind(model, text, source, options, motion, false);
-}
-
 int bind_value(SampleColumns& c, int column, double scale) {
   c.target[column] = c.num_values;
   c.scale[column] = scale;
@@ -206,14 +183,6 @@ std::pair<size_t, size_t> block_range(std::string_view text, const SampleColumns
   };
   return {line_start(c.data_begin + k * block_bytes),
           line_start(c.data_begin + (k + 1) * block_bytes)};
-}
-
-bool parse_line_slow(std::string_view text, size_t line_begin, size_t line_end,
-                     const SampleColumns& c, double* vals) {
-  const std::string_view line = text.substr(line_begin, line_end - line_begin);
-  const std::string_view content = trim(line);
-  if (content.empty() || content.front() == '#') return false;
-  return parse_row_slow(line, line_number(text, line_begin), c, vals);
 }
 
 bool parse_row_slow(std::string_view line, int line_no, const SampleColumns& c, double* vals) {

@@ -94,24 +94,23 @@ struct SampleColumns {
   int gravity_value() const { return gravity; }
 };
 
-// The header alone: c.header, c.header_line and c.data_begin (the first line
-// neither blank nor a comment; a UTF-8 BOM skipped). InputError for an empty
-// file or a bad header.
+// The header alone: c.source, c.header, c.header_line and c.data_begin (the
+// first line neither blank nor a comment; a UTF-8 BOM skipped). InputError for
+// an empty file or a bad header.
 void read_header(std::string_view text, const std::string& source, SampleColumns& c);
 
-// Reads the header and binds it with map_columns (column_map.hpp; InputError
-// as read_csv/read_samples with WrenchColumns::Required, incl. "header but no
-// data rows"), with options.columns: every optional group is checked (the
-// sensor motion wx..az given in part only with `motion`: else ignored); with
-// `motion` they are laid out too.
+// Reads the header and binds it (bind_header; InputError as read_csv/
+// read_samples with WrenchColumns::Required, incl. "header but no data rows").
 SampleColumns bind_columns(const Model& model, std::string_view text, const std::string& source,
                            const SampleOptions& options, bool motion = false);
 
-// bind_columns for a header alone, the rows to come later (a live stream,
-// compensator.hpp): `text` ends with the header line (blank and comment lines
-// before it count for its line number); no "header but no data rows" check.
-SampleColumns bind_header(const Model& model, std::string_view text, const std::string& source,
-                          const SampleOptions& options, bool motion = false);
+// Binds a header that read_header read (the rows may come later: a live
+// stream, compensator.hpp) with map_columns (column_map.hpp), with
+// options.columns: every optional group is checked (the sensor motion wx..az
+// given in part only with `motion`: else ignored); with `motion` they are laid
+// out too.
+SampleColumns bind_header(const Model& model, SampleColumns header, const SampleOptions& options,
+                          bool motion = false);
 
 // Binds one more column (one the binding leaves unused, target -1) as the
 // next row value, read as scale * cell; returns its value index.
@@ -139,11 +138,8 @@ std::size_t num_blocks(std::string_view text, const SampleColumns& c, std::size_
 std::pair<std::size_t, std::size_t> block_range(std::string_view text, const SampleColumns& c,
                                                 std::size_t block_bytes, std::size_t k);
 
-// Slow path for one line [line_begin, line_end) ('\r' already removed): false
-// for a blank or comment line, true with vals filled, or InputError.
-bool parse_line_slow(std::string_view text, std::size_t line_begin, std::size_t line_end,
-                     const SampleColumns& c, double* vals);
-// The same for one line held alone ('\r' removed), `line_no` its number for messages.
+// Slow path for one line ('\r' removed), `line_no` its number for messages:
+// false for a blank or comment line, true with vals filled, or InputError.
 bool parse_row_slow(std::string_view line, int line_no, const SampleColumns& c, double* vals);
 
 // The first max_rows samples of a data file (q, gravity, wrench, line: what
@@ -267,10 +263,8 @@ std::size_t parse_block(std::string_view text, const SampleColumns& c, std::size
     if (le > p && le[-1] == '\r') --le;
     int kind = csv_fast::parse_line(p, le, c, vals.data());
     if (kind < 0)
-      kind = parse_line_slow(text, static_cast<std::size_t>(p - base),
-                             static_cast<std::size_t>(le - base), c, vals.data())
-                 ? 1
-                 : 0;
+      kind = parse_row_slow({p, static_cast<std::size_t>(le - p)},
+                            line_number(text, static_cast<std::size_t>(p - base)), c, vals.data());
     if (kind == 1) {
       if (c.pose != SensorPoseColumns::None && c.q_up >= 0)
         check_pose(text, static_cast<std::size_t>(p - base), c, vals.data());

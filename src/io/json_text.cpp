@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <string_view>
+
 #include "massid/core/errors.hpp"
 
 namespace massid {
@@ -31,16 +34,10 @@ nlohmann::ordered_json parse_json(const std::string& text, const std::string& so
   PositionedDomParser sax(result);
   if (json::sax_parse(text, &sax)) return result;
   // 1-based line and column of the byte before which parsing failed.
-  const size_t byte = sax.error_byte > 0 ? sax.error_byte - 1 : 0;
-  int line = 1, col = 1;
-  for (size_t i = 0; i < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      col = 1;
-    } else {
-      ++col;
-    }
-  }
+  const std::string_view before =
+      std::string_view(text).substr(0, sax.error_byte > 0 ? sax.error_byte - 1 : 0);
+  const auto line = 1 + std::count(before.begin(), before.end(), '\n');
+  const size_t col = before.size() - (before.rfind('\n') + 1) + 1;  // (npos + 1 == 0)
   // "[json.exception.parse_error.101] parse error at line 1, column 2: ...": from "parse error";
   // "[json.exception.out_of_range.406] number overflow parsing '1e400'": after the tag.
   const std::string& what = sax.error;

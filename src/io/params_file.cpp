@@ -4,11 +4,10 @@
 
 #include <Eigen/QR>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
+#include "io/atomic_file.hpp"
 #include "io/json_text.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/regressor.hpp"
@@ -23,12 +22,7 @@ using json = nlohmann::ordered_json;
 }  // namespace
 
 ParamsFile read_params(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open params file", path));
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  const std::string text = buf.str();
-  json j = parse_json(text, path);
+  json j = parse_json(read_file(path, "cannot open params file"), path);
   ParamsFile p;
   p.source = path;
   auto fail = [&](const std::string& what) { throw InputError(fmt::format("{}: {}", path, what)); };

@@ -108,28 +108,22 @@ Samples samples_of(const Model& model, const Columns& table, const std::string& 
   }
   if (!map.q_upstream.empty() && model.pose != SensorPoseColumns::None) {
     // The sensor's pose: checked, normalised, a quaternion's sign continuous
-    // (with its given rates).
+    // (with its given rates); a row per column, each contiguous.
     const bool rates = s.qd_upstream.cols() > 0;
     const int nu = static_cast<int>(s.q_upstream.cols());
-    Eigen::VectorXd qu(nu), qdu(rates ? nu : 0), qddu(rates ? nu : 0), previous(nu);
+    Eigen::MatrixXd qu = s.q_upstream.transpose(), qdu = s.qd_upstream.transpose(),
+                    qddu = s.qdd_upstream.transpose();
     for (int r = 0; r < N; ++r) {
-      qu = s.q_upstream.row(r).transpose();
-      const std::string why = normalise_pose(model.pose, nu, qu.data());
+      const std::string why = normalise_pose(model.pose, nu, qu.col(r).data());
       if (!why.empty()) throw InputError(fmt::format("{}: {}", table.row_where(r), why));
-      if (rates) {
-        qdu = s.qd_upstream.row(r).transpose();
-        qddu = s.qdd_upstream.row(r).transpose();
-      }
       if (r > 0)
-        continue_pose_sign(model.pose, previous.data(), qu.data(), rates ? qdu.data() : nullptr,
-                           rates ? qddu.data() : nullptr);
-      s.q_upstream.row(r) = qu.transpose();
-      if (rates) {
-        s.qd_upstream.row(r) = qdu.transpose();
-        s.qdd_upstream.row(r) = qddu.transpose();
-      }
-      previous = qu;
+        continue_pose_sign(model.pose, qu.col(r - 1).data(), qu.col(r).data(),
+                           rates ? qdu.col(r).data() : nullptr,
+                           rates ? qddu.col(r).data() : nullptr);
     }
+    s.q_upstream = qu.transpose();
+    s.qd_upstream = qdu.transpose();
+    s.qdd_upstream = qddu.transpose();
   }
   if (!map.wrench.empty()) s.wrench = read_group(table, map.wrench, Order::ByRow);
   if (map.time >= 0) s.time = read_group(table, {{map.time, 1.0}}, Order::ByRow).col(0);
@@ -186,16 +180,14 @@ void resolve_upstream(const Model& model, Samples& s) {
   detail::check_size("resolve_upstream", "q_upstream", s.q_upstream.cols(), nu,
                      "the joints above the sensor");
   if (moving) s.sensor_motion.resize(s.size(), 9);
-  Eigen::VectorXd qu(nu), qdu(nu), qddu(nu);
+  // A row per column, each contiguous.
+  const Eigen::MatrixXd qu = s.q_upstream.transpose(), qdu = s.qd_upstream.transpose(),
+                        qddu = s.qdd_upstream.transpose();
   Eigen::Vector3d g;
   Eigen::Matrix<double, 9, 1> motion;
   for (int i = 0; i < s.size(); ++i) {
-    qu = s.q_upstream.row(i).transpose();
-    if (moving) {
-      qdu = s.qd_upstream.row(i).transpose();
-      qddu = s.qdd_upstream.row(i).transpose();
-    }
-    upstream_sensor_frame(model, qu.data(), qdu.data(), qddu.data(), s.root_gravity,
+    upstream_sensor_frame(model, qu.col(i).data(), moving ? qdu.col(i).data() : nullptr,
+                          moving ? qddu.col(i).data() : nullptr, s.root_gravity,
                           s.gravity_from_upstream ? g.data() : nullptr,
                           moving ? motion.data() : nullptr);
     if (s.gravity_from_upstream) s.gravity.row(i) = g.transpose();
@@ -220,7 +212,9 @@ std::vector<std::string> column_roles(const Model& model, const std::vector<std:
 std::string file_column_note(const Model& model, const std::string& path,
                              const SampleOptions& options) {
   const detail::MappedFile file(path);
-  return detail::bind_header(model, file.text(), path, options, options.sensor_motion).note;
+  detail::SampleColumns header;
+  detail::read_header(file.text(), path, header);
+  return detail::bind_header(model, std::move(header), options, options.sensor_motion).note;
 }
 
 Model with_pose_columns(Model model, const std::vector<std::string>& header,

@@ -9,13 +9,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <locale>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string_view>
 #include <vector>
 
+#include "io/atomic_file.hpp"
 #include "io/edit_distance.hpp"
 #include "massid/core/errors.hpp"
 #include "massid/core/model.hpp"
@@ -171,44 +172,16 @@ void check_tree(const tinyxml2::XMLDocument& doc, const std::string& source) {
   }
 }
 
-// True when s is well-formed UTF-8 (no overlong forms, surrogates or code
-// points above U+10FFFF).
-bool valid_utf8(std::string_view s) {
-  size_t i = 0;
-  while (i < s.size()) {
-    const auto b = static_cast<unsigned char>(s[i]);
-    int more = 0;
-    unsigned lo = 0x80, hi = 0xBF;  // range of the first continuation byte
-    if (b < 0x80) {
-      ++i;
-      continue;
-    } else if (b >= 0xC2 && b <= 0xDF) {
-      more = 1;
-    } else if (b >= 0xE0 && b <= 0xEF) {
-      more = 2;
-      if (b == 0xE0) lo = 0xA0;
-      if (b == 0xED) hi = 0x9F;
-    } else if (b >= 0xF0 && b <= 0xF4) {
-      more = 3;
-      if (b == 0xF0) lo = 0x90;
-      if (b == 0xF4) hi = 0x8F;
-    } else {
-      return false;
-    }
-    if (i + more >= s.size()) return false;  // truncated sequence
-    for (int k = 1; k <= more; ++k) {
-      const auto c = static_cast<unsigned char>(s[i + k]);
-      if (c < (k == 1 ? lo : 0x80) || c > (k == 1 ? hi : 0xBF)) return false;
-    }
-    i += more + 1;
-  }
-  return true;
-}
-
-// Names reach JSON output (params files), which must be UTF-8.
+// Names reach JSON output (params files), which must be UTF-8: nlohmann's
+// writer refuses what is not (type_error 316: malformed, overlong, a
+// surrogate, beyond U+10FFFF, truncated).
 void check_name(const tinyxml2::XMLDocument& doc, const std::string& source, const char* tag,
                 const std::string& name) {
-  if (valid_utf8(name)) return;
+  try {
+    nlohmann::json(name).dump();
+    return;
+  } catch (const nlohmann::json::type_error&) {
+  }
   std::string shown;
   for (const char ch : name) {
     const auto b = static_cast<unsigned char>(ch);
@@ -254,12 +227,22 @@ JointType joint_type(const urdf::JointConstSharedPtr& j, const std::string& sour
   }
 }
 
-Eigen::Vector3d joint_axis(const urdf::JointConstSharedPtr& j, const std::string& source,
-                           int line) {
-  const Eigen::Vector3d axis(j->axis.x, j->axis.y, j->axis.z);
-  if (axis.norm() < 1e-12)
+// A link's joint or a step of the chain above the sensor link: `j`'s name
+// checked, its origin, type and (movable) unit axis into `out`; its line.
+template <class LinkOrStep>
+int read_joint(LinkOrStep& out, const urdf::JointConstSharedPtr& j,
+               const tinyxml2::XMLDocument& doc, const std::string& source) {
+  const int line = element_line(doc, "joint", j->name);
+  check_name(doc, source, "joint", j->name);
+  out.joint = j->name;
+  out.origin = to_isometry(j->parent_to_joint_origin_transform);
+  out.type = joint_type(j, source, line);
+  if (out.type == JointType::Fixed) return line;
+  out.axis = Eigen::Vector3d(j->axis.x, j->axis.y, j->axis.z);
+  if (out.axis.norm() < 1e-12)
     throw InputError(fmt::format("{}:{}: joint '{}' has a zero axis", source, line, j->name));
-  return axis.normalized();
+  out.axis.normalize();
+  return line;
 }
 
 Joint make_joint(const urdf::JointConstSharedPtr& j, JointType type, int link,
@@ -443,14 +426,8 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
   // dropped: the sensor frame's gravity must then come from gx,gy,gz columns.
   try {
     for (urdf::LinkConstSharedPtr at = root; at->parent_joint; at = at->getParent()) {
-      const urdf::JointConstSharedPtr j = at->parent_joint;
-      const int line = element_line(doc, "joint", j->name);
-      check_name(doc, source, "joint", j->name);
       ChainStep step;
-      step.joint = j->name;
-      step.origin = to_isometry(j->parent_to_joint_origin_transform);
-      step.type = joint_type(j, source, line);
-      if (step.type != JointType::Fixed) step.axis = joint_axis(j, source, line);
+      read_joint(step, at->parent_joint, doc, source);
       model.upstream.insert(model.upstream.begin(), step);
     }
     for (ChainStep& step : model.upstream) {
@@ -536,13 +513,8 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
     }
     if (cur.parent >= 0) {
       const urdf::JointConstSharedPtr j = cur.link->parent_joint;
-      const int line = element_line(doc, "joint", j->name);
-      check_name(doc, source, "joint", j->name);
-      link.joint = j->name;
-      link.origin = to_isometry(j->parent_to_joint_origin_transform);
-      link.type = joint_type(j, source, line);
+      const int line = read_joint(link, j, doc, source);
       if (link.type != JointType::Fixed) {
-        link.axis = joint_axis(j, source, line);
         const Joint joint = make_joint(j, link.type, model.num_links(), source, line);
         if (j->mimic) {
           mimics.push_back({model.num_links(), j->name, j->mimic->joint_name, j->mimic->multiplier,
@@ -565,11 +537,7 @@ Model load_urdf_string(const std::string& xml, const std::string& sensor_link,
 }
 
 Model load_urdf(const std::string& path, const std::string& sensor_link) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open URDF file", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return load_urdf_string(text.str(), sensor_link, path);
+  return load_urdf_string(read_file(path, "cannot open URDF file"), sensor_link, path);
 }
 
 }  // namespace massid

@@ -125,14 +125,13 @@ Compensator::Compensator(const IdentifiedModel& identified, std::string_view tex
   read.root_gravity = options.root_gravity;
   read.level_gravity = options.level_gravity;
   read.columns = options.columns;
-  {  // the sensor's pose from columns, when the header has them
-    detail::SampleColumns h;
-    detail::read_header(text, source, h);
-    m.reading = with_pose_columns(identified.model(), h.header,
-                                  fmt::format("{}:{}", source, h.header_line), read);
-  }
+  detail::SampleColumns head;
+  detail::read_header(text, source, head);
+  // The sensor's pose from columns, when the header has them.
+  m.reading = with_pose_columns(identified.model(), head.header,
+                                fmt::format("{}:{}", source, head.header_line), read);
   const Model& model = m.reading;
-  m.columns = detail::bind_header(model, text, source, read, dynamic);
+  m.columns = detail::bind_header(model, std::move(head), read, dynamic);
   detail::SampleColumns& c = m.columns;
   const std::vector<std::string>& header = c.header;
   const std::string where = fmt::format("{}:{}", source, c.header_line);
