@@ -185,6 +185,14 @@ std::pair<size_t, size_t> block_range(std::string_view text, const SampleColumns
           line_start(c.data_begin + (k + 1) * block_bytes)};
 }
 
+bool parse_line_slow(std::string_view text, size_t line_begin, size_t line_end,
+                     const SampleColumns& c, double* vals) {
+  const std::string_view line = text.substr(line_begin, line_end - line_begin);
+  const std::string_view content = trim(line);
+  if (content.empty() || content.front() == '#') return false;
+  return parse_row_slow(line, line_number(text, line_begin), c, vals);
+}
+
 bool parse_row_slow(std::string_view line, int line_no, const SampleColumns& c, double* vals) {
   const std::string_view content = trim(line);
   if (content.empty() || content.front() == '#') return false;

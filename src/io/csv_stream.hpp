@@ -138,6 +138,11 @@ std::size_t num_blocks(std::string_view text, const SampleColumns& c, std::size_
 std::pair<std::size_t, std::size_t> block_range(std::string_view text, const SampleColumns& c,
                                                 std::size_t block_bytes, std::size_t k);
 
+// Slow path for one line [line_begin, line_end) of `text` ('\r' removed):
+// parse_row_slow, its line number counted only for a row (a count from the
+// file's start: a log with many blank or comment lines stays linear).
+bool parse_line_slow(std::string_view text, std::size_t line_begin, std::size_t line_end,
+                     const SampleColumns& c, double* vals);
 // Slow path for one line ('\r' removed), `line_no` its number for messages:
 // false for a blank or comment line, true with vals filled, or InputError.
 bool parse_row_slow(std::string_view line, int line_no, const SampleColumns& c, double* vals);
@@ -263,8 +268,10 @@ std::size_t parse_block(std::string_view text, const SampleColumns& c, std::size
     if (le > p && le[-1] == '\r') --le;
     int kind = csv_fast::parse_line(p, le, c, vals.data());
     if (kind < 0)
-      kind = parse_row_slow({p, static_cast<std::size_t>(le - p)},
-                            line_number(text, static_cast<std::size_t>(p - base)), c, vals.data());
+      kind = parse_line_slow(text, static_cast<std::size_t>(p - base),
+                             static_cast<std::size_t>(le - base), c, vals.data())
+                 ? 1
+                 : 0;
     if (kind == 1) {
       if (c.pose != SensorPoseColumns::None && c.q_up >= 0)
         check_pose(text, static_cast<std::size_t>(p - base), c, vals.data());
